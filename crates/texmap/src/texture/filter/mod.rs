@@ -1,0 +1,187 @@
+//! Filters: how a footprint on a texture becomes one linear, premultiplied RGBA value.
+//!
+//! Every filter is generic over the texel [`Codec`], and [`sample`] picks the codec once per
+//! call (or once per batch in [`sample_batch`]), so the per-texel loops are compiled per format
+//! with no format branch inside — the split of static and dynamic sampler state that llvmpipe
+//! makes with generated code.
+
+pub(crate) mod anisotropic;
+pub(crate) mod ewa;
+pub(crate) mod summed_area;
+
+use glam::{Vec2, Vec4};
+
+use super::format::{with_codec, Codec};
+use super::storage::LevelRef;
+use super::{Filter, Footprint, MagFilter, MinFilter, Sampler, Texture2D, BORDER};
+
+/// Reads `texture` through `sampler` over `footprint`: linear, premultiplied RGBA.
+///
+/// ```
+/// use texmap::texture::{sample, ColorSpace, Footprint, Sampler, Texture2D};
+/// use glam::{Vec2, Vec4};
+/// let white = Texture2D::from_rgba8(2, 2, ColorSpace::Srgb, &[255; 16]).unwrap();
+/// let c = sample(&white, &Sampler::default(), &Footprint::point(Vec2::new(0.3, 0.7)));
+/// assert!((c - Vec4::ONE).abs().max_element() < 1e-6);
+/// ```
+#[must_use]
+pub fn sample(texture: &Texture2D, sampler: &Sampler, footprint: &Footprint) -> Vec4 {
+    with_codec!(texture.format(), C => sample_with::<C>(texture, sampler, footprint))
+}
+
+/// [`sample`] over many footprints: the format and filter are dispatched once.
+///
+/// # Panics
+/// If `out` is shorter than `footprints`.
+pub fn sample_batch(texture: &Texture2D, sampler: &Sampler, footprints: &[Footprint], out: &mut [Vec4]) {
+    assert!(out.len() >= footprints.len(), "output shorter than the footprints");
+    with_codec!(texture.format(), C => {
+        for (fp, o) in footprints.iter().zip(out.iter_mut()) {
+            *o = sample_with::<C>(texture, sampler, fp);
+        }
+    })
+}
+
+#[inline]
+fn sample_with<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint) -> Vec4 {
+    match s.filter {
+        Filter::Gl { mag, min } => gl::<C>(tex, s, fp, mag, min),
+        Filter::Anisotropic { max_aniso } => anisotropic::sample::<C>(tex, s, fp, max_aniso),
+        Filter::Ewa { max_eccentricity } => ewa::sample::<C>(tex, s, fp, max_eccentricity),
+        Filter::SummedArea => summed_area::sample::<C>(tex, s, fp),
+    }
+}
+
+/// The footprint's derivatives in texels of level 0.
+#[inline(always)]
+pub(crate) fn texel_derivatives(tex: &Texture2D, fp: &Footprint) -> (Vec2, Vec2) {
+    let size = Vec2::new(tex.width() as f32, tex.height() as f32);
+    (fp.duv_dx * size, fp.duv_dy * size)
+}
+
+/// A float to a texel index, saturating (NaN reads index 0).
+#[inline(always)]
+pub(crate) fn floor_index(v: f32) -> i32 {
+    v.floor().clamp(-1.0e9, 1.0e9) as i32
+}
+
+/// Texel `(x, y)` of `lv`, wrapped by the sampler; the border colour where it says so.
+#[inline(always)]
+pub(crate) fn fetch<C: Codec>(lv: &LevelRef, s: &Sampler, x: i32, y: i32) -> Vec4 {
+    let (xi, yi) = (s.wrap_u.index(x, lv.w), s.wrap_v.index(y, lv.h));
+    if xi == BORDER || yi == BORDER {
+        s.border
+    } else {
+        lv.texel::<C>(xi, yi)
+    }
+}
+
+/// The nearest texel to `uv` on `lv`.
+#[inline(always)]
+pub(crate) fn nearest<C: Codec>(lv: &LevelRef, s: &Sampler, uv: Vec2) -> Vec4 {
+    let x = floor_index(uv.x * lv.w as f32);
+    let y = floor_index(uv.y * lv.h as f32);
+    fetch::<C>(lv, s, x, y)
+}
+
+/// Bilinear interpolation of the four texels around `uv` on `lv`.
+#[inline(always)]
+pub(crate) fn bilinear<C: Codec>(lv: &LevelRef, s: &Sampler, uv: Vec2) -> Vec4 {
+    let px = uv.x * lv.w as f32 - 0.5;
+    let py = uv.y * lv.h as f32 - 0.5;
+    let (fx, fy) = (px.floor(), py.floor());
+    let (ax, ay) = (px - fx, py - fy);
+    let (x0, y0) = (floor_index(fx), floor_index(fy));
+    let (xa, xb) = (s.wrap_u.index(x0, lv.w), s.wrap_u.index(x0.wrapping_add(1), lv.w));
+    let (ya, yb) = (s.wrap_v.index(y0, lv.h), s.wrap_v.index(y0.wrapping_add(1), lv.h));
+    let t = |x: i32, y: i32| {
+        if x == BORDER || y == BORDER {
+            s.border
+        } else {
+            lv.texel::<C>(x, y)
+        }
+    };
+    let top = t(xa, ya).lerp(t(xb, ya), ax);
+    let bottom = t(xa, yb).lerp(t(xb, yb), ax);
+    top.lerp(bottom, ay)
+}
+
+/// Bilinear on the two levels around `lod`, blended (the minification half of trilinear).
+#[inline(always)]
+pub(crate) fn trilinear_at<C: Codec>(tex: &Texture2D, s: &Sampler, uv: Vec2, lod: f32) -> Vec4 {
+    let last = (tex.levels().len() - 1) as f32;
+    let lod = lod.clamp(0.0, last);
+    let d = lod.floor();
+    let f = lod - d;
+    let a = bilinear::<C>(&tex.level(d as usize), s, uv);
+    if f <= 0.0 {
+        a
+    } else {
+        a.lerp(bilinear::<C>(&tex.level(d as usize + 1), s, uv), f)
+    }
+}
+
+/// OpenGL's filtering (section 8.14 of the 4.6 core specification).
+fn gl<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint, mag: MagFilter, min: MinFilter) -> Vec4 {
+    let (dx, dy) = texel_derivatives(tex, fp);
+    let lod = s.adjust_lod(s.lod_rule.lod(dx, dy));
+    // λ ≤ 0 (or NaN from a degenerate footprint) magnifies.
+    if !(lod > 0.0) {
+        let base = tex.level(0);
+        return match mag {
+            MagFilter::Nearest => nearest::<C>(&base, s, fp.uv),
+            MagFilter::Linear => bilinear::<C>(&base, s, fp.uv),
+        };
+    }
+    let last = tex.levels().len() - 1;
+    let nearest_level = || {
+        if lod <= 0.5 {
+            0
+        } else {
+            (((lod + 0.5).ceil() as usize) - 1).min(last)
+        }
+    };
+    let between = |read: &dyn Fn(&LevelRef) -> Vec4| {
+        let l = lod.min(last as f32);
+        let d = l.floor();
+        let a = read(&tex.level(d as usize));
+        let f = l - d;
+        if f <= 0.0 {
+            a
+        } else {
+            a.lerp(read(&tex.level(d as usize + 1)), f)
+        }
+    };
+    match min {
+        MinFilter::Nearest => nearest::<C>(&tex.level(0), s, fp.uv),
+        MinFilter::Linear => bilinear::<C>(&tex.level(0), s, fp.uv),
+        MinFilter::NearestMipmapNearest => nearest::<C>(&tex.level(nearest_level()), s, fp.uv),
+        MinFilter::LinearMipmapNearest => bilinear::<C>(&tex.level(nearest_level()), s, fp.uv),
+        MinFilter::NearestMipmapLinear => between(&|lv| nearest::<C>(lv, s, fp.uv)),
+        MinFilter::LinearMipmapLinear => trilinear_at::<C>(tex, s, fp.uv, lod),
+    }
+}
+
+/// The ellipse a footprint's derivatives describe (texel units of level 0): the unit major
+/// direction and the two semi-axis lengths, from the eigen-decomposition of J·Jᵀ.
+#[inline]
+pub(crate) fn ellipse_axes(dx: Vec2, dy: Vec2) -> (Vec2, f32, f32) {
+    let a = dx.x * dx.x + dy.x * dy.x;
+    let b = dx.x * dx.y + dy.x * dy.y;
+    let c = dx.y * dx.y + dy.y * dy.y;
+    let mean = 0.5 * (a + c);
+    let d = (0.25 * (a - c) * (a - c) + b * b).sqrt();
+    let (l1, l2) = (mean + d, (mean - d).max(0.0));
+    // Eigenvector of l1: pick the better-conditioned of the two forms.
+    let v = if (a - c).abs() + b.abs() < 1e-20 {
+        Vec2::X
+    } else if a >= c {
+        Vec2::new(l1 - c, b)
+    } else {
+        Vec2::new(b, l1 - a)
+    };
+    (v.normalize_or(Vec2::X), l1.sqrt(), l2.sqrt())
+}
+
+#[cfg(test)]
+mod tests;

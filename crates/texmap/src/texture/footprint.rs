@@ -1,0 +1,80 @@
+//! The footprint of a pixel in texture space: coordinates and their screen derivatives.
+
+use glam::{Vec2, Vec3};
+
+/// A pixel's footprint on a 2D texture: `uv` and its derivatives along the screen axes.
+///
+/// `uv` is in glTF's convention (u right, v down the image rows, one unit = the whole image).
+/// A zero footprint (`duv_dx = duv_dy = 0`) is a point sample at the finest level.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Footprint {
+    pub uv: Vec2,
+    pub duv_dx: Vec2,
+    pub duv_dy: Vec2,
+}
+
+impl Footprint {
+    /// A footprint with derivatives.
+    #[must_use]
+    pub fn new(uv: Vec2, duv_dx: Vec2, duv_dy: Vec2) -> Self {
+        Footprint { uv, duv_dx, duv_dy }
+    }
+
+    /// A point sample (no derivatives).
+    #[must_use]
+    pub fn point(uv: Vec2) -> Self {
+        Footprint {
+            uv,
+            ..Default::default()
+        }
+    }
+}
+
+/// A footprint on a 3D texture.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Footprint3 {
+    pub uvw: Vec3,
+    pub duvw_dx: Vec3,
+    pub duvw_dy: Vec3,
+}
+
+impl Footprint3 {
+    /// A point sample (no derivatives).
+    #[must_use]
+    pub fn point(uvw: Vec3) -> Self {
+        Footprint3 {
+            uvw,
+            ..Default::default()
+        }
+    }
+}
+
+/// A footprint on a cube map: a direction (need not be unit length) and its derivatives.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CubeFootprint {
+    pub dir: Vec3,
+    pub ddir_dx: Vec3,
+    pub ddir_dy: Vec3,
+}
+
+/// How the level of detail is computed from the derivatives, in texel units.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum LodRule {
+    /// OpenGL's: λ = log2 of the longer of the two derivative vectors.
+    #[default]
+    GlMax,
+    /// The article's: λ = ½·log2(Σ of the four squared derivatives).
+    RootSumSquares,
+}
+
+impl LodRule {
+    /// λ for derivatives already scaled to texels.
+    #[inline]
+    #[must_use]
+    pub fn lod(self, dx: Vec2, dy: Vec2) -> f32 {
+        match self {
+            LodRule::GlMax => 0.5 * dx.length_squared().max(dy.length_squared()).log2(),
+            LodRule::RootSumSquares => 0.5 * (dx.length_squared() + dy.length_squared()).log2(),
+        }
+    }
+}

@@ -1,0 +1,178 @@
+//! Loading textures from image files: PNG (8 and 16 bit), JPEG, TGA, BMP, Radiance HDR and
+//! OpenEXR, through the `image` crate, with size limits checked before any large allocation.
+
+use std::path::Path;
+
+use image::{DynamicImage, ImageReader};
+
+use super::{ColorSpace, Format, Texture2D, TextureOptions};
+use crate::{Error, Result};
+
+/// Upper bounds on what a file may make texmap allocate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Limits {
+    /// Largest accepted width in texels (default 16384).
+    pub max_width: u32,
+    /// Largest accepted height in texels (default 16384).
+    pub max_height: u32,
+    /// Largest decoded size in bytes (default 1 GiB).
+    pub max_bytes: u64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            max_width: 16384,
+            max_height: 16384,
+            max_bytes: 1 << 30,
+        }
+    }
+}
+
+/// Decodes an image file into a texture with a full mip chain.
+///
+/// `color_space` says what 8- and 16-bit channels hold (sRGB colour or linear data); float
+/// images (HDR, EXR) are always linear. Grey images are expanded to RGB(A) so they read grey.
+pub fn load_texture(path: &Path, color_space: ColorSpace, limits: &Limits) -> Result<Texture2D> {
+    let img = decode_image(path, limits)?;
+    texture_from_image(img, color_space, TextureOptions::default())
+        .map_err(|e| Error::decode(path, e.to_string()))
+}
+
+/// Decodes an image file, refusing it before allocation when it breaks `limits`.
+pub fn decode_image(path: &Path, limits: &Limits) -> Result<DynamicImage> {
+    let reader = ImageReader::open(path).map_err(|e| Error::io(path, e))?;
+    let reader = reader
+        .with_guessed_format()
+        .map_err(|e| Error::io(path, e))?;
+    if reader.format().is_none() {
+        return Err(Error::decode(path, "not an image format texmap reads (PNG, JPEG, TGA, BMP, HDR, EXR)"));
+    }
+    // Read the header first: refuse oversized images before the decoder allocates.
+    let (w, h) = ImageReader::open(path)
+        .and_then(|r| r.with_guessed_format())
+        .map_err(|e| Error::io(path, e))?
+        .into_dimensions()
+        .map_err(|e| image_error(path, e))?;
+    check_size(path, w, h, limits)?;
+    let mut reader = reader;
+    let mut l = image::Limits::default();
+    l.max_image_width = Some(limits.max_width);
+    l.max_image_height = Some(limits.max_height);
+    l.max_alloc = Some(limits.max_bytes);
+    reader.limits(l);
+    reader.decode().map_err(|e| image_error(path, e))
+}
+
+fn check_size(path: &Path, w: u32, h: u32, limits: &Limits) -> Result<()> {
+    if w > limits.max_width || h > limits.max_height {
+        return Err(Error::limits(
+            path,
+            format!(
+                "image is {w}x{h}, above the limit of {}x{}",
+                limits.max_width, limits.max_height
+            ),
+        ));
+    }
+    // The widest texel we may decode to: 4 × f32.
+    let bytes = w as u64 * h as u64 * 16;
+    if bytes > limits.max_bytes {
+        return Err(Error::limits(
+            path,
+            format!(
+                "image is {w}x{h}: up to {} MiB decoded, above the limit of {} MiB",
+                bytes >> 20,
+                limits.max_bytes >> 20
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn image_error(path: &Path, e: image::ImageError) -> Error {
+    match e {
+        image::ImageError::Limits(l) => Error::limits(path, l.to_string()),
+        image::ImageError::IoError(io) => Error::io(path, io),
+        other => Error::decode(path, other.to_string()),
+    }
+}
+
+/// Converts a decoded image to a texture in the closest [`Format`].
+pub fn texture_from_image(img: DynamicImage, color_space: ColorSpace, options: TextureOptions) -> Result<Texture2D> {
+    let (w, h) = (img.width(), img.height());
+    let (format, bytes): (Format, Vec<u8>) = match img {
+        DynamicImage::ImageRgb8(b) => (Format::Rgb8, b.into_raw()),
+        DynamicImage::ImageRgba8(b) => (Format::Rgba8, b.into_raw()),
+        DynamicImage::ImageLuma8(_) => (Format::Rgb8, img.to_rgb8().into_raw()),
+        DynamicImage::ImageLumaA8(_) => (Format::Rgba8, img.to_rgba8().into_raw()),
+        DynamicImage::ImageRgb32F(_) | DynamicImage::ImageRgba32F(_) => {
+            let data = img.to_rgba32f().into_raw();
+            (Format::Rgba32F, data.iter().flat_map(|v| v.to_le_bytes()).collect())
+        }
+        other => {
+            // 16-bit and anything else: RGBA16 unorm.
+            let data = other.to_rgba16().into_raw();
+            (Format::Rgba16, data.iter().flat_map(|v| v.to_le_bytes()).collect())
+        }
+    };
+    Texture2D::from_texels(w, h, format, color_space, &bytes, options)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tmp(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("texmap-load-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir.join(name)
+    }
+
+    #[test]
+    fn png_8_and_16_bit_load() {
+        let p8 = tmp("a8.png");
+        image::RgbaImage::from_pixel(3, 2, image::Rgba([255, 0, 0, 255])).save(&p8).unwrap();
+        let t = load_texture(&p8, ColorSpace::Srgb, &Limits::default()).unwrap();
+        assert_eq!((t.width(), t.height(), t.format()), (3, 2, Format::Rgba8));
+        let p16 = tmp("a16.png");
+        image::ImageBuffer::<image::Rgb<u16>, _>::from_pixel(2, 2, image::Rgb([65535u16, 32768, 0]))
+            .save(&p16)
+            .unwrap();
+        let t = load_texture(&p16, ColorSpace::Linear, &Limits::default()).unwrap();
+        assert_eq!(t.format(), Format::Rgba16);
+        let c = t.texel(0, 0, 0);
+        assert!((c.y - 0.5).abs() < 1e-4, "{c}");
+    }
+
+    #[test]
+    fn corrupt_file_names_the_file() {
+        let p = tmp("corrupt.png");
+        std::fs::write(&p, b"\x89PNG\r\n\x1a\nthis is not a png").unwrap();
+        let e = load_texture(&p, ColorSpace::Srgb, &Limits::default()).unwrap_err();
+        assert!(e.to_string().contains("corrupt.png"), "{e}");
+    }
+
+    #[test]
+    fn missing_file_names_the_file() {
+        let e = load_texture(Path::new("/nonexistent/x.png"), ColorSpace::Srgb, &Limits::default()).unwrap_err();
+        assert!(e.to_string().contains("/nonexistent/x.png"), "{e}");
+    }
+
+    #[test]
+    fn oversized_image_is_refused_before_decoding() {
+        let p = tmp("big.png");
+        image::RgbImage::new(64, 40).save(&p).unwrap();
+        let limits = Limits {
+            max_width: 32,
+            ..Default::default()
+        };
+        let e = load_texture(&p, ColorSpace::Srgb, &limits).unwrap_err();
+        assert!(matches!(e, Error::Limits { .. }), "{e}");
+        assert!(e.to_string().contains("64x40"), "{e}");
+        let limits = Limits {
+            max_bytes: 1000,
+            ..Default::default()
+        };
+        assert!(matches!(load_texture(&p, ColorSpace::Srgb, &limits), Err(Error::Limits { .. })));
+    }
+}

@@ -1,0 +1,166 @@
+//! Mip chain building: each level from the one above, in linear light with premultiplied alpha.
+//!
+//! Level sizes follow OpenGL (`max(1, ⌊n/2⌋)` per axis, down to 1×1). The reduction is an
+//! exact-area box filter: a texel of the smaller level averages the region of the larger level
+//! it covers, each source texel weighted by the area it shares with that region. On even sides
+//! this is the classic 2×2 box; on odd sides a destination texel spans `n/⌊n/2⌋` source texels
+//! (three taps with fractional end weights), so texel centres stay aligned and the mean of the
+//! image is kept exactly: no half-texel drift on non-power-of-two textures. A box is chosen over
+//! wider kernels (Kaiser, Lanczos) because it is what `glGenerateMipmap` computes on even sides,
+//! which keeps trilinear comparable with the peers, and because it never rings.
+
+use glam::Vec4;
+
+/// Weights of the source texels covered by destination texel `i` when `src` texels shrink to `dst`.
+fn coverage(i: u32, src: u32, dst: u32) -> impl Iterator<Item = (u32, f32)> {
+    let scale = src as f64 / dst as f64;
+    let (lo, hi) = (i as f64 * scale, (i + 1) as f64 * scale);
+    let first = lo.floor() as u32;
+    let last = (hi.ceil() as u32).min(src);
+    (first..last).filter_map(move |j| {
+        let overlap = (hi.min(j as f64 + 1.0) - lo.max(j as f64)) / scale;
+        (overlap > 1e-12).then_some((j, overlap as f32))
+    })
+}
+
+/// Reduces a `w`×`h` image to the next level's size.
+fn reduce(w: u32, h: u32, src: &[Vec4]) -> (u32, u32, Vec<Vec4>) {
+    let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+    // Rows first, then columns: the box is separable.
+    let mut rows = vec![Vec4::ZERO; (nw * h) as usize];
+    for y in 0..h {
+        for x in 0..nw {
+            rows[(y * nw + x) as usize] = coverage(x, w, nw)
+                .map(|(j, wt)| src[(y * w + j) as usize] * wt)
+                .sum();
+        }
+    }
+    let mut out = vec![Vec4::ZERO; (nw * nh) as usize];
+    for y in 0..nh {
+        for (j, wt) in coverage(y, h, nh) {
+            for x in 0..nw {
+                out[(y * nw + x) as usize] += rows[(j * nw + x) as usize] * wt;
+            }
+        }
+    }
+    (nw, nh, out)
+}
+
+/// Every level below a `w`×`h` base of linear premultiplied texels, down to 1×1.
+pub(crate) fn build_chain(w: u32, h: u32, base: Vec<Vec4>) -> Vec<(u32, u32, Vec<Vec4>)> {
+    let mut levels = Vec::new();
+    let (mut cw, mut ch, mut cur) = (w, h, base);
+    while cw > 1 || ch > 1 {
+        let (nw, nh, next) = reduce(cw, ch, &cur);
+        levels.push((nw, nh, next.clone()));
+        (cw, ch, cur) = (nw, nh, next);
+    }
+    levels
+}
+
+/// Straight alpha from premultiplied (colour kept where alpha is zero: it is zero too).
+#[must_use]
+pub(crate) fn unpremultiply(c: Vec4) -> Vec4 {
+    if c.w > 0.0 {
+        (c.truncate() / c.w).extend(c.w)
+    } else {
+        Vec4::ZERO
+    }
+}
+
+/// Number of levels of a full chain for a `w`×`h` base.
+#[must_use]
+pub fn level_count(w: u32, h: u32) -> usize {
+    (32 - w.max(h).max(1).leading_zeros()) as usize
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::texture::{ColorSpace, Format, Texture2D, TextureOptions};
+
+    #[test]
+    fn coverage_weights_sum_to_one() {
+        for src in 1..40 {
+            let dst = (src / 2).max(1);
+            for i in 0..dst {
+                let s: f32 = coverage(i, src, dst).map(|(_, w)| w).sum();
+                assert!((s - 1.0).abs() < 1e-5, "src {src} dst {dst} i {i}: {s}");
+            }
+        }
+    }
+
+    #[test]
+    fn odd_side_uses_three_taps_centred() {
+        // 5 → 2: texel 0 covers [0, 2.5): weights 0.4, 0.4, 0.2 — centred at 1.25 = (0+0.5)·2.5.
+        let w: Vec<_> = coverage(0, 5, 2).collect();
+        assert_eq!(w.len(), 3);
+        let centre: f32 = w.iter().map(|&(j, wt)| (j as f32 + 0.5) * wt).sum();
+        assert!((centre - 1.25).abs() < 1e-6);
+    }
+
+    #[test]
+    fn chain_goes_to_one_by_one_with_gl_sizes() {
+        let tex = Texture2D::from_fn(37, 10, TextureOptions::default(), |_, _| Vec4::ONE).unwrap();
+        let sizes: Vec<_> = tex.levels().iter().map(|l| (l.width(), l.height())).collect();
+        assert_eq!(sizes, [(37, 10), (18, 5), (9, 2), (4, 1), (2, 1), (1, 1)]);
+        assert_eq!(level_count(37, 10), sizes.len());
+    }
+
+    #[test]
+    fn chain_costs_about_a_third_more() {
+        let n = 512u32;
+        let rgba = vec![128u8; (n * n * 4) as usize];
+        let tex = Texture2D::from_texels(n, n, Format::Rgba8, ColorSpace::Srgb, &rgba, TextureOptions::default()).unwrap();
+        let base = (n * n * 4) as f64;
+        let ratio = tex.texel_bytes() as f64 / base;
+        assert!((ratio - 4.0 / 3.0).abs() < 0.01, "chain/base = {ratio}");
+    }
+
+    #[test]
+    fn checkerboard_levels_average_as_expected() {
+        // 8×8-texel squares of 0 and 1: levels 1..3 keep the squares (values 0 and 1),
+        // level 4 onward mixes them to exactly 0.5 everywhere.
+        let tex = Texture2D::from_fn(64, 64, TextureOptions::default(), |x, y| {
+            Vec4::splat(((x / 8 + y / 8) % 2) as f32)
+        })
+        .unwrap();
+        for l in 1..tex.levels().len() {
+            let texels = tex.decode_level(l);
+            let mean: f32 = texels.iter().map(|c| c.x).sum::<f32>() / texels.len() as f32;
+            assert!((mean - 0.5).abs() < 1e-6, "level {l} mean {mean}");
+            if l <= 3 {
+                assert!(texels.iter().all(|c| c.x == 0.0 || c.x == 1.0), "level {l}");
+            } else {
+                assert!(texels.iter().all(|c| (c.x - 0.5).abs() < 1e-6), "level {l}");
+            }
+        }
+    }
+
+    #[test]
+    fn odd_checkerboard_keeps_its_mean() {
+        let tex = Texture2D::from_fn(45, 27, TextureOptions::default(), |x, y| {
+            Vec4::splat(((x + y) % 2) as f32)
+        })
+        .unwrap();
+        let base = tex.decode_level(0);
+        let mean0: f32 = base.iter().map(|c| c.x).sum::<f32>() / base.len() as f32;
+        let last = tex.decode_level(tex.levels().len() - 1);
+        assert!((last[0].x - mean0).abs() < 1e-4, "{} vs {mean0}", last[0].x);
+    }
+
+    #[test]
+    fn transparent_texels_do_not_bleed_colour() {
+        // Red opaque next to green fully transparent: the average must be pure red, half alpha.
+        let tex = Texture2D::from_fn(2, 1, TextureOptions::default(), |x, _| {
+            if x == 0 {
+                Vec4::new(1.0, 0.0, 0.0, 1.0)
+            } else {
+                Vec4::new(0.0, 1.0, 0.0, 0.0)
+            }
+        })
+        .unwrap();
+        let c = tex.decode_level(1)[0];
+        assert!((c - Vec4::new(0.5, 0.0, 0.0, 0.5)).abs().max_element() < 1e-6, "{c}");
+    }
+}

@@ -1,0 +1,322 @@
+//! Texture storage: 2D textures with their mip chains, in a cache-friendly tiled layout.
+//!
+//! Texels are kept in their own [`Format`] (an sRGB RGBA8 texture costs 4 bytes a texel) and
+//! decoded when read. Each level is stored in 4×4 tiles by default: one tile of RGBA8 is 64
+//! bytes, one cache line, so the 2×2 neighbourhood a bilinear tap reads usually sits in one
+//! line whatever the direction the footprint walks. [`Layout::RowMajor`] is kept so the gain can
+//! be measured (`cargo bench --bench sampling -- layout`).
+
+use glam::Vec4;
+
+use super::format::{with_codec, Codec, ColorSpace, Format};
+use super::mip;
+use crate::{Error, Result};
+
+/// How the texels of a level are ordered in memory.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum Layout {
+    /// Rows one after another.
+    RowMajor,
+    /// 4×4 tiles, row-major inside a tile and tiles row-major in the level.
+    #[default]
+    Tiled4x4,
+}
+
+/// One level of a mip chain.
+#[derive(Clone, Debug)]
+pub struct Level {
+    width: u32,
+    height: u32,
+    tiles_x: u32,
+    data: Vec<u8>,
+}
+
+impl Level {
+    /// Width in texels.
+    #[must_use]
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+    /// Height in texels.
+    #[must_use]
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+}
+
+/// Options for building a texture from texels.
+#[derive(Clone, Copy, Debug)]
+pub struct TextureOptions {
+    /// Build the full mip chain down to 1×1 (default true).
+    pub mipmaps: bool,
+    /// Memory order of the texels (default tiled).
+    pub layout: Layout,
+}
+
+impl Default for TextureOptions {
+    fn default() -> Self {
+        TextureOptions {
+            mipmaps: true,
+            layout: Layout::Tiled4x4,
+        }
+    }
+}
+
+/// A 2D texture: a format, a colour space and a mip chain (level 0 is the full image).
+#[derive(Clone, Debug)]
+pub struct Texture2D {
+    format: Format,
+    color_space: ColorSpace,
+    layout: Layout,
+    levels: Vec<Level>,
+    lut: &'static [f32],
+    sat: std::sync::OnceLock<super::filter::summed_area::SummedAreaTables>,
+}
+
+/// Size of a texel index within a level, and its memory offset.
+#[inline(always)]
+fn texel_index(layout: Layout, tiles_x: u32, width: u32, x: u32, y: u32) -> usize {
+    match layout {
+        Layout::RowMajor => (y * width + x) as usize,
+        Layout::Tiled4x4 => {
+            (((y >> 2) * tiles_x + (x >> 2)) * 16 + ((y & 3) << 2) + (x & 3)) as usize
+        }
+    }
+}
+
+impl Texture2D {
+    /// Builds a texture from row-major texels of `format` (`width·height·bytes_per_texel`
+    /// bytes), with the options' mip chain and layout.
+    ///
+    /// `color_space` is ignored for float formats, which are always linear.
+    pub fn from_texels(
+        width: u32,
+        height: u32,
+        format: Format,
+        color_space: ColorSpace,
+        texels: &[u8],
+        options: TextureOptions,
+    ) -> Result<Self> {
+        if width == 0 || height == 0 {
+            return Err(Error::parameter(format!(
+                "texture size {width}x{height} has a zero side"
+            )));
+        }
+        let expected = width as usize * height as usize * format.bytes_per_texel();
+        if texels.len() != expected {
+            return Err(Error::parameter(format!(
+                "texture {width}x{height} {format:?} needs {expected} bytes, got {}",
+                texels.len()
+            )));
+        }
+        let color_space = if format.is_unorm() {
+            color_space
+        } else {
+            ColorSpace::Linear
+        };
+        let srgb = color_space == ColorSpace::Srgb;
+        let lut = match format {
+            Format::R16 | Format::Rgba16 => crate::color::lut16(srgb),
+            _ => crate::color::lut8(srgb),
+        };
+        let mut tex = Texture2D {
+            format,
+            color_space,
+            layout: options.layout,
+            levels: Vec::new(),
+            lut,
+            sat: std::sync::OnceLock::new(),
+        };
+        let base = tex.store_level(width, height, texels);
+        tex.levels.push(base);
+        if options.mipmaps {
+            let linear = tex.decode_level(0);
+            for (w, h, texels) in mip::build_chain(width, height, linear) {
+                let mut bytes = vec![0u8; (w * h) as usize * format.bytes_per_texel()];
+                let bpp = format.bytes_per_texel();
+                for (i, c) in texels.iter().enumerate() {
+                    format.encode(mip::unpremultiply(*c), srgb, &mut bytes[i * bpp..(i + 1) * bpp]);
+                }
+                let level = tex.store_level(w, h, &bytes);
+                tex.levels.push(level);
+            }
+        }
+        Ok(tex)
+    }
+
+    /// Builds an RGBA8 texture (full mip chain, tiled) from row-major RGBA bytes.
+    pub fn from_rgba8(width: u32, height: u32, color_space: ColorSpace, rgba: &[u8]) -> Result<Self> {
+        Self::from_texels(width, height, Format::Rgba8, color_space, rgba, TextureOptions::default())
+    }
+
+    /// Builds a linear RGBA32F texture by evaluating `f` at every texel (tests and procedurals).
+    pub fn from_fn(
+        width: u32,
+        height: u32,
+        options: TextureOptions,
+        f: impl Fn(u32, u32) -> Vec4,
+    ) -> Result<Self> {
+        let mut bytes = Vec::with_capacity(width as usize * height as usize * 16);
+        for y in 0..height {
+            for x in 0..width {
+                for v in f(x, y).to_array() {
+                    bytes.extend_from_slice(&v.to_le_bytes());
+                }
+            }
+        }
+        Self::from_texels(width, height, Format::Rgba32F, ColorSpace::Linear, &bytes, options)
+    }
+
+    fn store_level(&self, width: u32, height: u32, texels: &[u8]) -> Level {
+        let bpp = self.format.bytes_per_texel();
+        let tiles_x = width.div_ceil(4);
+        let len = match self.layout {
+            Layout::RowMajor => (width * height) as usize,
+            Layout::Tiled4x4 => (tiles_x * height.div_ceil(4) * 16) as usize,
+        };
+        let mut data = vec![0u8; len * bpp];
+        for y in 0..height {
+            for x in 0..width {
+                let src = (y * width + x) as usize * bpp;
+                let dst = texel_index(self.layout, tiles_x, width, x, y) * bpp;
+                data[dst..dst + bpp].copy_from_slice(&texels[src..src + bpp]);
+            }
+        }
+        Level {
+            width,
+            height,
+            tiles_x,
+            data,
+        }
+    }
+
+    /// Level `i`'s texels, linear and premultiplied, row-major.
+    #[must_use]
+    pub fn decode_level(&self, i: usize) -> Vec<Vec4> {
+        let view = self.level(i);
+        with_codec!(self.format, C => {
+            let mut out = Vec::with_capacity((view.w * view.h) as usize);
+            for y in 0..view.h {
+                for x in 0..view.w {
+                    out.push(view.texel::<C>(x, y));
+                }
+            }
+            out
+        })
+    }
+
+    /// The texel format.
+    #[must_use]
+    pub fn format(&self) -> Format {
+        self.format
+    }
+    /// The colour space the stored values are in.
+    #[must_use]
+    pub fn color_space(&self) -> ColorSpace {
+        self.color_space
+    }
+    /// The memory layout of every level.
+    #[must_use]
+    pub fn layout(&self) -> Layout {
+        self.layout
+    }
+    /// Width of level 0.
+    #[must_use]
+    pub fn width(&self) -> u32 {
+        self.levels[0].width
+    }
+    /// Height of level 0.
+    #[must_use]
+    pub fn height(&self) -> u32 {
+        self.levels[0].height
+    }
+    /// The mip chain, level 0 first.
+    #[must_use]
+    pub fn levels(&self) -> &[Level] {
+        &self.levels
+    }
+    /// Bytes held by texels of every level (tile padding included).
+    #[must_use]
+    pub fn texel_bytes(&self) -> usize {
+        self.levels.iter().map(|l| l.data.len()).sum()
+    }
+
+    /// A read view of level `i` (clamped to the last level).
+    #[inline]
+    pub(crate) fn level(&self, i: usize) -> LevelRef<'_> {
+        let l = &self.levels[i.min(self.levels.len() - 1)];
+        LevelRef {
+            data: &l.data,
+            w: l.width as i32,
+            h: l.height as i32,
+            tiles_x: l.tiles_x,
+            layout: self.layout,
+            lut: self.lut,
+        }
+    }
+
+    /// Linear, premultiplied texel `(x, y)` of level `level` (no wrapping: in range or panics).
+    #[must_use]
+    pub fn texel(&self, level: usize, x: u32, y: u32) -> Vec4 {
+        let view = self.level(level);
+        with_codec!(self.format, C => view.texel::<C>(x as i32, y as i32))
+    }
+
+    pub(crate) fn summed_area_tables(&self) -> &super::filter::summed_area::SummedAreaTables {
+        self.sat
+            .get_or_init(|| super::filter::summed_area::SummedAreaTables::build(self))
+    }
+}
+
+/// A borrowed view of one level, what the filters read.
+#[derive(Clone, Copy)]
+pub(crate) struct LevelRef<'a> {
+    data: &'a [u8],
+    pub w: i32,
+    pub h: i32,
+    tiles_x: u32,
+    layout: Layout,
+    lut: &'a [f32],
+}
+
+impl LevelRef<'_> {
+    /// Linear, premultiplied texel at in-range `(x, y)`.
+    #[inline(always)]
+    pub fn texel<C: Codec>(&self, x: i32, y: i32) -> Vec4 {
+        let i = texel_index(self.layout, self.tiles_x, self.w as u32, x as u32, y as u32) * C::BPP;
+        let c = C::decode(&self.data[i..i + C::BPP], self.lut);
+        if C::HAS_ALPHA {
+            (c.truncate() * c.w).extend(c.w)
+        } else {
+            c
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiled_and_row_major_hold_the_same_texels() {
+        let (w, h) = (13u32, 7u32);
+        let rgba: Vec<u8> = (0..w * h * 4).map(|i| (i * 7 % 251) as u8).collect();
+        let opts = |layout| TextureOptions {
+            mipmaps: true,
+            layout,
+        };
+        let a = Texture2D::from_texels(w, h, Format::Rgba8, ColorSpace::Srgb, &rgba, opts(Layout::Tiled4x4)).unwrap();
+        let b = Texture2D::from_texels(w, h, Format::Rgba8, ColorSpace::Srgb, &rgba, opts(Layout::RowMajor)).unwrap();
+        assert_eq!(a.levels().len(), b.levels().len());
+        for l in 0..a.levels().len() {
+            assert_eq!(a.decode_level(l), b.decode_level(l), "level {l}");
+        }
+    }
+
+    #[test]
+    fn wrong_byte_count_is_an_error() {
+        let r = Texture2D::from_rgba8(4, 4, ColorSpace::Srgb, &[0; 10]);
+        assert!(r.is_err());
+        assert!(Texture2D::from_rgba8(0, 4, ColorSpace::Srgb, &[]).is_err());
+    }
+}

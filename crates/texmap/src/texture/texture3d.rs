@@ -1,0 +1,267 @@
+//! 3D textures (volumes, solid textures): nearest and trilinear, mipmapped.
+//!
+//! Voxels are stored row-major, x fastest, in any [`Format`]. Mip levels halve each axis
+//! (`max(1, ⌊n/2⌋)`) with the same exact-area box as 2D levels, in linear light.
+
+use glam::{Vec3, Vec4};
+
+use super::filter::floor_index;
+use super::format::{with_codec, Codec};
+use super::{ColorSpace, Filter, Footprint3, Format, MagFilter, MinFilter, Sampler, BORDER};
+use crate::{Error, Result};
+
+#[derive(Clone, Debug)]
+struct Level3 {
+    dims: [u32; 3],
+    data: Vec<u8>,
+}
+
+/// A 3D texture with its mip chain (level 0 first).
+#[derive(Clone, Debug)]
+pub struct Texture3D {
+    format: Format,
+    levels: Vec<Level3>,
+    lut: &'static [f32],
+}
+
+impl Texture3D {
+    /// Builds a 3D texture from voxels of `format`, x fastest, then y, then z.
+    pub fn from_texels(
+        dims: [u32; 3],
+        format: Format,
+        color_space: ColorSpace,
+        texels: &[u8],
+        mipmaps: bool,
+    ) -> Result<Self> {
+        if dims.contains(&0) {
+            return Err(Error::parameter(format!("3D texture size {dims:?} has a zero side")));
+        }
+        let count = dims.iter().map(|&d| d as usize).product::<usize>();
+        if texels.len() != count * format.bytes_per_texel() {
+            return Err(Error::parameter(format!(
+                "3D texture {dims:?} {format:?} needs {} bytes, got {}",
+                count * format.bytes_per_texel(),
+                texels.len()
+            )));
+        }
+        let srgb = format.is_unorm() && color_space == ColorSpace::Srgb;
+        let lut = match format {
+            Format::R16 | Format::Rgba16 => crate::color::lut16(srgb),
+            _ => crate::color::lut8(srgb),
+        };
+        let mut tex = Texture3D {
+            format,
+            levels: vec![Level3 {
+                dims,
+                data: texels.to_vec(),
+            }],
+            lut,
+        };
+        if mipmaps {
+            let mut cur: Vec<Vec4> = with_codec!(format, C => (0..count).map(|i| tex.voxel_at::<C>(0, i)).collect());
+            let mut d = dims;
+            while d.iter().any(|&n| n > 1) {
+                let (nd, next) = reduce3(d, &cur);
+                let bpp = format.bytes_per_texel();
+                let mut bytes = vec![0u8; next.len() * bpp];
+                for (i, c) in next.iter().enumerate() {
+                    format.encode(super::mip::unpremultiply(*c), srgb, &mut bytes[i * bpp..(i + 1) * bpp]);
+                }
+                tex.levels.push(Level3 { dims: nd, data: bytes });
+                (d, cur) = (nd, next);
+            }
+        }
+        Ok(tex)
+    }
+
+    /// Level-0 size.
+    #[must_use]
+    pub fn dims(&self) -> [u32; 3] {
+        self.levels[0].dims
+    }
+    /// The voxel format.
+    #[must_use]
+    pub fn format(&self) -> Format {
+        self.format
+    }
+    /// Number of mip levels.
+    #[must_use]
+    pub fn level_count(&self) -> usize {
+        self.levels.len()
+    }
+
+    #[inline(always)]
+    fn voxel_at<C: Codec>(&self, level: usize, i: usize) -> Vec4 {
+        let data = &self.levels[level].data;
+        let c = C::decode(&data[i * C::BPP..(i + 1) * C::BPP], self.lut);
+        if C::HAS_ALPHA {
+            (c.truncate() * c.w).extend(c.w)
+        } else {
+            c
+        }
+    }
+
+    /// Linear, premultiplied voxel `(x, y, z)` of `level` (in range).
+    #[must_use]
+    pub fn voxel(&self, level: usize, x: u32, y: u32, z: u32) -> Vec4 {
+        let [w, h, _] = self.levels[level].dims;
+        let i = ((z * h + y) * w + x) as usize;
+        with_codec!(self.format, C => self.voxel_at::<C>(level, i))
+    }
+}
+
+/// Exact-area box reduction of one 3D level (separable, axis by axis).
+fn reduce3(d: [u32; 3], src: &[Vec4]) -> ([u32; 3], Vec<Vec4>) {
+    let nd = d.map(|n| (n / 2).max(1));
+    let mut cur = src.to_vec();
+    let mut dims = d;
+    for axis in 0..3 {
+        let (n, m) = (dims[axis], nd[axis]);
+        let mut next_dims = dims;
+        next_dims[axis] = m;
+        let stride: usize = dims[..axis].iter().map(|&v| v as usize).product();
+        let outer: usize = dims[axis + 1..].iter().map(|&v| v as usize).product();
+        let mut out = vec![Vec4::ZERO; stride * m as usize * outer];
+        let scale = n as f64 / m as f64;
+        for o in 0..outer {
+            for i in 0..m as usize {
+                let (lo, hi) = (i as f64 * scale, (i + 1) as f64 * scale);
+                for j in lo.floor() as usize..(hi.ceil() as usize).min(n as usize) {
+                    let w = ((hi.min(j as f64 + 1.0) - lo.max(j as f64)) / scale) as f32;
+                    if w <= 0.0 {
+                        continue;
+                    }
+                    for s in 0..stride {
+                        out[(o * m as usize + i) * stride + s] += cur[(o * n as usize + j) * stride + s] * w;
+                    }
+                }
+            }
+        }
+        cur = out;
+        dims = next_dims;
+    }
+    (nd, cur)
+}
+
+/// Reads a 3D texture over a footprint: linear, premultiplied RGBA.
+///
+/// Nearest filters read the nearest voxel; every other filter is trilinear within a level,
+/// and mipmapped filters blend the two levels around λ (λ from the longer derivative).
+#[must_use]
+pub fn sample_3d(tex: &Texture3D, sampler: &Sampler, fp: &Footprint3) -> Vec4 {
+    with_codec!(tex.format, C => sample_3d_with::<C>(tex, sampler, fp))
+}
+
+fn sample_3d_with<C: Codec>(tex: &Texture3D, s: &Sampler, fp: &Footprint3) -> Vec4 {
+    let size = Vec3::from_array(tex.dims().map(|v| v as f32));
+    let (dx, dy) = (fp.duvw_dx * size, fp.duvw_dy * size);
+    let lod = s.adjust_lod(0.5 * dx.length_squared().max(dy.length_squared()).log2());
+    let (nearest, mip) = match s.filter {
+        Filter::Gl { mag, .. } if !(lod > 0.0) => (mag == MagFilter::Nearest, false),
+        Filter::Gl { min, .. } => (
+            matches!(min, MinFilter::Nearest | MinFilter::NearestMipmapNearest | MinFilter::NearestMipmapLinear),
+            !matches!(min, MinFilter::Nearest | MinFilter::Linear),
+        ),
+        _ => (false, lod > 0.0),
+    };
+    let read = |level: usize| {
+        if nearest {
+            nearest3::<C>(tex, s, level, fp.uvw)
+        } else {
+            trilinear3::<C>(tex, s, level, fp.uvw)
+        }
+    };
+    if !mip {
+        return read(0);
+    }
+    let last = (tex.levels.len() - 1) as f32;
+    let l = lod.clamp(0.0, last);
+    let d = l.floor();
+    let f = l - d;
+    let a = read(d as usize);
+    if f > 0.0 {
+        a.lerp(read(d as usize + 1), f)
+    } else {
+        a
+    }
+}
+
+#[inline(always)]
+fn fetch3<C: Codec>(tex: &Texture3D, s: &Sampler, level: usize, x: i32, y: i32, z: i32) -> Vec4 {
+    let [w, h, d] = tex.levels[level].dims.map(|v| v as i32);
+    let (xi, yi, zi) = (s.wrap_u.index(x, w), s.wrap_v.index(y, h), s.wrap_w.index(z, d));
+    if xi == BORDER || yi == BORDER || zi == BORDER {
+        return s.border;
+    }
+    tex.voxel_at::<C>(level, ((zi * h + yi) * w + xi) as usize)
+}
+
+fn nearest3<C: Codec>(tex: &Texture3D, s: &Sampler, level: usize, p: Vec3) -> Vec4 {
+    let dims = Vec3::from_array(tex.levels[level].dims.map(|v| v as f32));
+    let q = p * dims;
+    fetch3::<C>(tex, s, level, floor_index(q.x), floor_index(q.y), floor_index(q.z))
+}
+
+/// Trilinear interpolation of the eight voxels around `p` on one level.
+#[inline]
+pub(crate) fn trilinear3<C: Codec>(tex: &Texture3D, s: &Sampler, level: usize, p: Vec3) -> Vec4 {
+    let dims = Vec3::from_array(tex.levels[level].dims.map(|v| v as f32));
+    let q = p * dims - 0.5;
+    let f = q.floor();
+    let a = q - f;
+    let (x, y, z) = (floor_index(f.x), floor_index(f.y), floor_index(f.z));
+    let v = |dx, dy, dz| fetch3::<C>(tex, s, level, x + dx, y + dy, z + dz);
+    let c00 = v(0, 0, 0).lerp(v(1, 0, 0), a.x);
+    let c10 = v(0, 1, 0).lerp(v(1, 1, 0), a.x);
+    let c01 = v(0, 0, 1).lerp(v(1, 0, 1), a.x);
+    let c11 = v(0, 1, 1).lerp(v(1, 1, 1), a.x);
+    c00.lerp(c10, a.y).lerp(c01.lerp(c11, a.y), a.z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::texture::Wrap;
+
+    fn ramp(n: u32) -> Texture3D {
+        let bytes: Vec<u8> = (0..n * n * n)
+            .flat_map(|i| ((i % n) as f32 / (n - 1) as f32).to_le_bytes())
+            .collect();
+        Texture3D::from_texels([n, n, n], Format::R32F, ColorSpace::Linear, &bytes, true).unwrap()
+    }
+
+    #[test]
+    fn trilinear_at_voxel_centres_returns_voxels() {
+        let t = ramp(8);
+        let s = Sampler::new(Filter::BILINEAR, Wrap::ClampToEdge);
+        for x in 0..8 {
+            let p = Vec3::new((x as f32 + 0.5) / 8.0, 0.3, 0.6);
+            let v = sample_3d(&t, &s, &Footprint3::point(p));
+            assert!((v.x - x as f32 / 7.0).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn trilinear_is_linear_on_a_ramp() {
+        let t = ramp(8);
+        let s = Sampler::new(Filter::BILINEAR, Wrap::ClampToEdge);
+        let v = sample_3d(&t, &s, &Footprint3::point(Vec3::new(0.5, 0.5, 0.5)));
+        assert!((v.x - 0.5).abs() < 1e-6, "{v}");
+    }
+
+    #[test]
+    fn mip_chain_of_a_cube_keeps_the_mean() {
+        let t = ramp(8);
+        assert_eq!(t.level_count(), 4);
+        let v = t.voxel(3, 0, 0, 0);
+        assert!((v.x - 0.5).abs() < 1e-6, "{v}");
+    }
+
+    #[test]
+    fn nearest_reads_the_containing_voxel() {
+        let t = ramp(4);
+        let s = Sampler::new(Filter::NEAREST, Wrap::ClampToEdge);
+        let v = sample_3d(&t, &s, &Footprint3::point(Vec3::new(0.3, 0.9, 0.1)));
+        assert!((v.x - 1.0 / 3.0).abs() < 1e-6);
+    }
+}
