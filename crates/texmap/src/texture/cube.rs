@@ -12,7 +12,9 @@ use glam::{Vec2, Vec3, Vec4};
 
 use super::filter::{ellipse_axes, floor_index};
 use super::format::{with_codec, Codec};
-use super::{sample, CubeFootprint, Filter, Footprint, MagFilter, MinFilter, Sampler, Texture2D, Wrap};
+use super::{
+    sample, CubeFootprint, Filter, Footprint, MagFilter, MinFilter, Sampler, Texture2D, Wrap,
+};
 use crate::{Error, Result};
 
 /// A face of a cube map, in OpenGL's order.
@@ -113,7 +115,10 @@ impl TextureCube {
     #[must_use]
     pub fn face_uv(dir: Vec3) -> (CubeFace, Vec2) {
         let (f, sc, tc, ma) = CubeFace::select(dir);
-        (CubeFace::ALL[f], Vec2::new(0.5 * (sc / ma + 1.0), 0.5 * (tc / ma + 1.0)))
+        (
+            CubeFace::ALL[f],
+            Vec2::new(0.5 * (sc / ma + 1.0), 0.5 * (tc / ma + 1.0)),
+        )
     }
 }
 
@@ -140,7 +145,10 @@ fn face_footprint(fp: &CubeFootprint) -> (usize, Footprint) {
     };
     let deriv = |dd: Vec3| {
         let (ds, dt, dm) = face_coords(dd);
-        Vec2::new((ds * ma - sc * dm) / (2.0 * ma * ma), (dt * ma - tc * dm) / (2.0 * ma * ma))
+        Vec2::new(
+            (ds * ma - sc * dm) / (2.0 * ma * ma),
+            (dt * ma - tc * dm) / (2.0 * ma * ma),
+        )
     };
     let uv = Vec2::new(0.5 * (sc / ma + 1.0), 0.5 * (tc / ma + 1.0));
     (f, Footprint::new(uv, deriv(fp.ddir_dx), deriv(fp.ddir_dy)))
@@ -164,7 +172,11 @@ fn sample_cube_with<C: Codec>(cube: &TextureCube, s: &Sampler, fp: &CubeFootprin
                 };
             }
             let last = levels - 1;
-            let nearest_level = if lod <= 0.5 { 0 } else { ((lod + 0.5).ceil() as usize - 1).min(last) };
+            let nearest_level = if lod <= 0.5 {
+                0
+            } else {
+                ((lod + 0.5).ceil() as usize - 1).min(last)
+            };
             let between = |read: &dyn Fn(usize) -> Vec4| {
                 let l = lod.min(last as f32);
                 let d = l.floor();
@@ -179,22 +191,38 @@ fn sample_cube_with<C: Codec>(cube: &TextureCube, s: &Sampler, fp: &CubeFootprin
             match min {
                 MinFilter::Nearest => nearest_cube::<C>(cube, face, ffp.uv, 0),
                 MinFilter::Linear => bilinear_cube::<C>(cube, face, ffp.uv, 0),
-                MinFilter::NearestMipmapNearest => nearest_cube::<C>(cube, face, ffp.uv, nearest_level),
-                MinFilter::LinearMipmapNearest => bilinear_cube::<C>(cube, face, ffp.uv, nearest_level),
-                MinFilter::NearestMipmapLinear => between(&|l| nearest_cube::<C>(cube, face, ffp.uv, l)),
-                MinFilter::LinearMipmapLinear => between(&|l| bilinear_cube::<C>(cube, face, ffp.uv, l)),
+                MinFilter::NearestMipmapNearest => {
+                    nearest_cube::<C>(cube, face, ffp.uv, nearest_level)
+                }
+                MinFilter::LinearMipmapNearest => {
+                    bilinear_cube::<C>(cube, face, ffp.uv, nearest_level)
+                }
+                MinFilter::NearestMipmapLinear => {
+                    between(&|l| nearest_cube::<C>(cube, face, ffp.uv, l))
+                }
+                MinFilter::LinearMipmapLinear => {
+                    between(&|l| bilinear_cube::<C>(cube, face, ffp.uv, l))
+                }
             }
         }
         Filter::Anisotropic { max_aniso } => {
             let (_, major, minor) = ellipse_axes(dx, dy);
-            let ratio = if minor > 0.0 { major / minor } else { f32::INFINITY };
+            let ratio = if minor > 0.0 {
+                major / minor
+            } else {
+                f32::INFINITY
+            };
             let taps = ratio.ceil().clamp(1.0, max_aniso.clamp(1, 16) as f32);
             let lod = s.adjust_lod((major / taps).log2());
             if !(major > 1.0) {
                 return bilinear_cube::<C>(cube, face, ffp.uv, 0);
             }
             // Taps along the longer direction derivative, each a seamless trilinear read.
-            let axis = if dx.length_squared() >= dy.length_squared() { fp.ddir_dx } else { fp.ddir_dy };
+            let axis = if dx.length_squared() >= dy.length_squared() {
+                fp.ddir_dx
+            } else {
+                fp.ddir_dy
+            };
             let (last, l) = ((levels - 1) as f32, lod.clamp(0.0, (levels - 1) as f32));
             let (d, f) = (l.floor(), l - l.floor());
             let mut sum = Vec4::ZERO;
@@ -274,8 +302,10 @@ mod tests {
             Vec4::new(0.0, 1.0, 1.0, 1.0),
             Vec4::new(1.0, 0.0, 1.0, 1.0),
         ];
-        TextureCube::new(colours.map(|c| Texture2D::from_fn(n, n, TextureOptions::default(), |_, _| c).unwrap()))
-            .unwrap()
+        TextureCube::new(
+            colours.map(|c| Texture2D::from_fn(n, n, TextureOptions::default(), |_, _| c).unwrap()),
+        )
+        .unwrap()
     }
 
     #[test]
@@ -284,7 +314,14 @@ mod tests {
         let s = Sampler::new(Filter::NEAREST, Wrap::ClampToEdge);
         let dirs = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
         for (i, d) in dirs.into_iter().enumerate() {
-            let c = sample_cube(&cube, &s, &CubeFootprint { dir: d, ..Default::default() });
+            let c = sample_cube(
+                &cube,
+                &s,
+                &CubeFootprint {
+                    dir: d,
+                    ..Default::default()
+                },
+            );
             let want = cube.faces()[i].texel(0, 0, 0);
             assert_eq!(c, want, "face {i}");
         }
@@ -306,7 +343,16 @@ mod tests {
         // Just either side of the +X/+Z edge the colours blend to the same value.
         let cube = solid_faces(8);
         let s = Sampler::new(Filter::BILINEAR, Wrap::ClampToEdge);
-        let read = |d: Vec3| sample_cube(&cube, &s, &CubeFootprint { dir: d, ..Default::default() });
+        let read = |d: Vec3| {
+            sample_cube(
+                &cube,
+                &s,
+                &CubeFootprint {
+                    dir: d,
+                    ..Default::default()
+                },
+            )
+        };
         let a = read(Vec3::new(1.0, 0.1, 0.9999));
         let b = read(Vec3::new(0.9999, 0.1, 1.0));
         assert!((a - b).abs().max_element() < 1e-3, "{a} vs {b}");
@@ -324,7 +370,11 @@ mod tests {
         for name in ["nearest", "bilinear", "trilinear", "aniso16", "ewa", "sat"] {
             let s = Sampler::new(Filter::parse(name).unwrap(), Wrap::ClampToEdge);
             for d in [Vec3::new(1.0, 0.99, -0.98), Vec3::new(0.2, -1.0, 0.3)] {
-                let fp = CubeFootprint { dir: d, ddir_dx: Vec3::new(0.3, 0.0, 0.0), ddir_dy: Vec3::new(0.0, 0.05, 0.0) };
+                let fp = CubeFootprint {
+                    dir: d,
+                    ddir_dx: Vec3::new(0.3, 0.0, 0.0),
+                    ddir_dy: Vec3::new(0.0, 0.05, 0.0),
+                };
                 let v = sample_cube(&cube, &s, &fp);
                 assert!((v - c).abs().max_element() < 1e-5, "{name}: {v}");
             }

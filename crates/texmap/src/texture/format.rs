@@ -356,8 +356,16 @@ mod tests {
             };
             let d = with_codec!(f, C => C::decode(&buf, lut));
             for i in 0..f.channels() {
-                let want = if i == 3 || f.channels() > i { c[i] } else { 0.0 };
-                assert!((d[i] - want).abs() < 2.0 / 255.0, "{f:?} channel {i}: {}", d[i]);
+                let want = if i == 3 || f.channels() > i {
+                    c[i]
+                } else {
+                    0.0
+                };
+                assert!(
+                    (d[i] - want).abs() < 2.0 / 255.0,
+                    "{f:?} channel {i}: {}",
+                    d[i]
+                );
             }
         }
     }

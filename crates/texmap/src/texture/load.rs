@@ -46,7 +46,10 @@ pub fn decode_image(path: &Path, limits: &Limits) -> Result<DynamicImage> {
         .with_guessed_format()
         .map_err(|e| Error::io(path, e))?;
     if reader.format().is_none() {
-        return Err(Error::decode(path, "not an image format texmap reads (PNG, JPEG, TGA, BMP, HDR, EXR)"));
+        return Err(Error::decode(
+            path,
+            "not an image format texmap reads (PNG, JPEG, TGA, BMP, HDR, EXR)",
+        ));
     }
     // Read the header first: refuse oversized images before the decoder allocates.
     let (w, h) = ImageReader::open(path)
@@ -98,7 +101,11 @@ fn image_error(path: &Path, e: image::ImageError) -> Error {
 }
 
 /// Converts a decoded image to a texture in the closest [`Format`].
-pub fn texture_from_image(img: DynamicImage, color_space: ColorSpace, options: TextureOptions) -> Result<Texture2D> {
+pub fn texture_from_image(
+    img: DynamicImage,
+    color_space: ColorSpace,
+    options: TextureOptions,
+) -> Result<Texture2D> {
     let (w, h) = (img.width(), img.height());
     let (format, bytes): (Format, Vec<u8>) = match img {
         DynamicImage::ImageRgb8(b) => (Format::Rgb8, b.into_raw()),
@@ -107,12 +114,18 @@ pub fn texture_from_image(img: DynamicImage, color_space: ColorSpace, options: T
         DynamicImage::ImageLumaA8(_) => (Format::Rgba8, img.to_rgba8().into_raw()),
         DynamicImage::ImageRgb32F(_) | DynamicImage::ImageRgba32F(_) => {
             let data = img.to_rgba32f().into_raw();
-            (Format::Rgba32F, data.iter().flat_map(|v| v.to_le_bytes()).collect())
+            (
+                Format::Rgba32F,
+                data.iter().flat_map(|v| v.to_le_bytes()).collect(),
+            )
         }
         other => {
             // 16-bit and anything else: RGBA16 unorm.
             let data = other.to_rgba16().into_raw();
-            (Format::Rgba16, data.iter().flat_map(|v| v.to_le_bytes()).collect())
+            (
+                Format::Rgba16,
+                data.iter().flat_map(|v| v.to_le_bytes()).collect(),
+            )
         }
     };
     Texture2D::from_texels(w, h, format, color_space, &bytes, options)
@@ -131,13 +144,19 @@ mod tests {
     #[test]
     fn png_8_and_16_bit_load() {
         let p8 = tmp("a8.png");
-        image::RgbaImage::from_pixel(3, 2, image::Rgba([255, 0, 0, 255])).save(&p8).unwrap();
+        image::RgbaImage::from_pixel(3, 2, image::Rgba([255, 0, 0, 255]))
+            .save(&p8)
+            .unwrap();
         let t = load_texture(&p8, ColorSpace::Srgb, &Limits::default()).unwrap();
         assert_eq!((t.width(), t.height(), t.format()), (3, 2, Format::Rgba8));
         let p16 = tmp("a16.png");
-        image::ImageBuffer::<image::Rgb<u16>, _>::from_pixel(2, 2, image::Rgb([65535u16, 32768, 0]))
-            .save(&p16)
-            .unwrap();
+        image::ImageBuffer::<image::Rgb<u16>, _>::from_pixel(
+            2,
+            2,
+            image::Rgb([65535u16, 32768, 0]),
+        )
+        .save(&p16)
+        .unwrap();
         let t = load_texture(&p16, ColorSpace::Linear, &Limits::default()).unwrap();
         assert_eq!(t.format(), Format::Rgba16);
         let c = t.texel(0, 0, 0);
@@ -154,7 +173,12 @@ mod tests {
 
     #[test]
     fn missing_file_names_the_file() {
-        let e = load_texture(Path::new("/nonexistent/x.png"), ColorSpace::Srgb, &Limits::default()).unwrap_err();
+        let e = load_texture(
+            Path::new("/nonexistent/x.png"),
+            ColorSpace::Srgb,
+            &Limits::default(),
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("/nonexistent/x.png"), "{e}");
     }
 
@@ -173,6 +197,9 @@ mod tests {
             max_bytes: 1000,
             ..Default::default()
         };
-        assert!(matches!(load_texture(&p, ColorSpace::Srgb, &limits), Err(Error::Limits { .. })));
+        assert!(matches!(
+            load_texture(&p, ColorSpace::Srgb, &limits),
+            Err(Error::Limits { .. })
+        ));
     }
 }

@@ -92,17 +92,28 @@ mod tests {
 
     #[test]
     fn odd_side_uses_three_taps_centred() {
-        // 5 → 2: texel 0 covers [0, 2.5): weights 0.4, 0.4, 0.2 — centred at 1.25 = (0+0.5)·2.5.
-        let w: Vec<_> = coverage(0, 5, 2).collect();
-        assert_eq!(w.len(), 3);
-        let centre: f32 = w.iter().map(|&(j, wt)| (j as f32 + 0.5) * wt).sum();
-        assert!((centre - 1.25).abs() < 1e-6);
+        // 5 → 2: texel 0 covers [0, 2.5): weights 0.4, 0.4, 0.2; texel 1 mirrors it, so the
+        // destination texel centres sit at 1.25 and 3.75 = (i + 0.5)·5/2, with no drift.
+        let w0: Vec<_> = coverage(0, 5, 2).collect();
+        let w1: Vec<_> = coverage(1, 5, 2).collect();
+        assert_eq!(w0.iter().map(|p| p.0).collect::<Vec<_>>(), [0, 1, 2]);
+        assert_eq!(w1.iter().map(|p| p.0).collect::<Vec<_>>(), [2, 3, 4]);
+        for (got, want) in w0.iter().zip([0.4, 0.4, 0.2]) {
+            assert!((got.1 - want).abs() < 1e-6);
+        }
+        for (a, b) in w0.iter().zip(w1.iter().rev()) {
+            assert!((a.1 - b.1).abs() < 1e-6);
+        }
     }
 
     #[test]
     fn chain_goes_to_one_by_one_with_gl_sizes() {
         let tex = Texture2D::from_fn(37, 10, TextureOptions::default(), |_, _| Vec4::ONE).unwrap();
-        let sizes: Vec<_> = tex.levels().iter().map(|l| (l.width(), l.height())).collect();
+        let sizes: Vec<_> = tex
+            .levels()
+            .iter()
+            .map(|l| (l.width(), l.height()))
+            .collect();
         assert_eq!(sizes, [(37, 10), (18, 5), (9, 2), (4, 1), (2, 1), (1, 1)]);
         assert_eq!(level_count(37, 10), sizes.len());
     }
@@ -111,7 +122,15 @@ mod tests {
     fn chain_costs_about_a_third_more() {
         let n = 512u32;
         let rgba = vec![128u8; (n * n * 4) as usize];
-        let tex = Texture2D::from_texels(n, n, Format::Rgba8, ColorSpace::Srgb, &rgba, TextureOptions::default()).unwrap();
+        let tex = Texture2D::from_texels(
+            n,
+            n,
+            Format::Rgba8,
+            ColorSpace::Srgb,
+            &rgba,
+            TextureOptions::default(),
+        )
+        .unwrap();
         let base = (n * n * 4) as f64;
         let ratio = tex.texel_bytes() as f64 / base;
         assert!((ratio - 4.0 / 3.0).abs() < 0.01, "chain/base = {ratio}");
@@ -161,6 +180,9 @@ mod tests {
         })
         .unwrap();
         let c = tex.decode_level(1)[0];
-        assert!((c - Vec4::new(0.5, 0.0, 0.0, 0.5)).abs().max_element() < 1e-6, "{c}");
+        assert!(
+            (c - Vec4::new(0.5, 0.0, 0.0, 0.5)).abs().max_element() < 1e-6,
+            "{c}"
+        );
     }
 }

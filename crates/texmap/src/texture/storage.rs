@@ -135,7 +135,11 @@ impl Texture2D {
                 let mut bytes = vec![0u8; (w * h) as usize * format.bytes_per_texel()];
                 let bpp = format.bytes_per_texel();
                 for (i, c) in texels.iter().enumerate() {
-                    format.encode(mip::unpremultiply(*c), srgb, &mut bytes[i * bpp..(i + 1) * bpp]);
+                    format.encode(
+                        mip::unpremultiply(*c),
+                        srgb,
+                        &mut bytes[i * bpp..(i + 1) * bpp],
+                    );
                 }
                 let level = tex.store_level(w, h, &bytes);
                 tex.levels.push(level);
@@ -145,8 +149,20 @@ impl Texture2D {
     }
 
     /// Builds an RGBA8 texture (full mip chain, tiled) from row-major RGBA bytes.
-    pub fn from_rgba8(width: u32, height: u32, color_space: ColorSpace, rgba: &[u8]) -> Result<Self> {
-        Self::from_texels(width, height, Format::Rgba8, color_space, rgba, TextureOptions::default())
+    pub fn from_rgba8(
+        width: u32,
+        height: u32,
+        color_space: ColorSpace,
+        rgba: &[u8],
+    ) -> Result<Self> {
+        Self::from_texels(
+            width,
+            height,
+            Format::Rgba8,
+            color_space,
+            rgba,
+            TextureOptions::default(),
+        )
     }
 
     /// Builds a linear RGBA32F texture by evaluating `f` at every texel (tests and procedurals).
@@ -164,7 +180,14 @@ impl Texture2D {
                 }
             }
         }
-        Self::from_texels(width, height, Format::Rgba32F, ColorSpace::Linear, &bytes, options)
+        Self::from_texels(
+            width,
+            height,
+            Format::Rgba32F,
+            ColorSpace::Linear,
+            &bytes,
+            options,
+        )
     }
 
     fn store_level(&self, width: u32, height: u32, texels: &[u8]) -> Level {
@@ -305,8 +328,24 @@ mod tests {
             mipmaps: true,
             layout,
         };
-        let a = Texture2D::from_texels(w, h, Format::Rgba8, ColorSpace::Srgb, &rgba, opts(Layout::Tiled4x4)).unwrap();
-        let b = Texture2D::from_texels(w, h, Format::Rgba8, ColorSpace::Srgb, &rgba, opts(Layout::RowMajor)).unwrap();
+        let a = Texture2D::from_texels(
+            w,
+            h,
+            Format::Rgba8,
+            ColorSpace::Srgb,
+            &rgba,
+            opts(Layout::Tiled4x4),
+        )
+        .unwrap();
+        let b = Texture2D::from_texels(
+            w,
+            h,
+            Format::Rgba8,
+            ColorSpace::Srgb,
+            &rgba,
+            opts(Layout::RowMajor),
+        )
+        .unwrap();
         assert_eq!(a.levels().len(), b.levels().len());
         for l in 0..a.levels().len() {
             assert_eq!(a.decode_level(l), b.decode_level(l), "level {l}");

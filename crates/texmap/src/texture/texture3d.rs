@@ -34,7 +34,9 @@ impl Texture3D {
         mipmaps: bool,
     ) -> Result<Self> {
         if dims.contains(&0) {
-            return Err(Error::parameter(format!("3D texture size {dims:?} has a zero side")));
+            return Err(Error::parameter(format!(
+                "3D texture size {dims:?} has a zero side"
+            )));
         }
         let count = dims.iter().map(|&d| d as usize).product::<usize>();
         if texels.len() != count * format.bytes_per_texel() {
@@ -58,16 +60,24 @@ impl Texture3D {
             lut,
         };
         if mipmaps {
-            let mut cur: Vec<Vec4> = with_codec!(format, C => (0..count).map(|i| tex.voxel_at::<C>(0, i)).collect());
+            let mut cur: Vec<Vec4> =
+                with_codec!(format, C => (0..count).map(|i| tex.voxel_at::<C>(0, i)).collect());
             let mut d = dims;
             while d.iter().any(|&n| n > 1) {
                 let (nd, next) = reduce3(d, &cur);
                 let bpp = format.bytes_per_texel();
                 let mut bytes = vec![0u8; next.len() * bpp];
                 for (i, c) in next.iter().enumerate() {
-                    format.encode(super::mip::unpremultiply(*c), srgb, &mut bytes[i * bpp..(i + 1) * bpp]);
+                    format.encode(
+                        super::mip::unpremultiply(*c),
+                        srgb,
+                        &mut bytes[i * bpp..(i + 1) * bpp],
+                    );
                 }
-                tex.levels.push(Level3 { dims: nd, data: bytes });
+                tex.levels.push(Level3 {
+                    dims: nd,
+                    data: bytes,
+                });
                 (d, cur) = (nd, next);
             }
         }
@@ -132,7 +142,8 @@ fn reduce3(d: [u32; 3], src: &[Vec4]) -> ([u32; 3], Vec<Vec4>) {
                         continue;
                     }
                     for s in 0..stride {
-                        out[(o * m as usize + i) * stride + s] += cur[(o * n as usize + j) * stride + s] * w;
+                        out[(o * m as usize + i) * stride + s] +=
+                            cur[(o * n as usize + j) * stride + s] * w;
                     }
                 }
             }
@@ -159,7 +170,12 @@ fn sample_3d_with<C: Codec>(tex: &Texture3D, s: &Sampler, fp: &Footprint3) -> Ve
     let (nearest, mip) = match s.filter {
         Filter::Gl { mag, .. } if !(lod > 0.0) => (mag == MagFilter::Nearest, false),
         Filter::Gl { min, .. } => (
-            matches!(min, MinFilter::Nearest | MinFilter::NearestMipmapNearest | MinFilter::NearestMipmapLinear),
+            matches!(
+                min,
+                MinFilter::Nearest
+                    | MinFilter::NearestMipmapNearest
+                    | MinFilter::NearestMipmapLinear
+            ),
             !matches!(min, MinFilter::Nearest | MinFilter::Linear),
         ),
         _ => (false, lod > 0.0),
@@ -189,7 +205,11 @@ fn sample_3d_with<C: Codec>(tex: &Texture3D, s: &Sampler, fp: &Footprint3) -> Ve
 #[inline(always)]
 fn fetch3<C: Codec>(tex: &Texture3D, s: &Sampler, level: usize, x: i32, y: i32, z: i32) -> Vec4 {
     let [w, h, d] = tex.levels[level].dims.map(|v| v as i32);
-    let (xi, yi, zi) = (s.wrap_u.index(x, w), s.wrap_v.index(y, h), s.wrap_w.index(z, d));
+    let (xi, yi, zi) = (
+        s.wrap_u.index(x, w),
+        s.wrap_v.index(y, h),
+        s.wrap_w.index(z, d),
+    );
     if xi == BORDER || yi == BORDER || zi == BORDER {
         return s.border;
     }
@@ -199,7 +219,14 @@ fn fetch3<C: Codec>(tex: &Texture3D, s: &Sampler, level: usize, x: i32, y: i32, 
 fn nearest3<C: Codec>(tex: &Texture3D, s: &Sampler, level: usize, p: Vec3) -> Vec4 {
     let dims = Vec3::from_array(tex.levels[level].dims.map(|v| v as f32));
     let q = p * dims;
-    fetch3::<C>(tex, s, level, floor_index(q.x), floor_index(q.y), floor_index(q.z))
+    fetch3::<C>(
+        tex,
+        s,
+        level,
+        floor_index(q.x),
+        floor_index(q.y),
+        floor_index(q.z),
+    )
 }
 
 /// Trilinear interpolation of the eight voxels around `p` on one level.

@@ -75,7 +75,10 @@ mod tests {
         };
         let (u, v) = (0.4f32, 0.7f32);
         let (s, c) = 0.3f32.sin_cos();
-        let want = Vec2::new(2.0 * c * u + 3.0 * s * v + 0.1, -2.0 * s * u + 3.0 * c * v + 0.2);
+        let want = Vec2::new(
+            2.0 * c * u + 3.0 * s * v + 0.1,
+            -2.0 * s * u + 3.0 * c * v + 0.2,
+        );
         assert!((t.apply(Vec2::new(u, v)) - want).length() < 1e-6);
     }
 

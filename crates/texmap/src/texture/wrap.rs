@@ -72,7 +72,10 @@ mod tests {
 
     #[test]
     fn repeat_on_three_texels() {
-        assert_eq!(row(Wrap::Repeat, 3), [1, 2, 0, 1, 2, 0, 1, 2, 0, 1, 2, 0, 1]);
+        assert_eq!(
+            row(Wrap::Repeat, 3),
+            [1, 2, 0, 1, 2, 0, 1, 2, 0, 1, 2, 0, 1]
+        );
     }
 
     #[test]
@@ -86,13 +89,19 @@ mod tests {
 
     #[test]
     fn clamp_to_edge_on_three_texels() {
-        assert_eq!(row(Wrap::ClampToEdge, 3), [0, 0, 0, 0, 0, 0, 1, 2, 2, 2, 2, 2, 2]);
+        assert_eq!(
+            row(Wrap::ClampToEdge, 3),
+            [0, 0, 0, 0, 0, 0, 1, 2, 2, 2, 2, 2, 2]
+        );
     }
 
     #[test]
     fn clamp_to_border_on_three_texels() {
         let b = BORDER;
-        assert_eq!(row(Wrap::ClampToBorder, 3), [b, b, b, b, b, 0, 1, 2, b, b, b, b, b]);
+        assert_eq!(
+            row(Wrap::ClampToBorder, 3),
+            [b, b, b, b, b, 0, 1, 2, b, b, b, b, b]
+        );
     }
 
     #[test]
@@ -106,7 +115,12 @@ mod tests {
 
     #[test]
     fn single_texel_axis() {
-        for w in [Wrap::Repeat, Wrap::MirroredRepeat, Wrap::ClampToEdge, Wrap::MirrorClampToEdge] {
+        for w in [
+            Wrap::Repeat,
+            Wrap::MirroredRepeat,
+            Wrap::ClampToEdge,
+            Wrap::MirrorClampToEdge,
+        ] {
             assert!((-4..4).all(|i| w.index(i, 1) == 0), "{w:?}");
         }
     }

@@ -13,11 +13,20 @@ use glam::Vec4;
 use super::{bilinear, ellipse_axes, texel_derivatives, trilinear_at, Codec};
 use crate::texture::{Footprint, Sampler, Texture2D};
 
-pub(crate) fn sample<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint, max_aniso: u32) -> Vec4 {
+pub(crate) fn sample<C: Codec>(
+    tex: &Texture2D,
+    s: &Sampler,
+    fp: &Footprint,
+    max_aniso: u32,
+) -> Vec4 {
     let (dx, dy) = texel_derivatives(tex, fp);
     let (major_dir, major, minor) = ellipse_axes(dx, dy);
     let max_aniso = max_aniso.clamp(1, 16) as f32;
-    let ratio = if minor > 0.0 { major / minor } else { f32::INFINITY };
+    let ratio = if minor > 0.0 {
+        major / minor
+    } else {
+        f32::INFINITY
+    };
     let n = ratio.ceil().clamp(1.0, max_aniso);
     let lod = s.adjust_lod((major / n).log2());
     if !(major > 1.0) || !(lod > 0.0) && n == 1.0 {

@@ -51,7 +51,15 @@ pub(crate) fn sample<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint, max
         a
     } else {
         a.lerp(
-            ewa_level::<C>(&tex.level(d as usize + 1), s, fp.uv, major_dir, major, minor, d + 1.0),
+            ewa_level::<C>(
+                &tex.level(d as usize + 1),
+                s,
+                fp.uv,
+                major_dir,
+                major,
+                minor,
+                d + 1.0,
+            ),
             f,
         )
     }

@@ -33,8 +33,16 @@ pub fn sample(texture: &Texture2D, sampler: &Sampler, footprint: &Footprint) -> 
 ///
 /// # Panics
 /// If `out` is shorter than `footprints`.
-pub fn sample_batch(texture: &Texture2D, sampler: &Sampler, footprints: &[Footprint], out: &mut [Vec4]) {
-    assert!(out.len() >= footprints.len(), "output shorter than the footprints");
+pub fn sample_batch(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    footprints: &[Footprint],
+    out: &mut [Vec4],
+) {
+    assert!(
+        out.len() >= footprints.len(),
+        "output shorter than the footprints"
+    );
     with_codec!(texture.format(), C => {
         for (fp, o) in footprints.iter().zip(out.iter_mut()) {
             *o = sample_with::<C>(texture, sampler, fp);
@@ -92,8 +100,14 @@ pub(crate) fn bilinear<C: Codec>(lv: &LevelRef, s: &Sampler, uv: Vec2) -> Vec4 {
     let (fx, fy) = (px.floor(), py.floor());
     let (ax, ay) = (px - fx, py - fy);
     let (x0, y0) = (floor_index(fx), floor_index(fy));
-    let (xa, xb) = (s.wrap_u.index(x0, lv.w), s.wrap_u.index(x0.wrapping_add(1), lv.w));
-    let (ya, yb) = (s.wrap_v.index(y0, lv.h), s.wrap_v.index(y0.wrapping_add(1), lv.h));
+    let (xa, xb) = (
+        s.wrap_u.index(x0, lv.w),
+        s.wrap_u.index(x0.wrapping_add(1), lv.w),
+    );
+    let (ya, yb) = (
+        s.wrap_v.index(y0, lv.h),
+        s.wrap_v.index(y0.wrapping_add(1), lv.h),
+    );
     let t = |x: i32, y: i32| {
         if x == BORDER || y == BORDER {
             s.border
@@ -122,7 +136,13 @@ pub(crate) fn trilinear_at<C: Codec>(tex: &Texture2D, s: &Sampler, uv: Vec2, lod
 }
 
 /// OpenGL's filtering (section 8.14 of the 4.6 core specification).
-fn gl<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint, mag: MagFilter, min: MinFilter) -> Vec4 {
+fn gl<C: Codec>(
+    tex: &Texture2D,
+    s: &Sampler,
+    fp: &Footprint,
+    mag: MagFilter,
+    min: MinFilter,
+) -> Vec4 {
     let (dx, dy) = texel_derivatives(tex, fp);
     let lod = s.adjust_lod(s.lod_rule.lod(dx, dy));
     // λ ≤ 0 (or NaN from a degenerate footprint) magnifies.

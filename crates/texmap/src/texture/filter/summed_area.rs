@@ -41,7 +41,9 @@ struct Table {
 
 impl SummedAreaTables {
     pub(crate) fn build(tex: &Texture2D) -> Self {
-        let decoded: Vec<Vec<Vec4>> = (0..tex.levels().len()).map(|l| tex.decode_level(l)).collect();
+        let decoded: Vec<Vec<Vec4>> = (0..tex.levels().len())
+            .map(|l| tex.decode_level(l))
+            .collect();
         let max = if tex.format().is_unorm() {
             1.0
         } else {
