@@ -1,10 +1,16 @@
 //! Heckbert's elliptical weighted average (EWA).
 //!
-//! The footprint's ellipse (semi-axes = the derivatives' singular values) is convolved with a
-//! one-texel reconstruction disc (the `+1` on the quadratic form's diagonal, as in Heckbert's
-//! thesis and pbrt), its eccentricity clamped so the minor axis is at least `major / e_max`, and
-//! every texel inside is weighted by a Gaussian read from a precomputed table. The level is
-//! chosen from the minor axis, and the two levels around it are blended.
+//! The footprint's ellipse (semi-axes along the derivatives' singular vectors) is convolved with a
+//! reconstruction disc (a term added to the squared semi-axes, as Heckbert's thesis and pbrt add
+//! 1), its eccentricity clamped so the minor axis is at least `major / e_max`, and every texel
+//! inside is weighted by a Gaussian (`e^(−2r²) − e^(−2)`) read from a 128-entry table. The level
+//! is chosen from the minor axis, and the two levels around it are blended.
+//!
+//! Radii: pbrt's choice (semi-axes = 1.0 × the derivatives, disc 1.0 texel²) blurs: on the
+//! grazing plane at 640×360 it scored 28.4 dB (checker) and 31.9 dB (noise) against the
+//! box-filtered ground truth. Semi-axes of 0.8 × the derivatives and a 0.5 texel² disc — a
+//! Gaussian whose spread is closer to the pixel's box — scored 36.6 and 36.0 dB; those are the
+//! constants below (measured with `examples/plane_filters.rs`).
 
 use std::sync::OnceLock;
 
@@ -15,6 +21,10 @@ use crate::texture::storage::LevelRef;
 use crate::texture::{Footprint, Sampler, Texture2D};
 
 const TABLE_SIZE: usize = 128;
+/// The ellipse's semi-axes as a multiple of the derivatives' singular values.
+const RADIUS: f32 = 0.8;
+/// The reconstruction disc's squared radius in texels, added to the footprint's.
+const RECONSTRUCTION: f32 = 0.5;
 /// Gaussian falloff: weight = e^(−α r²) − e^(−α), r² ∈ [0, 1).
 const ALPHA: f32 = 2.0;
 
@@ -77,8 +87,11 @@ fn ewa_level<C: Codec>(
 ) -> Vec4 {
     let scale = (-level).exp2();
     // Semi-axes on this level, convolved with the one-texel reconstruction disc.
-    let (r1, r2) = (major * scale, minor * scale);
-    let (q1, q2) = (1.0 / (r1 * r1 + 1.0), 1.0 / (r2 * r2 + 1.0));
+    let (r1, r2) = (RADIUS * major * scale, RADIUS * minor * scale);
+    let (q1, q2) = (
+        1.0 / (r1 * r1 + RECONSTRUCTION),
+        1.0 / (r2 * r2 + RECONSTRUCTION),
+    );
     // Quadratic form r² = A·x² + B·x·y + C·y² with x, y texel offsets.
     let (c, sn) = (dir.x, dir.y);
     let a = q1 * c * c + q2 * sn * sn;
