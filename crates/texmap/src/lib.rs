@@ -24,6 +24,10 @@
 
 pub mod color;
 mod error;
+pub mod pipeline;
+pub mod render;
+pub mod scene;
+pub mod shading;
 pub mod texture;
 
 pub use error::{Error, Result};

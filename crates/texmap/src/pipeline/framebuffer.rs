@@ -1,0 +1,107 @@
+//! Framebuffer: a tile's colour and depth samples, blending, the MSAA resolve, and the SSAA
+//! box filter.
+//!
+//! Colour is premultiplied linear RGBA. Opaque writes replace; blended writes use
+//! premultiplied "over": `dst = src + (1 − src.a)·dst`. The MSAA resolve and the SSAA
+//! downsample are plain averages in linear light.
+
+use glam::Vec4;
+
+use super::bin::TILE;
+
+/// The colour and depth samples of one tile, in local arrays.
+///
+/// Sample `s` of local pixel `(x, y)` is at index `(y·TILE + x)·samples + s`.
+#[derive(Clone, Debug)]
+pub struct TileBuffer {
+    pub samples: usize,
+    pub color: Vec<Vec4>,
+    pub depth: Vec<f32>,
+}
+
+impl TileBuffer {
+    /// A tile cleared to `clear` and depth 1.
+    #[must_use]
+    pub fn new(samples: usize, clear: Vec4) -> Self {
+        let n = (TILE * TILE) as usize * samples;
+        TileBuffer {
+            samples,
+            color: vec![clear; n],
+            depth: vec![1.0; n],
+        }
+    }
+
+    /// Writes `src` to sample index `i`, blending or replacing.
+    #[inline(always)]
+    pub fn write(&mut self, i: usize, src: Vec4, blend: bool) {
+        let dst = &mut self.color[i];
+        *dst = if blend { src + *dst * (1.0 - src.w) } else { src };
+    }
+
+    /// The average of each pixel's samples over `w × h` local pixels, row-major.
+    #[must_use]
+    pub fn resolve(&self, w: usize, h: usize) -> Vec<Vec4> {
+        let s = self.samples;
+        let mut out = Vec::with_capacity(w * h);
+        let inv = 1.0 / s as f32;
+        for y in 0..h {
+            for x in 0..w {
+                let i = (y * TILE as usize + x) * s;
+                if s == 1 {
+                    out.push(self.color[i]);
+                } else {
+                    let sum: Vec4 = self.color[i..i + s].iter().copied().sum();
+                    out.push(sum * inv);
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Box-filters an image of `(w·n) × (h·n)` pixels down to `w × h` (SSAA resolve).
+#[must_use]
+pub fn downsample_box(src: &[Vec4], w: usize, h: usize, n: usize) -> Vec<Vec4> {
+    if n <= 1 {
+        return src.to_vec();
+    }
+    let sw = w * n;
+    let inv = 1.0 / (n * n) as f32;
+    let mut out = vec![Vec4::ZERO; w * h];
+    for (y, row) in out.chunks_exact_mut(w).enumerate() {
+        for (x, o) in row.iter_mut().enumerate() {
+            let mut sum = Vec4::ZERO;
+            for sy in 0..n {
+                let base = (y * n + sy) * sw + x * n;
+                for c in &src[base..base + n] {
+                    sum += *c;
+                }
+            }
+            *o = sum * inv;
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn premultiplied_over() {
+        let mut t = TileBuffer::new(1, Vec4::new(0.0, 0.0, 1.0, 1.0));
+        t.write(0, Vec4::new(0.5, 0.0, 0.0, 0.5), true);
+        assert_eq!(t.color[0], Vec4::new(0.5, 0.0, 0.5, 1.0));
+        t.write(0, Vec4::new(0.0, 1.0, 0.0, 1.0), false);
+        assert_eq!(t.color[0], Vec4::new(0.0, 1.0, 0.0, 1.0));
+    }
+
+    #[test]
+    fn resolve_and_downsample_average() {
+        let mut t = TileBuffer::new(4, Vec4::ZERO);
+        t.color[0] = Vec4::ONE;
+        assert_eq!(t.resolve(1, 1)[0], Vec4::splat(0.25));
+        let src = [Vec4::ONE, Vec4::ZERO, Vec4::ZERO, Vec4::ZERO];
+        assert_eq!(downsample_box(&src, 1, 1, 2)[0], Vec4::splat(0.25));
+    }
+}

@@ -1,0 +1,164 @@
+//! Interpolate: attribute planes and their evaluation on 2×2 quads.
+//!
+//! Every interpolated quantity `f` is a plane in screen space, `f(x, y) = c + f_x·x + f_y·y`,
+//! set up in `f64` from the snapped vertex positions and stored in `f32` relative to a tile's
+//! first pixel centre (so `x, y < 64` and the `f32` rounding stays below 1e-6 relative).
+//! - Perspective-correct: the planes are of `a/w` and `1/w`; per pixel `a = (a/w)/(1/w)`.
+//! - Affine: the planes are of `a` itself (screen-linear).
+//!
+//! Depth is always screen-linear (`z_ndc` is affine in screen space).
+
+use super::transform::PostVertex;
+use super::{MAX_VARYINGS, SUBPIXEL_ONE};
+
+/// A plane `c + dx·x + dy·y` with x, y in pixels from a reference pixel centre.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Plane {
+    pub c: f32,
+    pub dx: f32,
+    pub dy: f32,
+}
+
+impl Plane {
+    /// The value at pixel offset (x, y) from the reference pixel.
+    #[inline(always)]
+    #[must_use]
+    pub fn at(&self, x: f32, y: f32) -> f32 {
+        self.c + self.dx * x + self.dy * y
+    }
+}
+
+/// The interpolation planes of one triangle, relative to one reference pixel.
+#[derive(Clone, Debug)]
+pub struct Planes {
+    pub n: usize,
+    pub perspective: bool,
+    /// Window depth.
+    pub z: Plane,
+    /// 1/w (perspective) — unused when affine.
+    pub q: Plane,
+    pub a: [Plane; MAX_VARYINGS],
+}
+
+struct Gradient {
+    x0: f64,
+    y0: f64,
+    x10: f64,
+    y10: f64,
+    x20: f64,
+    y20: f64,
+    inv_area: f64,
+    rx: f64,
+    ry: f64,
+}
+
+impl Gradient {
+    #[inline]
+    fn plane(&self, f0: f64, f1: f64, f2: f64) -> Plane {
+        let (d1, d2) = (f1 - f0, f2 - f0);
+        let dx = (d1 * self.y20 - d2 * self.y10) * self.inv_area;
+        let dy = (d2 * self.x10 - d1 * self.x20) * self.inv_area;
+        Plane {
+            c: (f0 + dx * (self.rx - self.x0) + dy * (self.ry - self.y0)) as f32,
+            dx: dx as f32,
+            dy: dy as f32,
+        }
+    }
+}
+
+impl Planes {
+    /// Sets up the planes of triangle `v` (any orientation, non-zero area) relative to the
+    /// centre of pixel `(px, py)`, for the first `n` varyings.
+    #[must_use]
+    pub fn new(v: [&PostVertex; 3], n: usize, perspective: bool, px: i32, py: i32) -> Self {
+        let s = 1.0 / SUBPIXEL_ONE as f64;
+        let p = v.map(|v| (v.sx as f64 * s, v.sy as f64 * s));
+        let (x10, y10) = (p[1].0 - p[0].0, p[1].1 - p[0].1);
+        let (x20, y20) = (p[2].0 - p[0].0, p[2].1 - p[0].1);
+        let g = Gradient {
+            x0: p[0].0,
+            y0: p[0].1,
+            x10,
+            y10,
+            x20,
+            y20,
+            inv_area: 1.0 / (x10 * y20 - x20 * y10),
+            rx: px as f64 + 0.5,
+            ry: py as f64 + 0.5,
+        };
+        let z = g.plane(v[0].z as f64, v[1].z as f64, v[2].z as f64);
+        let q = v.map(|v| v.inv_w as f64);
+        let mut planes = Planes {
+            n,
+            perspective,
+            z,
+            q: g.plane(q[0], q[1], q[2]),
+            a: [Plane::default(); MAX_VARYINGS],
+        };
+        for i in 0..n.min(MAX_VARYINGS) {
+            let f = v.map(|v| v.varyings[i] as f64);
+            planes.a[i] = if perspective {
+                g.plane(f[0] * q[0], f[1] * q[1], f[2] * q[2])
+            } else {
+                g.plane(f[0], f[1], f[2])
+            };
+        }
+        planes
+    }
+
+    /// Evaluates the varyings at the four pixel centres of the quad whose top-left pixel is at
+    /// offset (x, y) from the reference pixel: pixel `j` at `(x + (j & 1), y + (j >> 1))`.
+    #[inline]
+    pub fn quad(&self, x: f32, y: f32, out: &mut [[f32; MAX_VARYINGS]; 4]) {
+        let n = self.n;
+        if self.perspective {
+            let q0 = self.q.at(x, y);
+            let qs = [q0, q0 + self.q.dx, q0 + self.q.dy, q0 + self.q.dx + self.q.dy];
+            let w = qs.map(|q| 1.0 / q.max(f32::MIN_POSITIVE));
+            for i in 0..n {
+                let p = &self.a[i];
+                let b = p.at(x, y);
+                out[0][i] = b * w[0];
+                out[1][i] = (b + p.dx) * w[1];
+                out[2][i] = (b + p.dy) * w[2];
+                out[3][i] = (b + p.dx + p.dy) * w[3];
+            }
+        } else {
+            for i in 0..n {
+                let p = &self.a[i];
+                let b = p.at(x, y);
+                out[0][i] = b;
+                out[1][i] = b + p.dx;
+                out[2][i] = b + p.dy;
+                out[3][i] = b + p.dx + p.dy;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pipeline::Viewport;
+    use glam::Vec4;
+
+    #[test]
+    fn planes_reproduce_vertex_values() {
+        let vp = Viewport::new(100, 100);
+        let mk = |x: f32, y: f32, w: f32, a: f32| {
+            let mut var = [0.0; MAX_VARYINGS];
+            var[0] = a;
+            PostVertex::new(Vec4::new(x * w, y * w, 0.0, w), var, &vp)
+        };
+        // Vertices at pixel centres (ndc chosen so).
+        let v = [mk(-0.99, 0.99, 1.0, 1.0), mk(0.97, 0.99, 3.0, 5.0), mk(-0.99, -0.97, 2.0, -2.0)];
+        let planes = Planes::new([&v[0], &v[1], &v[2]], 1, true, 0, 0);
+        let mut out = [[0.0; MAX_VARYINGS]; 4];
+        planes.quad(0.0, 0.0, &mut out);
+        assert!((out[0][0] - 1.0).abs() < 1e-4, "{}", out[0][0]);
+        planes.quad(98.0, 0.0, &mut out);
+        assert!((out[0][0] - 5.0).abs() < 1e-4, "{}", out[0][0]);
+        planes.quad(0.0, 98.0, &mut out);
+        assert!((out[0][0] + 2.0).abs() < 1e-4, "{}", out[0][0]);
+    }
+}

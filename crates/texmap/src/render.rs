@@ -1,0 +1,517 @@
+//! Render one frame: `(scene, camera, settings) → Frame`.
+//!
+//! Wires the stages: the vertex shader here (object → world → clip, uv transform, per-vertex
+//! or per-face lighting for Gouraud and flat shading), the [`pipeline`](crate::pipeline)
+//! (clip, setup, bin, raster in parallel tiles, MSAA resolve), the fragment shader here
+//! (texture through [`sample`] with the quad's derivatives, Phong illumination from
+//! [`shading`](crate::shading)), and the SSAA box filter.
+//!
+//! Culling: `Settings::cull` applies to single-sided materials; double-sided ones are never
+//! culled, and their back faces are lit with the flipped normal (Phong shading).
+
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+use rayon::prelude::*;
+
+pub use crate::pipeline::{CullMode, Interpolation};
+use crate::pipeline::{self, DrawCall, DrawState, FragmentShader, PostVertex, Quad, Target, Viewport, MAX_VARYINGS};
+use crate::scene::{Camera, Mesh, Scene};
+use crate::shading::{combine, illuminate, AlphaMode, Lighting, Material};
+use crate::texture::{sample, Filter, Footprint, Sampler, Texture2D, TextureTransform, Wrap};
+use crate::{Error, Result};
+
+/// Where lighting is evaluated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ShadingMode {
+    /// Once per triangle, at its centroid with the geometric normal.
+    Flat,
+    /// Per vertex, interpolated (the texture is still applied per pixel).
+    Gouraud,
+    /// Per pixel with the interpolated, renormalized normal.
+    #[default]
+    Phong,
+}
+
+/// How hidden surfaces are removed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Visibility {
+    /// A per-sample `f32` depth buffer (test `LESS`).
+    #[default]
+    ZBuffer,
+    /// Painter's algorithm: triangles drawn back to front by their farthest vertex, no depth
+    /// buffer (wrong where triangles intersect or overlap cyclically).
+    DepthSort,
+}
+
+/// Everything about how a frame is made, apart from the scene and the camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    pub width: u32,
+    pub height: u32,
+    pub interpolation: Interpolation,
+    pub shading: ShadingMode,
+    pub visibility: Visibility,
+    pub cull: CullMode,
+    /// MSAA samples per pixel: 1, 2, 4, 8 or 16 (Direct3D's standard positions).
+    pub msaa: u32,
+    /// Supersampling: render at N× the size in each direction and box-filter (1..=8).
+    pub ssaa: u32,
+    /// Ignore lights: colour = base colour × texture × vertex colour.
+    pub unlit: bool,
+    /// Replaces every texture's filter.
+    pub filter_override: Option<Filter>,
+    /// Replaces every texture's wrap modes.
+    pub wrap_override: Option<Wrap>,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            width: 640,
+            height: 360,
+            interpolation: Interpolation::Perspective,
+            shading: ShadingMode::Phong,
+            visibility: Visibility::ZBuffer,
+            cull: CullMode::None,
+            msaa: 1,
+            ssaa: 1,
+            unlit: false,
+            filter_override: None,
+            wrap_override: None,
+        }
+    }
+}
+
+/// The largest width or height accepted.
+pub const MAX_SIZE: u32 = 16384;
+
+impl Settings {
+    /// Checks the values: size in 1..=16384, msaa ∈ {1, 2, 4, 8, 16}, ssaa in 1..=8 with the
+    /// supersampled size ≤ 32768, a positive finite subdivision error.
+    pub fn validate(&self) -> Result<()> {
+        if self.width == 0 || self.height == 0 || self.width > MAX_SIZE || self.height > MAX_SIZE {
+            return Err(Error::parameter(format!(
+                "image size {}x{} is not within 1..={MAX_SIZE}",
+                self.width, self.height
+            )));
+        }
+        if !matches!(self.msaa, 1 | 2 | 4 | 8 | 16) {
+            return Err(Error::parameter(format!(
+                "msaa {} is not one of 1, 2, 4, 8, 16",
+                self.msaa
+            )));
+        }
+        if !(1..=8).contains(&self.ssaa) || self.width.max(self.height) * self.ssaa > 2 * MAX_SIZE {
+            return Err(Error::parameter(format!(
+                "ssaa {} is not within 1..=8 (or the supersampled image exceeds {} pixels)",
+                self.ssaa,
+                2 * MAX_SIZE
+            )));
+        }
+        if let Interpolation::Subdivide { max_error_px } = self.interpolation {
+            if !(max_error_px.is_finite() && max_error_px > 0.0) {
+                return Err(Error::parameter(format!(
+                    "subdivision error {max_error_px} must be a positive number of pixels"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What a frame cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FrameStats {
+    pub triangles_submitted: u64,
+    /// Triangles rasterized: after rejection, culling, clipping (a clipped triangle may become
+    /// several) and subdivision.
+    pub triangles_after_clip: u64,
+    /// Fragment shader invocations (pixels × triangles, at the supersampled size).
+    pub pixels_shaded: u64,
+    pub texture_samples: u64,
+}
+
+/// A rendered image.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    pub width: u32,
+    pub height: u32,
+    /// Linear, premultiplied RGBA, row-major, top row first.
+    pub color: Vec<Vec4>,
+    pub stats: FrameStats,
+}
+
+impl Frame {
+    /// RGB8 rows, sRGB-encoded (the premultiplied colour, i.e. composited over black).
+    #[must_use]
+    pub fn to_srgb8(&self) -> Vec<u8> {
+        // Code k is chosen for c in [lin((k − ½)/255), lin((k + ½)/255)): exact rounding,
+        // without a powf per channel.
+        static THRESHOLDS: std::sync::OnceLock<Vec<f32>> = std::sync::OnceLock::new();
+        let t = THRESHOLDS.get_or_init(|| {
+            (0..255)
+                .map(|k| crate::color::srgb_to_linear((k as f32 + 0.5) / 255.0))
+                .collect()
+        });
+        let mut out = Vec::with_capacity(self.color.len() * 3);
+        for c in &self.color {
+            for v in [c.x, c.y, c.z] {
+                out.push(t.partition_point(|&x| x <= v) as u8);
+            }
+        }
+        out
+    }
+}
+
+/// Renders `scene` seen by `camera`, in rayon's current thread pool.
+///
+/// The image does not depend on the number of threads.
+///
+/// # Errors
+/// [`Error::Parameter`] for invalid settings or camera (zero or absurd size, non-finite
+/// camera, `near ≤ 0`, `far ≤ near`) or a mesh naming a material that does not exist.
+pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Frame> {
+    settings.validate()?;
+    camera.validate()?;
+    for (i, m) in scene.meshes.iter().enumerate() {
+        if m.material >= scene.materials.len() {
+            return Err(Error::parameter(format!(
+                "mesh {i} uses material {} but the scene has {}",
+                m.material,
+                scene.materials.len()
+            )));
+        }
+        if !m.world_from_object.is_finite() {
+            return Err(Error::parameter(format!("mesh {i} has a non-finite transform")));
+        }
+    }
+    let n = settings.ssaa;
+    let (w, h) = (settings.width * n, settings.height * n);
+    let aspect = settings.width as f32 / settings.height as f32;
+    let clip_from_world = camera.clip_from_view(aspect) * camera.view_from_world();
+    let viewport = Viewport::new(w, h);
+    let lighting = Lighting {
+        lights: &scene.lights,
+        ambient: scene.ambient_light,
+    };
+
+    let mut draws = Vec::with_capacity(scene.meshes.len());
+    let mut buffers: Vec<(Vec<PostVertex>, Option<Vec<u32>>)> = Vec::with_capacity(scene.meshes.len());
+    for mesh in &scene.meshes {
+        let material = &scene.materials[mesh.material];
+        let draw = DrawInfo::new(mesh, material, settings, &lighting);
+        let vs = VertexShader {
+            mesh,
+            material,
+            draw: &draw,
+            clip_from_world,
+            normal_from_object: normal_matrix(mesh.world_from_object),
+            eye: camera.eye,
+            lighting: &lighting,
+            viewport: &viewport,
+        };
+        buffers.push(vs.run());
+        draws.push(draw);
+    }
+    let calls: Vec<DrawCall> = buffers
+        .iter()
+        .zip(scene.meshes.iter().zip(&draws))
+        .map(|((verts, idx), (mesh, draw))| DrawCall {
+            vertices: verts,
+            indices: idx.as_deref().unwrap_or(&mesh.indices),
+            state: draw.state(settings),
+        })
+        .collect();
+    let shader = SceneShader {
+        draws: &draws,
+        lighting,
+        eye: camera.eye,
+    };
+    let bg = scene.background;
+    let target = Target {
+        width: w,
+        height: h,
+        samples: settings.msaa,
+        clear_color: (bg.truncate() * bg.w).extend(bg.w),
+        interpolation: settings.interpolation,
+        depth_sort: settings.visibility == Visibility::DepthSort,
+    };
+    let (color, st) = pipeline::draw(&calls, &shader, &target);
+    let color = pipeline::downsample_box(&color, settings.width as usize, settings.height as usize, n as usize);
+    Ok(Frame {
+        width: settings.width,
+        height: settings.height,
+        color,
+        stats: FrameStats {
+            triangles_submitted: st.triangles_submitted,
+            triangles_after_clip: st.triangles_after_clip,
+            pixels_shaded: st.pixels_shaded,
+            texture_samples: st.texture_samples,
+        },
+    })
+}
+
+fn normal_matrix(m: Mat4) -> Mat3 {
+    let m3 = Mat3::from_mat4(m);
+    let det = m3.determinant();
+    if det.abs() > f32::MIN_POSITIVE && det.is_finite() {
+        m3.inverse().transpose()
+    } else {
+        m3
+    }
+}
+
+/// What the fragment shader computes for a draw.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Mode {
+    Unlit,
+    /// Varyings: normal at 2, position at 5 (when lights need it).
+    Phong,
+    /// Varyings: diffuse factor D at 2, additive S at 5 (Gouraud, or flat per face).
+    Interpolated,
+}
+
+/// Per-draw shading data.
+struct DrawInfo<'a> {
+    material: &'a Material,
+    mode: Mode,
+    flat: bool,
+    /// Straight-alpha base colour, premultiplied.
+    base: Vec4,
+    texture: Option<(&'a Texture2D, Sampler, TextureTransform, f32)>,
+    /// Offset of the vertex colour in the varyings.
+    color_at: Option<usize>,
+    needs_position: bool,
+    varyings: usize,
+    mirrored: bool,
+}
+
+impl<'a> DrawInfo<'a> {
+    fn new(mesh: &Mesh, material: &'a Material, settings: &Settings, lighting: &Lighting) -> Self {
+        let has_normals = !mesh.normals.is_empty() && mesh.normals.len() == mesh.positions.len();
+        let mode = if settings.unlit || material.unlit {
+            Mode::Unlit
+        } else if settings.shading == ShadingMode::Phong && has_normals {
+            Mode::Phong
+        } else {
+            Mode::Interpolated
+        };
+        let flat = mode == Mode::Interpolated && (settings.shading == ShadingMode::Flat || !has_normals);
+        let needs_position = mode == Mode::Phong && (material.specular > 0.0 || lighting.needs_position());
+        let mut varyings = 2;
+        match mode {
+            Mode::Unlit => {}
+            Mode::Phong => varyings += if needs_position { 6 } else { 3 },
+            Mode::Interpolated => varyings += 6,
+        }
+        let color_at = (!mesh.colors.is_empty() && mesh.colors.len() == mesh.positions.len()).then(|| {
+            varyings += 4;
+            varyings - 4
+        });
+        let texture = material.base_color_texture.as_ref().map(|slot| {
+            let mut s = slot.sampler;
+            if let Some(f) = settings.filter_override {
+                s.filter = f;
+            }
+            if let Some(wr) = settings.wrap_override {
+                s.wrap_u = wr;
+                s.wrap_v = wr;
+                s.wrap_w = wr;
+            }
+            (&*slot.texture, s, slot.transform, slot.uv_scale)
+        });
+        let b = material.base_color;
+        DrawInfo {
+            material,
+            mode,
+            flat,
+            base: (b.truncate() * b.w).extend(b.w),
+            texture,
+            color_at,
+            needs_position,
+            varyings,
+            mirrored: Mat3::from_mat4(mesh.world_from_object).determinant() < 0.0,
+        }
+    }
+
+    fn state(&self, settings: &Settings) -> DrawState {
+        let blend = self.material.alpha_mode == AlphaMode::Blend;
+        let zbuffer = settings.visibility == Visibility::ZBuffer;
+        DrawState {
+            varyings: self.varyings,
+            cull: if self.material.double_sided {
+                CullMode::None
+            } else {
+                settings.cull
+            },
+            mirrored: self.mirrored,
+            depth_test: zbuffer,
+            depth_write: zbuffer && !blend,
+            blend,
+            texture_reads: u32::from(self.texture.is_some()),
+        }
+    }
+}
+
+struct VertexShader<'a> {
+    mesh: &'a Mesh,
+    material: &'a Material,
+    draw: &'a DrawInfo<'a>,
+    clip_from_world: Mat4,
+    normal_from_object: Mat3,
+    eye: Vec3,
+    lighting: &'a Lighting<'a>,
+    viewport: &'a Viewport,
+}
+
+impl VertexShader<'_> {
+    /// Post-transform vertices, and for flat shading the (un-indexed) index list.
+    fn run(&self) -> (Vec<PostVertex>, Option<Vec<u32>>) {
+        let mesh = self.mesh;
+        if self.draw.flat {
+            let tris = mesh.indices.len() / 3;
+            let verts: Vec<PostVertex> = (0..tris)
+                .into_par_iter()
+                .with_min_len(1024)
+                .flat_map_iter(|t| self.flat_triangle(t))
+                .collect();
+            let idx = (0..verts.len() as u32).collect();
+            return (verts, Some(idx));
+        }
+        let verts = (0..mesh.positions.len())
+            .into_par_iter()
+            .with_min_len(4096)
+            .map(|i| {
+                let p = self.world_position(i);
+                let mut var = self.common_varyings(i);
+                match self.draw.mode {
+                    Mode::Unlit => {}
+                    Mode::Phong => {
+                        let n = self.world_normal(i);
+                        var[2..5].copy_from_slice(&n.to_array());
+                        if self.draw.needs_position {
+                            var[5..8].copy_from_slice(&p.to_array());
+                        }
+                    }
+                    Mode::Interpolated => {
+                        let n = self.world_normal(i);
+                        let (d, s) = illuminate(self.material, self.lighting, p, n, self.eye);
+                        var[2..5].copy_from_slice(&d.to_array());
+                        var[5..8].copy_from_slice(&s.to_array());
+                    }
+                }
+                PostVertex::new(self.clip_from_world * p.extend(1.0), var, self.viewport)
+            })
+            .collect();
+        (verts, None)
+    }
+
+    fn world_position(&self, i: usize) -> Vec3 {
+        self.mesh.world_from_object.transform_point3(self.mesh.positions[i])
+    }
+
+    fn world_normal(&self, i: usize) -> Vec3 {
+        (self.normal_from_object * self.mesh.normals[i]).normalize_or_zero()
+    }
+
+    /// uv (transformed and scaled) and the vertex colour.
+    fn common_varyings(&self, i: usize) -> [f32; MAX_VARYINGS] {
+        let mut var = [0.0; MAX_VARYINGS];
+        let uv = self.mesh.uvs.get(i).copied().unwrap_or(Vec2::ZERO);
+        let uv = match &self.draw.texture {
+            Some((_, _, t, scale)) => t.apply(uv) * *scale,
+            None => uv,
+        };
+        var[0] = uv.x;
+        var[1] = uv.y;
+        if let Some(c) = self.draw.color_at {
+            var[c..c + 4].copy_from_slice(&self.mesh.colors[i].to_array());
+        }
+        var
+    }
+
+    /// The three vertices of triangle `t`, lit once at the centroid with the face normal.
+    fn flat_triangle(&self, t: usize) -> [PostVertex; 3] {
+        let idx = &self.mesh.indices[3 * t..3 * t + 3];
+        let n_pos = self.mesh.positions.len();
+        let valid = idx.iter().all(|&i| (i as usize) < n_pos);
+        let ids = if valid { [idx[0], idx[1], idx[2]].map(|i| i as usize) } else { [0; 3] };
+        let p = ids.map(|i| if valid { self.world_position(i) } else { Vec3::NAN });
+        let mut n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        if self.draw.mirrored {
+            n = -n;
+        }
+        if !self.mesh.normals.is_empty() && self.mesh.normals.len() == n_pos && valid {
+            let avg = ids.iter().map(|&i| self.world_normal(i)).sum::<Vec3>();
+            if avg.dot(n) < 0.0 {
+                n = -n;
+            }
+        }
+        let centroid = (p[0] + p[1] + p[2]) / 3.0;
+        if self.material.double_sided && n.dot(self.eye - centroid) < 0.0 {
+            n = -n;
+        }
+        let (d, s) = illuminate(self.material, self.lighting, centroid, n, self.eye);
+        [0, 1, 2].map(|k| {
+            let mut var = if valid { self.common_varyings(ids[k]) } else { [0.0; MAX_VARYINGS] };
+            var[2..5].copy_from_slice(&d.to_array());
+            var[5..8].copy_from_slice(&s.to_array());
+            PostVertex::new(self.clip_from_world * p[k].extend(1.0), var, self.viewport)
+        })
+    }
+}
+
+struct SceneShader<'a> {
+    draws: &'a [DrawInfo<'a>],
+    lighting: Lighting<'a>,
+    eye: Vec3,
+}
+
+impl FragmentShader for SceneShader<'_> {
+    fn shade(&self, draw: u32, quad: &Quad, out: &mut [Vec4; 4]) -> u8 {
+        let d = &self.draws[draw as usize];
+        let m = d.material;
+        let duv_dx = Vec2::new(quad.ddx(0), quad.ddx(1));
+        let duv_dy = Vec2::new(quad.ddy(0), quad.ddy(1));
+        let mut kept = quad.mask;
+        for j in 0..4 {
+            if quad.mask & (1 << j) == 0 {
+                continue;
+            }
+            let v = &quad.varyings[j];
+            let mut c = d.base;
+            if let Some((tex, sampler, _, _)) = &d.texture {
+                let fp = Footprint {
+                    uv: Vec2::new(v[0], v[1]),
+                    duv_dx,
+                    duv_dy,
+                };
+                c *= sample(tex, sampler, &fp);
+            }
+            if let Some(k) = d.color_at {
+                let vc = Vec4::new(v[k], v[k + 1], v[k + 2], v[k + 3]);
+                c *= (vc.truncate() * vc.w).extend(vc.w);
+            }
+            let (df, sp) = match d.mode {
+                Mode::Unlit => (Vec3::ONE, Vec3::ZERO),
+                Mode::Phong => {
+                    let mut n = Vec3::new(v[2], v[3], v[4]).normalize_or_zero();
+                    if m.double_sided && !quad.front_facing {
+                        n = -n;
+                    }
+                    let p = if d.needs_position {
+                        Vec3::new(v[5], v[6], v[7])
+                    } else {
+                        Vec3::ZERO
+                    };
+                    illuminate(m, &self.lighting, p, n, self.eye)
+                }
+                Mode::Interpolated => (Vec3::new(v[2], v[3], v[4]), Vec3::new(v[5], v[6], v[7])),
+            };
+            match combine(m.alpha_mode, c, df, sp) {
+                Some(color) => out[j] = color,
+                None => kept &= !(1 << j),
+            }
+        }
+        kept
+    }
+}

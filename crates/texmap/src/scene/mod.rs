@@ -1,0 +1,247 @@
+//! Scenes: meshes, materials, lights and a camera — plain data the renderer consumes.
+//!
+//! Conventions: right-handed world, the camera looks from `eye` towards `target` (down its
+//! own −Z), `up` is projected to the image's upward direction. Triangles are counter-clockwise
+//! when seen from their front side (after `world_from_object`; a mirroring transform flips the
+//! winding back). Texture coordinates follow glTF (v down the image rows).
+
+pub mod builtin;
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+pub use crate::shading::{AlphaMode, Light, Material, TextureSlot};
+use crate::{Error, Result};
+
+/// A perspective camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub eye: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    /// Vertical field of view, degrees.
+    pub fov_y_deg: f32,
+    /// Distance to the near clipping plane (> 0).
+    pub near: f32,
+    /// Distance to the far clipping plane (> near).
+    pub far: f32,
+}
+
+impl Camera {
+    /// The eye rotated about the axis `up` through `target` by `angle_rad`, counter-clockwise
+    /// seen from +up (Rodrigues' formula, as `gl_render.py`'s turntable).
+    #[must_use]
+    pub fn orbit(&self, angle_rad: f32) -> Camera {
+        let k = self.up.normalize_or_zero();
+        let v = self.eye - self.target;
+        let (s, c) = angle_rad.sin_cos();
+        let eye = self.target + v * c + k.cross(v) * s + k * k.dot(v) * (1.0 - c);
+        Camera { eye, ..*self }
+    }
+
+    /// Checks that the camera defines a view: finite values, eye ≠ target, up not parallel
+    /// to the view direction, 0 < fov < 180, 0 < near < far.
+    pub fn validate(&self) -> Result<()> {
+        let finite = self.eye.is_finite()
+            && self.target.is_finite()
+            && self.up.is_finite()
+            && self.fov_y_deg.is_finite()
+            && self.near.is_finite()
+            && self.far.is_finite();
+        if !finite {
+            return Err(Error::parameter("camera has a non-finite value"));
+        }
+        let f = self.target - self.eye;
+        if f.length_squared() <= 0.0 {
+            return Err(Error::parameter("camera eye and target coincide"));
+        }
+        if f.normalize().cross(self.up).length_squared() <= 1e-12 {
+            return Err(Error::parameter("camera up is parallel to the view direction"));
+        }
+        if !(self.fov_y_deg > 0.0 && self.fov_y_deg < 180.0) {
+            return Err(Error::parameter(format!(
+                "camera fov {} is not in (0, 180) degrees",
+                self.fov_y_deg
+            )));
+        }
+        if !(self.near > 0.0) {
+            return Err(Error::parameter(format!("camera near {} must be > 0", self.near)));
+        }
+        if !(self.far > self.near) {
+            return Err(Error::parameter(format!(
+                "camera far {} must be > near {}",
+                self.far, self.near
+            )));
+        }
+        Ok(())
+    }
+
+    /// World → view (the camera at the origin looking down −Z).
+    #[must_use]
+    pub fn view_from_world(&self) -> Mat4 {
+        Mat4::look_at_rh(self.eye, self.target, self.up)
+    }
+
+    /// View → clip: OpenGL's perspective projection, NDC depth in [−1, 1].
+    #[must_use]
+    pub fn clip_from_view(&self, aspect: f32) -> Mat4 {
+        Mat4::perspective_rh_gl(self.fov_y_deg.to_radians(), aspect, self.near, self.far)
+    }
+}
+
+/// An indexed triangle mesh. Optional attributes are empty or have one entry per position.
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    pub positions: Vec<Vec3>,
+    /// Unit vertex normals; empty means faceted (the geometric normal of each triangle).
+    pub normals: Vec<Vec3>,
+    /// Texture coordinates (set 0); empty means (0, 0).
+    pub uvs: Vec<Vec2>,
+    /// A second texture coordinate set (not used by the base colour yet).
+    pub uvs1: Vec<Vec2>,
+    /// Vertex colours, linear RGBA, straight alpha; empty means white.
+    pub colors: Vec<Vec4>,
+    /// Tangents (xyz) and handedness (w), for normal maps (not used yet).
+    pub tangents: Vec<Vec4>,
+    /// Three indices per triangle.
+    pub indices: Vec<u32>,
+    /// Index into `Scene::materials`.
+    pub material: usize,
+    pub world_from_object: Mat4,
+}
+
+impl Mesh {
+    /// Number of triangles (`indices.len() / 3`).
+    #[must_use]
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+}
+
+/// Everything a frame shows.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    pub meshes: Vec<Mesh>,
+    pub materials: Vec<Material>,
+    pub lights: Vec<Light>,
+    /// I_AL: the ambient light.
+    pub ambient_light: Vec3,
+    /// Linear RGBA, straight alpha; the colour where nothing is drawn.
+    pub background: Vec4,
+    /// The scene's own camera, if it has one.
+    pub camera: Option<Camera>,
+}
+
+impl Scene {
+    /// World-space bounding box of every vertex (min, max); `(0, 0)` for an empty scene.
+    #[must_use]
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for p in self.world_positions() {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+        if lo.x > hi.x {
+            (Vec3::ZERO, Vec3::ZERO)
+        } else {
+            (lo, hi)
+        }
+    }
+
+    /// Total number of triangles.
+    #[must_use]
+    pub fn triangle_count(&self) -> usize {
+        self.meshes.iter().map(Mesh::triangle_count).sum()
+    }
+
+    /// The peers' mesh camera: target at the bounding-box centre `c`, eye at
+    /// `c + (0, 0, 1.1·r / sin(fov/2))` with `r` the largest vertex distance from `c`, and
+    /// near/far enclosing the scene on the whole turntable orbit.
+    #[must_use]
+    pub fn framing_camera(&self, fov_y_deg: f32) -> Camera {
+        let (lo, hi) = self.bounds();
+        let c = (lo + hi) * 0.5;
+        let r = self
+            .world_positions()
+            .map(|p| p.distance(c))
+            .fold(0.0f32, f32::max);
+        let r = if r > 0.0 { r } else { 1.0 };
+        let half = (fov_y_deg.to_radians() * 0.5).sin();
+        let eye = c + Vec3::new(0.0, 0.0, 1.1 * r / half);
+        let d = eye.distance(c);
+        let o = 0.0;
+        Camera {
+            eye,
+            target: c,
+            up: Vec3::Y,
+            fov_y_deg,
+            near: (d - o - 1.5 * r).max(1e-3 * (d + o)),
+            far: d + o + 1.5 * r,
+        }
+    }
+
+    fn world_positions(&self) -> impl Iterator<Item = Vec3> + '_ {
+        self.meshes.iter().flat_map(|m| {
+            let identity = m.world_from_object == Mat4::IDENTITY;
+            m.positions.iter().map(move |&p| {
+                if identity {
+                    p
+                } else {
+                    m.world_from_object.transform_point3(p)
+                }
+            })
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn orbit_is_counter_clockwise_seen_from_up() {
+        let cam = Camera {
+            eye: Vec3::new(0.0, 0.0, 1.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y_deg: 60.0,
+            near: 0.1,
+            far: 10.0,
+        };
+        // Seen from +y (x right, z down on the page), counter-clockwise takes +z to +x.
+        let e = cam.orbit(std::f32::consts::FRAC_PI_2).eye;
+        assert!((e - Vec3::X).length() < 1e-6, "{e}");
+    }
+
+    #[test]
+    fn framing_camera_follows_the_peers_rule() {
+        let scene = builtin::sphere(2000, None, Default::default());
+        let cam = scene.framing_camera(60.0);
+        assert!(cam.target.length() < 1e-5);
+        assert!((cam.eye.z - 2.2).abs() < 1e-4, "{}", cam.eye);
+        assert!((cam.near - 0.7).abs() < 1e-4 && (cam.far - 3.7).abs() < 1e-4);
+    }
+
+    #[test]
+    fn validate_rejects_bad_cameras() {
+        let ok = Camera {
+            eye: Vec3::Z,
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y_deg: 60.0,
+            near: 0.1,
+            far: 10.0,
+        };
+        assert!(ok.validate().is_ok());
+        for bad in [
+            Camera { eye: Vec3::NAN, ..ok },
+            Camera { near: 0.0, ..ok },
+            Camera { far: 0.05, ..ok },
+            Camera { up: Vec3::Z, ..ok },
+            Camera { target: Vec3::Z, ..ok },
+            Camera { fov_y_deg: 180.0, ..ok },
+        ] {
+            assert!(bad.validate().is_err(), "{bad:?}");
+        }
+    }
+}

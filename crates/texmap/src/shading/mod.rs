@@ -1,0 +1,342 @@
+//! Shading: materials, lights and the Phong illumination model.
+//!
+//! The rule, for a surface point with unit normal `N`, unit direction to the viewer `V`, and
+//! for each light `i` the unit direction `L_i` towards it and the reflection
+//! `R_i = 2(N·L_i)N − L_i`:
+//!
+//! ```text
+//! I = I_E + K_A·C·I_AL + Σ_i (K_D·C·max(N·L_i, 0) + K_S·max(V·R_i, 0)^n)·S_i·I_i
+//! ```
+//!
+//! `C` is the surface colour (base colour × texture × vertex colour): the texture modulates
+//! the ambient and diffuse terms, never the specular one. The specular term is only added where
+//! `N·L_i > 0`. `S_i` is the light's attenuation: 1 for directional lights, inverse square
+//! distance (windowed by `range` as in `KHR_lights_punctual`) for point lights, and the same
+//! times a smooth cone falloff for spot lights.
+//!
+//! [`illuminate`] returns the two factors `(D, S)` such that `I = C·D + S`, so Gouraud and flat
+//! shading can compute them per vertex or per face and the texture is still applied per pixel.
+
+use std::sync::Arc;
+
+use glam::{Vec3, Vec4};
+
+use crate::texture::{Sampler, Texture2D, TextureTransform};
+
+/// A texture bound to a material: the image, how it is read, and the uv transform.
+///
+/// The uv used for sampling is `transform.apply(uv) · uv_scale`.
+#[derive(Clone, Debug)]
+pub struct TextureSlot {
+    pub texture: Arc<Texture2D>,
+    pub sampler: Sampler,
+    pub transform: TextureTransform,
+    pub uv_scale: f32,
+}
+
+impl TextureSlot {
+    /// A slot with the identity transform and a uv scale of 1.
+    #[must_use]
+    pub fn new(texture: Arc<Texture2D>, sampler: Sampler) -> Self {
+        TextureSlot {
+            texture,
+            sampler,
+            transform: TextureTransform::default(),
+            uv_scale: 1.0,
+        }
+    }
+}
+
+/// How a material's alpha is used (glTF's `alphaMode`).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum AlphaMode {
+    /// Alpha is ignored and written as 1.
+    #[default]
+    Opaque,
+    /// Fragments with alpha below the cutoff are discarded; the others are opaque.
+    Mask(f32),
+    /// Premultiplied "over" blending, drawn after every opaque surface, back to front.
+    Blend,
+}
+
+/// A surface's appearance: Phong coefficients, base colour and its texture.
+#[derive(Clone, Debug)]
+pub struct Material {
+    /// Linear RGBA, straight (not premultiplied) alpha.
+    pub base_color: Vec4,
+    pub base_color_texture: Option<TextureSlot>,
+    /// K_A: the fraction of the ambient light reflected.
+    pub ambient: f32,
+    /// K_D: the diffuse reflection coefficient.
+    pub diffuse: f32,
+    /// K_S: the specular reflection coefficient.
+    pub specular: f32,
+    /// n: the Phong exponent.
+    pub shininess: f32,
+    /// I_E: linear light emitted by the surface.
+    pub emissive: Vec3,
+    /// When true, the colour is the surface colour `C` and lights are ignored.
+    pub unlit: bool,
+    /// When false, back faces may be culled (see `render::CullMode`); when true their normal
+    /// is flipped towards the viewer before lighting.
+    pub double_sided: bool,
+    pub alpha_mode: AlphaMode,
+}
+
+impl Default for Material {
+    /// White, K_A 0.2, K_D 0.8, no specular, opaque, single-sided.
+    fn default() -> Self {
+        Material {
+            base_color: Vec4::ONE,
+            base_color_texture: None,
+            ambient: 0.2,
+            diffuse: 0.8,
+            specular: 0.0,
+            shininess: 32.0,
+            emissive: Vec3::ZERO,
+            unlit: false,
+            double_sided: false,
+            alpha_mode: AlphaMode::Opaque,
+        }
+    }
+}
+
+/// A light source. Colours are linear and may exceed 1 (they are intensities).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Light {
+    /// Parallel light; `direction` points *towards* the light.
+    Directional { direction: Vec3, color: Vec3 },
+    /// Light from a point, attenuated by the inverse square distance; beyond `range` (if any)
+    /// it is zero, with `KHR_lights_punctual`'s smooth window.
+    Point {
+        position: Vec3,
+        color: Vec3,
+        range: Option<f32>,
+    },
+    /// A point light restricted to a cone around `direction` (pointing *away* from the light):
+    /// full inside `inner_deg`, zero outside `outer_deg`, smooth in between.
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        color: Vec3,
+        inner_deg: f32,
+        outer_deg: f32,
+    },
+}
+
+impl Light {
+    /// The light's direction `L` (unit, towards the light) and `S·I` at world point `p`, or
+    /// `None` when it does not reach `p`.
+    #[inline]
+    #[must_use]
+    pub fn incidence(&self, p: Vec3) -> Option<(Vec3, Vec3)> {
+        match *self {
+            Light::Directional { direction, color } => {
+                Some((direction.try_normalize()?, color))
+            }
+            Light::Point {
+                position,
+                color,
+                range,
+            } => {
+                let (l, s) = point_falloff(position - p, range)?;
+                Some((l, color * s))
+            }
+            Light::Spot {
+                position,
+                direction,
+                color,
+                inner_deg,
+                outer_deg,
+            } => {
+                let (l, s) = point_falloff(position - p, None)?;
+                let axis = direction.try_normalize()?;
+                let cos_outer = outer_deg.to_radians().cos();
+                let cos_inner = inner_deg.to_radians().cos();
+                let scale = 1.0 / (cos_inner - cos_outer).max(1e-3);
+                let cone = ((-l).dot(axis) - cos_outer) * scale;
+                let cone = cone.clamp(0.0, 1.0);
+                if cone <= 0.0 {
+                    return None;
+                }
+                Some((l, color * (s * cone * cone)))
+            }
+        }
+    }
+}
+
+#[inline]
+fn point_falloff(to_light: Vec3, range: Option<f32>) -> Option<(Vec3, f32)> {
+    let d2 = to_light.length_squared();
+    if !(d2 > 0.0) || !d2.is_finite() {
+        return None;
+    }
+    let d = d2.sqrt();
+    let mut s = 1.0 / d2;
+    if let Some(r) = range {
+        if r > 0.0 {
+            let x = (d / r).powi(4);
+            let w = (1.0 - x).clamp(0.0, 1.0);
+            s *= w * w;
+        }
+    }
+    if s <= 0.0 {
+        return None;
+    }
+    Some((to_light / d, s))
+}
+
+/// The lights of a scene and its ambient light, for [`illuminate`].
+#[derive(Clone, Copy, Debug)]
+pub struct Lighting<'a> {
+    pub lights: &'a [Light],
+    /// I_AL.
+    pub ambient: Vec3,
+}
+
+impl Lighting<'_> {
+    /// True when some light depends on the surface position (point and spot lights).
+    #[must_use]
+    pub fn needs_position(&self) -> bool {
+        self.lights
+            .iter()
+            .any(|l| !matches!(l, Light::Directional { .. }))
+    }
+}
+
+/// The Phong factors `(D, S)` at world point `p` with unit normal `n`, seen from `eye`:
+/// the lit colour is `C·D + S` (see the module docs).
+#[inline]
+#[must_use]
+pub fn illuminate(m: &Material, lighting: &Lighting, p: Vec3, n: Vec3, eye: Vec3) -> (Vec3, Vec3) {
+    let mut d = lighting.ambient * m.ambient;
+    let mut s = m.emissive;
+    let specular = m.specular > 0.0;
+    let v = if specular {
+        (eye - p).normalize_or_zero()
+    } else {
+        Vec3::ZERO
+    };
+    for light in lighting.lights {
+        let Some((l, intensity)) = light.incidence(p) else {
+            continue;
+        };
+        let n_dot_l = n.dot(l);
+        if n_dot_l <= 0.0 {
+            continue;
+        }
+        d += intensity * (m.diffuse * n_dot_l);
+        if specular {
+            let r = n * (2.0 * n_dot_l) - l;
+            let r_dot_v = r.dot(v);
+            if r_dot_v > 0.0 {
+                s += intensity * (m.specular * r_dot_v.powf(m.shininess));
+            }
+        }
+    }
+    (d, s)
+}
+
+/// Combines a premultiplied surface colour `c` with the Phong factors and the material's
+/// alpha mode: returns premultiplied RGBA, or `None` when an alpha-tested fragment is
+/// discarded.
+#[inline]
+#[must_use]
+pub fn combine(alpha_mode: AlphaMode, c: Vec4, d: Vec3, s: Vec3) -> Option<Vec4> {
+    let a = c.w;
+    match alpha_mode {
+        AlphaMode::Blend => {
+            let rgb = c.truncate() * d + s * a;
+            Some(rgb.extend(a))
+        }
+        AlphaMode::Opaque | AlphaMode::Mask(_) => {
+            if let AlphaMode::Mask(cutoff) = alpha_mode {
+                if !(a >= cutoff) {
+                    return None;
+                }
+            }
+            let straight = if a > 0.0 && a != 1.0 {
+                c.truncate() / a
+            } else {
+                c.truncate()
+            };
+            Some((straight * d + s).extend(1.0))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lighting(lights: &[Light]) -> Lighting<'_> {
+        Lighting {
+            lights,
+            ambient: Vec3::ONE,
+        }
+    }
+
+    #[test]
+    fn peers_plane_factor_is_0_8465() {
+        let light = [Light::Directional {
+            direction: Vec3::new(0.3, 0.8, 0.5),
+            color: Vec3::ONE,
+        }];
+        let (d, s) = illuminate(
+            &Material::default(),
+            &lighting(&light),
+            Vec3::ZERO,
+            Vec3::Y,
+            Vec3::Y,
+        );
+        assert!((d - Vec3::splat(0.84650)).abs().max_element() < 1e-5, "{d}");
+        assert_eq!(s, Vec3::ZERO);
+    }
+
+    #[test]
+    fn specular_peaks_on_the_mirror_direction() {
+        let m = Material {
+            specular: 1.0,
+            shininess: 10.0,
+            ..Default::default()
+        };
+        let light = [Light::Directional {
+            direction: Vec3::new(1.0, 1.0, 0.0),
+            color: Vec3::ONE,
+        }];
+        let l = lighting(&light);
+        let (_, on) = illuminate(&m, &l, Vec3::ZERO, Vec3::Y, Vec3::new(-1.0, 1.0, 0.0));
+        let (_, off) = illuminate(&m, &l, Vec3::ZERO, Vec3::Y, Vec3::new(1.0, 1.0, 0.0));
+        assert!((on.x - 1.0).abs() < 1e-5 && off.x < 1e-3, "{on} {off}");
+    }
+
+    #[test]
+    fn point_light_is_inverse_square_and_spot_has_a_cone() {
+        let p = Light::Point {
+            position: Vec3::new(0.0, 2.0, 0.0),
+            color: Vec3::ONE,
+            range: None,
+        };
+        let (l, i) = p.incidence(Vec3::ZERO).unwrap();
+        assert!((l - Vec3::Y).length() < 1e-6 && (i.x - 0.25).abs() < 1e-6);
+        let spot = Light::Spot {
+            position: Vec3::new(0.0, 1.0, 0.0),
+            direction: -Vec3::Y,
+            color: Vec3::ONE,
+            inner_deg: 10.0,
+            outer_deg: 20.0,
+        };
+        assert!(spot.incidence(Vec3::ZERO).is_some());
+        assert!(spot.incidence(Vec3::new(1.0, 0.0, 0.0)).is_none());
+    }
+
+    #[test]
+    fn mask_discards_below_cutoff_and_blend_premultiplies() {
+        let c = Vec4::new(0.25, 0.25, 0.25, 0.5);
+        assert!(combine(AlphaMode::Mask(0.6), c, Vec3::ONE, Vec3::ZERO).is_none());
+        let o = combine(AlphaMode::Mask(0.4), c, Vec3::ONE, Vec3::ZERO).unwrap();
+        assert_eq!(o, Vec4::new(0.5, 0.5, 0.5, 1.0));
+        let b = combine(AlphaMode::Blend, c, Vec3::ONE, Vec3::ZERO).unwrap();
+        assert_eq!(b, c);
+    }
+}
