@@ -75,7 +75,9 @@ pub enum Interpolation {
     Affine,
     /// Affine interpolation on triangles split in screen space until the affine error (the
     /// screen distance between where an edge midpoint's attributes are and where affine
-    /// interpolation puts them) is below `max_error_px`.
+    /// interpolation puts them) is below `max_error_px`: the worst edge is bisected at its
+    /// screen midpoint, with perspective-correct attributes there. The splits make
+    /// T-junctions with neighbouring triangles, so this mode is not watertight.
     Subdivide { max_error_px: f32 },
 }
 

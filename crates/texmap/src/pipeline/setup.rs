@@ -16,8 +16,9 @@ use super::{CullMode, DrawCall, Interpolation, SUBPIXEL_BITS};
 /// subdivision rather than in the draw call's vertex buffer.
 pub const EXTRA_VERTEX: u32 = 1 << 31;
 
-/// Deepest subdivision in [`Interpolation::Subdivide`] (up to 4^6 pieces per triangle).
-pub const MAX_SUBDIVISION: u32 = 6;
+/// Deepest bisection in [`Interpolation::Subdivide`]. Each level halves one edge; pieces
+/// outside the view are dropped, so the count stays near the number of pieces on screen.
+pub const MAX_SUBDIVISION: u32 = 24;
 
 /// A triangle ready for binning and rasterization.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -121,29 +122,27 @@ impl Ctx<'_> {
             self.emit(r, &v, self.interpolation == Interpolation::Affine, prims);
             return;
         };
-        if depth >= MAX_SUBDIVISION || !(affine_error_px(&v) > max_error_px) {
+        let (k, error) = affine_error_px(&v);
+        if depth >= MAX_SUBDIVISION || !(error > max_error_px) {
             self.emit(r, &v, true, prims);
             return;
         }
-        // Split at the screen-space midpoints of the edges (perspective-correct attributes).
-        let n = self.call.state.varyings;
-        let m = [
-            midpoint(&v[0], &v[1], n, self.vp),
-            midpoint(&v[1], &v[2], n, self.vp),
-            midpoint(&v[2], &v[0], n, self.vp),
-        ];
-        if m.iter().any(|v| v.outcode == u8::MAX) {
+        // Pieces entirely outside one side of the view need no more work.
+        if view_sides(v[0].clip) & view_sides(v[1].clip) & view_sides(v[2].clip) != 0 {
+            return;
+        }
+        // Bisect the worst edge at its screen-space midpoint (perspective-correct attributes).
+        let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
+        let m = midpoint(&v[k], &v[k1], self.call.state.varyings, self.vp);
+        if m.outcode == u8::MAX {
             self.emit(r, &v, true, prims);
             return;
         }
-        let base = extra.len() as u32 | EXTRA_VERTEX;
-        extra.extend_from_slice(&m);
-        let mr = [base, base + 1, base + 2];
+        let mr = extra.len() as u32 | EXTRA_VERTEX;
+        extra.push(m);
         let d = depth + 1;
-        self.emit_or_split([r[0], mr[0], mr[2]], [v[0], m[0], m[2]], d, prims, extra);
-        self.emit_or_split([mr[0], r[1], mr[1]], [m[0], v[1], m[1]], d, prims, extra);
-        self.emit_or_split([mr[2], mr[1], r[2]], [m[2], m[1], v[2]], d, prims, extra);
-        self.emit_or_split([mr[0], mr[1], mr[2]], [m[0], m[1], m[2]], d, prims, extra);
+        self.emit_or_split([r[k], mr, r[k2]], [v[k], m, v[k2]], d, prims, extra);
+        self.emit_or_split([mr, r[k1], r[k2]], [m, v[k1], v[k2]], d, prims, extra);
     }
 
     #[inline]
@@ -183,17 +182,21 @@ impl Ctx<'_> {
     }
 }
 
-/// The largest screen distance (pixels) between where an edge midpoint's attributes belong
-/// and where affine interpolation puts them: `|w_a − w_b| / (2(w_a + w_b)) · length`.
-fn affine_error_px(v: &[PostVertex; 3]) -> f32 {
-    let mut worst = 0.0f32;
+/// The edge with the largest affine error and that error: the screen distance (pixels)
+/// between where the edge midpoint's attributes belong and where affine interpolation puts
+/// them, `|w_a − w_b| / (2(w_a + w_b)) · length`.
+fn affine_error_px(v: &[PostVertex; 3]) -> (usize, f32) {
+    let mut worst = (0, 0.0f32);
     for k in 0..3 {
         let (a, b) = (&v[k], &v[(k + 1) % 3]);
         let (wa, wb) = (a.clip.w, b.clip.w);
         let dx = (b.sx - a.sx) as f32 / 256.0;
         let dy = (b.sy - a.sy) as f32 / 256.0;
         let len = (dx * dx + dy * dy).sqrt();
-        worst = worst.max((wa - wb).abs() / (2.0 * (wa + wb)) * len);
+        let e = (wa - wb).abs() / (2.0 * (wa + wb)) * len;
+        if e > worst.1 {
+            worst = (k, e);
+        }
     }
     worst
 }
