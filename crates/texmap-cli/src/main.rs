@@ -1,1 +1,40 @@
-fn main() {}
+//! The `texmap` command line: it parses arguments and calls the library, nothing more.
+
+mod compare;
+mod output;
+mod render;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// texmap: a texture-mapping renderer on the CPU.
+#[derive(Parser)]
+#[command(name = "texmap", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene (default: the embedded demo) to an image.
+    Render(render::RenderArgs),
+    /// Compare two images: PSNR, RMSE and SSIM, and optionally a false-colour difference image.
+    Compare(compare::CompareArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => render::run(args),
+        Command::Compare(args) => compare::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("texmap: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -5,7 +5,7 @@
 
 mod cube;
 pub(crate) mod filter;
-mod footprint;
+pub(crate) mod footprint;
 pub(crate) mod format;
 pub mod load;
 mod mip;

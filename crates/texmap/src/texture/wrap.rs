@@ -25,6 +25,8 @@ impl Wrap {
     #[must_use]
     pub fn index(self, i: i32, n: i32) -> i32 {
         match self {
+            // In range is the common case: skip the division.
+            Wrap::Repeat if (i as u32) < (n as u32) => i,
             Wrap::Repeat => i.rem_euclid(n),
             Wrap::ClampToEdge => i.clamp(0, n - 1),
             Wrap::ClampToBorder => {

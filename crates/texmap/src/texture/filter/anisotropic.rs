@@ -28,7 +28,7 @@ pub(crate) fn sample<C: Codec>(
         f32::INFINITY
     };
     let n = ratio.ceil().clamp(1.0, max_aniso);
-    let lod = s.adjust_lod((major / n).log2());
+    let lod = s.adjust_lod(crate::texture::footprint::fast_log2(major / n));
     if !(major > 1.0) || !(lod > 0.0) && n == 1.0 {
         // Magnification: the footprint is smaller than a texel.
         return bilinear::<C>(&tex.level(0), s, fp.uv);

@@ -53,7 +53,9 @@ pub(crate) fn sample<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint, max
         minor = major / max_ecc;
     }
     let last = (tex.levels().len() - 1) as f32;
-    let lod = s.adjust_lod(minor.log2()).clamp(0.0, last);
+    let lod = s
+        .adjust_lod(crate::texture::footprint::fast_log2(minor))
+        .clamp(0.0, last);
     let d = lod.floor();
     let f = lod - d;
     let a = ewa_level::<C>(&tex.level(d as usize), s, fp.uv, major_dir, major, minor, d);

@@ -13,7 +13,7 @@ use glam::{Vec2, Vec4};
 
 use super::format::{with_codec, Codec};
 use super::storage::LevelRef;
-use super::{Filter, Footprint, MagFilter, MinFilter, Sampler, Texture2D, BORDER};
+use super::{Filter, Footprint, MagFilter, MinFilter, Sampler, Texture2D, Wrap, BORDER};
 
 /// Reads `texture` through `sampler` over `footprint`: linear, premultiplied RGBA.
 ///
@@ -84,9 +84,29 @@ pub(crate) fn fetch<C: Codec>(lv: &LevelRef, s: &Sampler, x: i32, y: i32) -> Vec
     }
 }
 
+/// `uv` with repeating axes brought into [0, 1), so texel indices stay near the image and the
+/// wrap needs no division (and large coordinates keep their fractional precision).
+#[inline(always)]
+pub(crate) fn prewrap(s: &Sampler, uv: Vec2) -> Vec2 {
+    let fract = |v: f32| v - v.floor();
+    Vec2::new(
+        if s.wrap_u == Wrap::Repeat {
+            fract(uv.x)
+        } else {
+            uv.x
+        },
+        if s.wrap_v == Wrap::Repeat {
+            fract(uv.y)
+        } else {
+            uv.y
+        },
+    )
+}
+
 /// The nearest texel to `uv` on `lv`.
 #[inline(always)]
 pub(crate) fn nearest<C: Codec>(lv: &LevelRef, s: &Sampler, uv: Vec2) -> Vec4 {
+    let uv = prewrap(s, uv);
     let x = floor_index(uv.x * lv.w as f32);
     let y = floor_index(uv.y * lv.h as f32);
     fetch::<C>(lv, s, x, y)
@@ -95,6 +115,7 @@ pub(crate) fn nearest<C: Codec>(lv: &LevelRef, s: &Sampler, uv: Vec2) -> Vec4 {
 /// Bilinear interpolation of the four texels around `uv` on `lv`.
 #[inline(always)]
 pub(crate) fn bilinear<C: Codec>(lv: &LevelRef, s: &Sampler, uv: Vec2) -> Vec4 {
+    let uv = prewrap(s, uv);
     let px = uv.x * lv.w as f32 - 0.5;
     let py = uv.y * lv.h as f32 - 0.5;
     let (fx, fy) = (px.floor(), py.floor());

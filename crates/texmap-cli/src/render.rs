@@ -1,0 +1,361 @@
+//! `texmap render [SCENE]`: one frame or a turntable of a built-in scene.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use clap::{Args, ValueEnum};
+use glam::Vec3;
+use texmap::render::{render, CullMode, Interpolation, Settings, ShadingMode, Visibility};
+use texmap::scene::{builtin, Camera, Scene};
+use texmap::texture::load::{load_texture, Limits};
+use texmap::texture::{ColorSpace, Filter, LodRule, Sampler, Texture2D, Wrap};
+use texmap::Error;
+
+#[derive(Args)]
+pub struct RenderArgs {
+    /// `builtin:demo` (default), `builtin:plane` or `builtin:sphere`.
+    scene: Option<String>,
+    /// Output PNG; a `{frame}` in the name writes every turntable frame.
+    #[arg(short = 'o', long = "output")]
+    output: Option<PathBuf>,
+    /// Image size, WxH.
+    #[arg(long, default_value = "640x360", value_parser = parse_size)]
+    size: (u32, u32),
+    /// Camera position x,y,z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    eye: Option<Vec3>,
+    /// Point the camera looks at, x,y,z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    target: Option<Vec3>,
+    /// Camera up vector, x,y,z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    up: Option<Vec3>,
+    /// Vertical field of view in degrees.
+    #[arg(long)]
+    fov: Option<f32>,
+    /// nearest | bilinear | trilinear | aniso2 | aniso4 | aniso8 | aniso16 | ewa | sat.
+    #[arg(long, value_parser = parse_filter)]
+    filter: Option<Filter>,
+    /// repeat | mirror | clamp | border | mirror-clamp.
+    #[arg(long, value_parser = parse_wrap)]
+    wrap: Option<Wrap>,
+    /// Texture coordinate scale (default 64 for the plane, 1 otherwise).
+    #[arg(long)]
+    uv_scale: Option<f32>,
+    /// Replace the scene's base-colour texture with this image.
+    #[arg(long)]
+    texture: Option<PathBuf>,
+    /// What --texture's 8/16-bit channels hold.
+    #[arg(long, value_enum, default_value = "srgb")]
+    color_space: ColorSpaceArg,
+    /// LOD rule: gl (longer derivative) or rss (root of the sum of squares, the article's).
+    #[arg(long, value_enum, default_value = "gl")]
+    lod_rule: LodRuleArg,
+    /// Added to every level of detail.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    lod_bias: f32,
+    /// perspective | affine | subdivide.
+    #[arg(long, value_enum, default_value = "perspective")]
+    interp: InterpArg,
+    /// Largest affine error in pixels before --interp subdivide splits a triangle.
+    #[arg(long, default_value_t = 0.5)]
+    subdivide_error: f32,
+    /// flat | gouraud | phong.
+    #[arg(long, value_enum, default_value = "phong")]
+    shading: ShadingArg,
+    /// zbuffer | depth-sort.
+    #[arg(long, value_enum, default_value = "zbuffer")]
+    visibility: VisibilityArg,
+    /// none | back | front.
+    #[arg(long, value_enum, default_value = "none")]
+    cull: CullArg,
+    /// Multisample anti-aliasing: 1, 2, 4, 8 or 16 samples per pixel.
+    #[arg(long, default_value_t = 1)]
+    msaa: u32,
+    /// Supersampling: render N×N samples per pixel and average.
+    #[arg(long, default_value_t = 1)]
+    ssaa: u32,
+    /// Texture colour only, no lighting.
+    #[arg(long)]
+    unlit: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Turntable frames: the camera orbits the target by 360/N degrees per frame.
+    #[arg(long, default_value_t = 1)]
+    frames: u32,
+    /// Triangle count of builtin:sphere.
+    #[arg(long, default_value_t = 199_200)]
+    tris: usize,
+    /// Print statistics as JSON on stdout.
+    #[arg(long)]
+    stats: bool,
+    /// Print nothing but errors.
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ColorSpaceArg {
+    Srgb,
+    Linear,
+}
+#[derive(Clone, Copy, ValueEnum)]
+enum LodRuleArg {
+    Gl,
+    Rss,
+}
+#[derive(Clone, Copy, ValueEnum)]
+enum InterpArg {
+    Perspective,
+    Affine,
+    Subdivide,
+}
+#[derive(Clone, Copy, ValueEnum)]
+enum ShadingArg {
+    Flat,
+    Gouraud,
+    Phong,
+}
+#[derive(Clone, Copy, ValueEnum)]
+enum VisibilityArg {
+    Zbuffer,
+    DepthSort,
+}
+#[derive(Clone, Copy, ValueEnum)]
+enum CullArg {
+    None,
+    Back,
+    Front,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .to_lowercase()
+        .split_once('x')
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .ok_or("expected WxH")?;
+    let w: u32 = w.parse().map_err(|_| "width is not a number")?;
+    let h: u32 = h.parse().map_err(|_| "height is not a number")?;
+    if w == 0 || h == 0 || w > 16384 || h > 16384 {
+        return Err(format!("{w}x{h} is outside 1x1..16384x16384"));
+    }
+    Ok((w, h))
+}
+
+fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| e.to_string())?;
+    if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
+        return Err("expected three finite numbers x,y,z".into());
+    }
+    Ok(Vec3::new(v[0], v[1], v[2]))
+}
+
+fn parse_filter(s: &str) -> Result<Filter, String> {
+    Filter::parse(s)
+        .ok_or_else(|| "expected nearest, bilinear, trilinear, aniso2..aniso16, ewa or sat".into())
+}
+
+fn parse_wrap(s: &str) -> Result<Wrap, String> {
+    Wrap::parse(s).ok_or_else(|| "expected repeat, mirror, clamp, border or mirror-clamp".into())
+}
+
+/// The scene, its default output name, and whether it is a mesh-framed scene.
+fn build_scene(args: &RenderArgs, sampler: Sampler) -> Result<(Scene, String), Error> {
+    let name = args.scene.as_deref().unwrap_or("builtin:demo");
+    let texture: Option<Arc<Texture2D>> = match &args.texture {
+        Some(p) => {
+            let cs = match args.color_space {
+                ColorSpaceArg::Srgb => ColorSpace::Srgb,
+                ColorSpaceArg::Linear => ColorSpace::Linear,
+            };
+            Some(Arc::new(load_texture(p, cs, &Limits::default())?))
+        }
+        None => None,
+    };
+    let scene = match name {
+        "builtin:demo" => builtin::demo(),
+        "builtin:plane" => builtin::plane(texture.clone(), args.uv_scale.unwrap_or(64.0), sampler),
+        "builtin:sphere" => {
+            if args.tris < 8 || args.tris > 50_000_000 {
+                return Err(Error::parameter(format!(
+                    "--tris {} is outside 8..50000000",
+                    args.tris
+                )));
+            }
+            builtin::sphere(args.tris, texture.clone(), sampler)
+        }
+        other if other.starts_with("builtin:") => {
+            return Err(Error::parameter(format!(
+                "{other}: unknown built-in scene (builtin:demo, builtin:plane, builtin:sphere)"
+            )))
+        }
+        other => {
+            let p = Path::new(other);
+            if !p.exists() {
+                return Err(Error::io(
+                    p,
+                    std::io::Error::from(std::io::ErrorKind::NotFound),
+                ));
+            }
+            return Err(Error::Unsupported(format!(
+                "{other}: model and scene files are not read yet; use builtin:demo, builtin:plane or builtin:sphere"
+            )));
+        }
+    };
+    let short = name.trim_start_matches("builtin:").to_string();
+    Ok((scene, short))
+}
+
+pub fn run(args: RenderArgs) -> Result<(), Error> {
+    let setup_start = Instant::now();
+    if args.frames == 0 {
+        return Err(Error::parameter("--frames must be at least 1"));
+    }
+    if ![1, 2, 4, 8, 16].contains(&args.msaa) {
+        return Err(Error::parameter(format!(
+            "--msaa {} is not one of 1, 2, 4, 8, 16",
+            args.msaa
+        )));
+    }
+    if !(1..=8).contains(&args.ssaa) {
+        return Err(Error::parameter(format!(
+            "--ssaa {} is outside 1..8",
+            args.ssaa
+        )));
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| Error::parameter(format!("--threads: {e}")))?;
+    let mut sampler = Sampler::new(
+        args.filter.unwrap_or(Filter::TRILINEAR),
+        args.wrap.unwrap_or(Wrap::Repeat),
+    );
+    sampler.lod_bias = args.lod_bias;
+    sampler.lod_rule = match args.lod_rule {
+        LodRuleArg::Gl => LodRule::GlMax,
+        LodRuleArg::Rss => LodRule::RootSumSquares,
+    };
+    let (scene, short) = build_scene(&args, sampler)?;
+    let fov = args.fov.unwrap_or(60.0);
+    let base = scene.camera.unwrap_or_else(|| scene.framing_camera(fov));
+    let camera = Camera {
+        eye: args.eye.unwrap_or(base.eye),
+        target: args.target.unwrap_or(base.target),
+        up: args.up.unwrap_or(base.up),
+        fov_y_deg: fov,
+        ..base
+    };
+    camera.validate()?;
+    let settings = Settings {
+        width: args.size.0,
+        height: args.size.1,
+        interpolation: match args.interp {
+            InterpArg::Perspective => Interpolation::Perspective,
+            InterpArg::Affine => Interpolation::Affine,
+            InterpArg::Subdivide => Interpolation::Subdivide {
+                max_error_px: args.subdivide_error,
+            },
+        },
+        shading: match args.shading {
+            ShadingArg::Flat => ShadingMode::Flat,
+            ShadingArg::Gouraud => ShadingMode::Gouraud,
+            ShadingArg::Phong => ShadingMode::Phong,
+        },
+        visibility: match args.visibility {
+            VisibilityArg::Zbuffer => Visibility::ZBuffer,
+            VisibilityArg::DepthSort => Visibility::DepthSort,
+        },
+        cull: match args.cull {
+            CullArg::None => CullMode::None,
+            CullArg::Back => CullMode::Back,
+            CullArg::Front => CullMode::Front,
+        },
+        msaa: args.msaa,
+        ssaa: args.ssaa,
+        unlit: args.unlit,
+        // Built-in plane and sphere already carry the sampler; elsewhere override only if asked.
+        filter_override: if short == "demo" { args.filter } else { None },
+        wrap_override: if short == "demo" { args.wrap } else { None },
+    };
+    let output = args
+        .output
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("texmap-{short}.png")));
+    let per_frame = output.to_string_lossy().contains("{frame}");
+    let setup_ms = setup_start.elapsed().as_secs_f64() * 1e3;
+
+    let mut times = Vec::with_capacity(args.frames as usize);
+    let mut last = None;
+    for k in 1..=args.frames {
+        let angle = std::f32::consts::TAU * k as f32 / args.frames as f32;
+        let cam = if k == args.frames {
+            camera
+        } else {
+            camera.orbit(angle)
+        };
+        let start = Instant::now();
+        let frame = pool.install(|| render(&scene, &cam, &settings))?;
+        times.push(start.elapsed().as_secs_f64() * 1e3);
+        if per_frame {
+            let path = PathBuf::from(
+                output
+                    .to_string_lossy()
+                    .replace("{frame}", &format!("{k:04}")),
+            );
+            crate::output::write_png_rgb8(&path, frame.width, frame.height, &frame.to_srgb8())?;
+        }
+        last = Some(frame);
+    }
+    let frame = last.ok_or_else(|| Error::parameter("no frame rendered"))?;
+    if !per_frame {
+        crate::output::write_png_rgb8(&output, frame.width, frame.height, &frame.to_srgb8())?;
+    }
+    let mut sorted = times.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median = if sorted.len() % 2 == 1 {
+        sorted[sorted.len() / 2]
+    } else {
+        0.5 * (sorted[sorted.len() / 2 - 1] + sorted[sorted.len() / 2])
+    };
+    if args.stats {
+        let s = &frame.stats;
+        let json = serde_json::json!({
+            "scene": args.scene.as_deref().unwrap_or("builtin:demo"),
+            "size": [frame.width, frame.height],
+            "threads": pool.current_num_threads(),
+            "filter": args.filter.map(|f| format!("{f:?}")),
+            "frames": args.frames,
+            "setup_ms": round2(setup_ms),
+            "frame_ms": {"min": round2(sorted[0]), "median": round2(median), "max": round2(sorted[sorted.len() - 1])},
+            "frame_ms_all": times.iter().map(|&t| round2(t)).collect::<Vec<_>>(),
+            "triangles_submitted": s.triangles_submitted,
+            "triangles_after_clip": s.triangles_after_clip,
+            "pixels_shaded": s.pixels_shaded,
+            "texture_samples": s.texture_samples,
+            "output": output,
+        });
+        println!("{json}");
+    } else if !args.quiet {
+        eprintln!(
+            "wrote {} ({}x{}, {} frame{}, median {:.1} ms/frame)",
+            output.display(),
+            frame.width,
+            frame.height,
+            args.frames,
+            if args.frames == 1 { "" } else { "s" },
+            median
+        );
+    }
+    Ok(())
+}
+
+fn round2(v: f64) -> f64 {
+    (v * 100.0).round() / 100.0
+}
