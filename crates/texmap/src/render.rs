@@ -9,11 +9,18 @@
 //! Culling: `Settings::cull` applies to single-sided materials; double-sided ones are never
 //! culled, and their back faces are lit with the flipped normal (Phong shading).
 
+// `!(x > y)` is deliberate: it is true for NaN, which must be rejected too.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+// Hot loops index several parallel arrays with one counter.
+#![allow(clippy::needless_range_loop)]
+
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
+use crate::pipeline::{
+    self, DrawCall, DrawState, FragmentShader, PostVertex, Quad, Target, Viewport, MAX_VARYINGS,
+};
 pub use crate::pipeline::{CullMode, Interpolation};
-use crate::pipeline::{self, DrawCall, DrawState, FragmentShader, PostVertex, Quad, Target, Viewport, MAX_VARYINGS};
 use crate::scene::{Camera, Mesh, Scene};
 use crate::shading::{combine, illuminate, AlphaMode, Lighting, Material};
 use crate::texture::{sample, Filter, Footprint, Sampler, Texture2D, TextureTransform, Wrap};
@@ -181,7 +188,9 @@ pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Fra
             )));
         }
         if !m.world_from_object.is_finite() {
-            return Err(Error::parameter(format!("mesh {i} has a non-finite transform")));
+            return Err(Error::parameter(format!(
+                "mesh {i} has a non-finite transform"
+            )));
         }
     }
     let n = settings.ssaa;
@@ -195,7 +204,8 @@ pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Fra
     };
 
     let mut draws = Vec::with_capacity(scene.meshes.len());
-    let mut buffers: Vec<(Vec<PostVertex>, Option<Vec<u32>>)> = Vec::with_capacity(scene.meshes.len());
+    let mut buffers: Vec<(Vec<PostVertex>, Option<Vec<u32>>)> =
+        Vec::with_capacity(scene.meshes.len());
     for mesh in &scene.meshes {
         let material = &scene.materials[mesh.material];
         let draw = DrawInfo::new(mesh, material, settings, &lighting);
@@ -236,7 +246,12 @@ pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Fra
         depth_sort: settings.visibility == Visibility::DepthSort,
     };
     let (color, st) = pipeline::draw(&calls, &shader, &target);
-    let color = pipeline::downsample_box(&color, settings.width as usize, settings.height as usize, n as usize);
+    let color = pipeline::downsample_box(
+        color,
+        settings.width as usize,
+        settings.height as usize,
+        n as usize,
+    );
     Ok(Frame {
         width: settings.width,
         height: settings.height,
@@ -295,18 +310,21 @@ impl<'a> DrawInfo<'a> {
         } else {
             Mode::Interpolated
         };
-        let flat = mode == Mode::Interpolated && (settings.shading == ShadingMode::Flat || !has_normals);
-        let needs_position = mode == Mode::Phong && (material.specular > 0.0 || lighting.needs_position());
+        let flat =
+            mode == Mode::Interpolated && (settings.shading == ShadingMode::Flat || !has_normals);
+        let needs_position =
+            mode == Mode::Phong && (material.specular > 0.0 || lighting.needs_position());
         let mut varyings = 2;
         match mode {
             Mode::Unlit => {}
             Mode::Phong => varyings += if needs_position { 6 } else { 3 },
             Mode::Interpolated => varyings += 6,
         }
-        let color_at = (!mesh.colors.is_empty() && mesh.colors.len() == mesh.positions.len()).then(|| {
-            varyings += 4;
-            varyings - 4
-        });
+        let color_at =
+            (!mesh.colors.is_empty() && mesh.colors.len() == mesh.positions.len()).then(|| {
+                varyings += 4;
+                varyings - 4
+            });
         let texture = material.base_color_texture.as_ref().map(|slot| {
             let mut s = slot.sampler;
             if let Some(f) = settings.filter_override {
@@ -406,7 +424,9 @@ impl VertexShader<'_> {
     }
 
     fn world_position(&self, i: usize) -> Vec3 {
-        self.mesh.world_from_object.transform_point3(self.mesh.positions[i])
+        self.mesh
+            .world_from_object
+            .transform_point3(self.mesh.positions[i])
     }
 
     fn world_normal(&self, i: usize) -> Vec3 {
@@ -434,8 +454,18 @@ impl VertexShader<'_> {
         let idx = &self.mesh.indices[3 * t..3 * t + 3];
         let n_pos = self.mesh.positions.len();
         let valid = idx.iter().all(|&i| (i as usize) < n_pos);
-        let ids = if valid { [idx[0], idx[1], idx[2]].map(|i| i as usize) } else { [0; 3] };
-        let p = ids.map(|i| if valid { self.world_position(i) } else { Vec3::NAN });
+        let ids = if valid {
+            [idx[0], idx[1], idx[2]].map(|i| i as usize)
+        } else {
+            [0; 3]
+        };
+        let p = ids.map(|i| {
+            if valid {
+                self.world_position(i)
+            } else {
+                Vec3::NAN
+            }
+        });
         let mut n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
         if self.draw.mirrored {
             n = -n;
@@ -452,7 +482,11 @@ impl VertexShader<'_> {
         }
         let (d, s) = illuminate(self.material, self.lighting, centroid, n, self.eye);
         [0, 1, 2].map(|k| {
-            let mut var = if valid { self.common_varyings(ids[k]) } else { [0.0; MAX_VARYINGS] };
+            let mut var = if valid {
+                self.common_varyings(ids[k])
+            } else {
+                [0.0; MAX_VARYINGS]
+            };
             var[2..5].copy_from_slice(&d.to_array());
             var[5..8].copy_from_slice(&s.to_array());
             PostVertex::new(self.clip_from_world * p[k].extend(1.0), var, self.viewport)

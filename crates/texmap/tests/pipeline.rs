@@ -26,14 +26,19 @@ impl FragmentShader for Count {
 struct Uv;
 impl FragmentShader for Uv {
     fn shade(&self, _: u32, q: &Quad, out: &mut [Vec4; 4]) -> u8 {
-        for j in 0..4 {
-            out[j] = Vec4::new(q.varyings[j][0], q.varyings[j][1], 0.0, 1.0);
+        for (o, v) in out.iter_mut().zip(&q.varyings) {
+            *o = Vec4::new(v[0], v[1], 0.0, 1.0);
         }
         q.mask
     }
 }
 
-fn post_vertices(positions: &[Vec3], uvs: &[Vec2], clip_from_world: Mat4, vp: &Viewport) -> Vec<PostVertex> {
+fn post_vertices(
+    positions: &[Vec3],
+    uvs: &[Vec2],
+    clip_from_world: Mat4,
+    vp: &Viewport,
+) -> Vec<PostVertex> {
     positions
         .iter()
         .enumerate()
@@ -63,17 +68,43 @@ fn target(w: u32, h: u32, samples: u32) -> Target {
 fn icosphere(levels: u32) -> (Vec<Vec3>, Vec<u32>) {
     let t = (1.0 + 5f32.sqrt()) / 2.0;
     let mut v: Vec<Vec3> = [
-        (-1.0, t, 0.0), (1.0, t, 0.0), (-1.0, -t, 0.0), (1.0, -t, 0.0),
-        (0.0, -1.0, t), (0.0, 1.0, t), (0.0, -1.0, -t), (0.0, 1.0, -t),
-        (t, 0.0, -1.0), (t, 0.0, 1.0), (-t, 0.0, -1.0), (-t, 0.0, 1.0),
+        (-1.0, t, 0.0),
+        (1.0, t, 0.0),
+        (-1.0, -t, 0.0),
+        (1.0, -t, 0.0),
+        (0.0, -1.0, t),
+        (0.0, 1.0, t),
+        (0.0, -1.0, -t),
+        (0.0, 1.0, -t),
+        (t, 0.0, -1.0),
+        (t, 0.0, 1.0),
+        (-t, 0.0, -1.0),
+        (-t, 0.0, 1.0),
     ]
     .iter()
     .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
     .collect();
     let mut f: Vec<[u32; 3]> = vec![
-        [0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
-        [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8],
-        [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1],
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
     ];
     for _ in 0..levels {
         let mut cache = std::collections::HashMap::new();
@@ -94,27 +125,53 @@ fn icosphere(levels: u32) -> (Vec<Vec3>, Vec<u32>) {
 }
 
 fn camera(eye: Vec3, target: Vec3) -> Camera {
-    Camera { eye, target, up: Vec3::Y, fov_y_deg: 60.0, near: 0.05, far: 100.0 }
+    Camera {
+        eye,
+        target,
+        up: Vec3::Y,
+        fov_y_deg: 60.0,
+        near: 0.05,
+        far: 100.0,
+    }
 }
 
 fn clip_from_world(cam: &Camera, w: u32, h: u32) -> Mat4 {
     cam.clip_from_view(w as f32 / h as f32) * cam.view_from_world()
 }
 
-fn count_hits(positions: &[Vec3], indices: &[u32], cam: &Camera, w: u32, h: u32, samples: u32, cull: CullMode) -> Vec<f32> {
+fn count_hits(
+    positions: &[Vec3],
+    indices: &[u32],
+    cam: &Camera,
+    w: u32,
+    h: u32,
+    samples: u32,
+    cull: CullMode,
+) -> Vec<f32> {
     let vp = Viewport::new(w, h);
     let verts = post_vertices(positions, &[], clip_from_world(cam, w, h), &vp);
     let call = DrawCall {
         vertices: &verts,
         indices,
-        state: DrawState { cull, depth_test: false, depth_write: false, blend: true, ..Default::default() },
+        state: DrawState {
+            cull,
+            depth_test: false,
+            depth_write: false,
+            blend: true,
+            ..Default::default()
+        },
     };
     let (color, _) = pipeline::draw(&[call], &Count, &target(w, h, samples));
     color.iter().map(|c| c.x).collect()
 }
 
 fn unlit(color: Vec4) -> Material {
-    Material { base_color: color, unlit: true, double_sided: true, ..Default::default() }
+    Material {
+        base_color: color,
+        unlit: true,
+        double_sided: true,
+        ..Default::default()
+    }
 }
 
 fn max_abs_diff(a: &Frame, b: &Frame) -> (f32, usize) {
@@ -137,7 +194,10 @@ fn watertight_closed_mesh_inside_covers_every_pixel_once() {
     for samples in [1, 4] {
         let hits = count_hits(&p, &idx, &cam, 97, 61, samples, CullMode::None);
         let bad = hits.iter().filter(|&&c| c != 1.0).count();
-        assert_eq!(bad, 0, "{samples} samples: {bad} pixels not covered exactly once");
+        assert_eq!(
+            bad, 0,
+            "{samples} samples: {bad} pixels not covered exactly once"
+        );
     }
 }
 
@@ -146,7 +206,10 @@ fn watertight_closed_mesh_outside_covers_pixels_zero_or_two_times() {
     let (p, idx) = icosphere(3);
     let cam = camera(Vec3::new(0.3, 0.4, 2.4), Vec3::ZERO);
     let hits = count_hits(&p, &idx, &cam, 128, 96, 1, CullMode::None);
-    assert!(hits.iter().all(|&c| c == 0.0 || c == 2.0), "a pixel was hit an odd number of times");
+    assert!(
+        hits.iter().all(|&c| c == 0.0 || c == 2.0),
+        "a pixel was hit an odd number of times"
+    );
     let covered = hits.iter().filter(|&&c| c == 2.0).count();
     assert!(covered > 128 * 96 / 4, "{covered}");
     // Front faces only: exactly once.
@@ -163,10 +226,21 @@ fn camera_inside_a_cube_sees_it_everywhere() {
         materials: vec![unlit(Vec4::ONE)],
         ..Default::default()
     };
-    let cam = Camera { eye: Vec3::new(1.0, 2.0, 3.0), target: Vec3::new(4.0, 2.5, -1.0), ..camera(Vec3::ZERO, Vec3::Z) };
-    let s = Settings { width: 96, height: 64, ..Default::default() };
+    let cam = Camera {
+        eye: Vec3::new(1.0, 2.0, 3.0),
+        target: Vec3::new(4.0, 2.5, -1.0),
+        ..camera(Vec3::ZERO, Vec3::Z)
+    };
+    let s = Settings {
+        width: 96,
+        height: 64,
+        ..Default::default()
+    };
     let f = render(&scene, &cam, &s).unwrap();
-    assert!(f.color.iter().all(|c| *c == Vec4::ONE), "a pixel missed the cube");
+    assert!(
+        f.color.iter().all(|c| *c == Vec4::ONE),
+        "a pixel missed the cube"
+    );
     assert!(f.stats.triangles_after_clip >= 4, "{:?}", f.stats);
 }
 
@@ -174,7 +248,11 @@ fn camera_inside_a_cube_sees_it_everywhere() {
 fn triangles_behind_the_camera_draw_nothing() {
     let mut scene = Scene {
         meshes: vec![Mesh {
-            positions: vec![Vec3::new(-5.0, -5.0, 3.0), Vec3::new(5.0, -5.0, 3.0), Vec3::new(0.0, 5.0, 3.0)],
+            positions: vec![
+                Vec3::new(-5.0, -5.0, 3.0),
+                Vec3::new(5.0, -5.0, 3.0),
+                Vec3::new(0.0, 5.0, 3.0),
+            ],
             indices: vec![0, 1, 2],
             ..Default::default()
         }],
@@ -183,7 +261,11 @@ fn triangles_behind_the_camera_draw_nothing() {
     };
     scene.meshes[0].world_from_object = Mat4::IDENTITY;
     let cam = camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0));
-    let s = Settings { width: 64, height: 48, ..Default::default() };
+    let s = Settings {
+        width: 64,
+        height: 48,
+        ..Default::default()
+    };
     let f = render(&scene, &cam, &s).unwrap();
     assert!(f.color.iter().all(|c| *c == Vec4::ZERO));
     assert_eq!(f.stats.triangles_after_clip, 0);
@@ -194,7 +276,16 @@ fn plane_crossing_the_camera_plane_fills_below_the_horizon_only() {
     let scene = builtin::plane(None, 64.0, Sampler::default());
     let cam = scene.camera.unwrap();
     let (w, h) = (160u32, 90u32);
-    let f = render(&scene, &cam, &Settings { width: w, height: h, ..Default::default() }).unwrap();
+    let f = render(
+        &scene,
+        &cam,
+        &Settings {
+            width: w,
+            height: h,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     // The view looks down by atan(1/50): the horizon is that far above the centre row.
     let horizon = h as f32 * 0.5 * (1.0 - (1.0f32 / 50.0).atan().tan() / 30f32.to_radians().tan());
     for y in 0..h {
@@ -223,15 +314,24 @@ fn plane_uv_error(interpolation: Interpolation, max_dist: f32) -> f32 {
         Vec3::new(100.0, 0.0, 100.0),
         Vec3::new(-100.0, 0.0, 100.0),
     ];
-    let uvs: Vec<Vec2> = positions.iter().map(|p| Vec2::new(p.x + 100.0, p.z + 100.0) / 200.0 * s).collect();
+    let uvs: Vec<Vec2> = positions
+        .iter()
+        .map(|p| Vec2::new(p.x + 100.0, p.z + 100.0) / 200.0 * s)
+        .collect();
     let vp = Viewport::new(w, h);
     let verts = post_vertices(&positions, &uvs, clip_from_world(&cam, w, h), &vp);
     let call = DrawCall {
         vertices: &verts,
         indices: &[0, 3, 2, 0, 2, 1],
-        state: DrawState { varyings: 2, ..Default::default() },
+        state: DrawState {
+            varyings: 2,
+            ..Default::default()
+        },
     };
-    let t = Target { interpolation, ..target(w, h, 1) };
+    let t = Target {
+        interpolation,
+        ..target(w, h, 1)
+    };
     let (color, _) = pipeline::draw(&[call], &Uv, &t);
     // Analytic: the ray through each pixel centre.
     let world_from_view = cam.view_from_world().inverse();
@@ -240,8 +340,15 @@ fn plane_uv_error(interpolation: Interpolation, max_dist: f32) -> f32 {
     let mut worst = 0.0f32;
     for y in 0..h {
         for x in 0..w {
-            let ndc = Vec2::new(2.0 * (x as f32 + 0.5) / w as f32 - 1.0, 1.0 - 2.0 * (y as f32 + 0.5) / h as f32);
-            let d = world_from_view.transform_vector3(Vec3::new(ndc.x * tan * aspect, ndc.y * tan, -1.0));
+            let ndc = Vec2::new(
+                2.0 * (x as f32 + 0.5) / w as f32 - 1.0,
+                1.0 - 2.0 * (y as f32 + 0.5) / h as f32,
+            );
+            let d = world_from_view.transform_vector3(Vec3::new(
+                ndc.x * tan * aspect,
+                ndc.y * tan,
+                -1.0,
+            ));
             if d.y >= 0.0 {
                 continue;
             }
@@ -283,7 +390,11 @@ fn affine_interpolation_differs_measurably_and_subdivision_fixes_it() {
 fn white_triangle_scene() -> (Scene, Camera) {
     let scene = Scene {
         meshes: vec![Mesh {
-            positions: vec![Vec3::new(-1.0, -0.8, 0.0), Vec3::new(1.1, -0.5, 0.0), Vec3::new(-0.2, 0.9, 0.0)],
+            positions: vec![
+                Vec3::new(-1.0, -0.8, 0.0),
+                Vec3::new(1.1, -0.5, 0.0),
+                Vec3::new(-0.2, 0.9, 0.0),
+            ],
             indices: vec![0, 1, 2],
             ..Default::default()
         }],
@@ -297,12 +408,33 @@ fn white_triangle_scene() -> (Scene, Camera) {
 fn msaa_edge_pixels_get_fractional_coverage() {
     let (scene, cam) = white_triangle_scene();
     for n in [2u32, 4, 8, 16] {
-        let f = render(&scene, &cam, &Settings { width: 64, height: 48, msaa: n, ..Default::default() }).unwrap();
-        let partial: Vec<f32> = f.color.iter().map(|c| c.x).filter(|&v| v > 0.0 && v < 1.0).collect();
-        assert!(!partial.is_empty(), "{n}x: no edge pixel with partial coverage");
+        let f = render(
+            &scene,
+            &cam,
+            &Settings {
+                width: 64,
+                height: 48,
+                msaa: n,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let partial: Vec<f32> = f
+            .color
+            .iter()
+            .map(|c| c.x)
+            .filter(|&v| v > 0.0 && v < 1.0)
+            .collect();
+        assert!(
+            !partial.is_empty(),
+            "{n}x: no edge pixel with partial coverage"
+        );
         for v in partial {
             let k = v * n as f32;
-            assert!((k - k.round()).abs() < 1e-4, "{n}x: {v} is not a multiple of 1/{n}");
+            assert!(
+                (k - k.round()).abs() < 1e-4,
+                "{n}x: {v} is not a multiple of 1/{n}"
+            );
         }
     }
 }
@@ -310,7 +442,17 @@ fn msaa_edge_pixels_get_fractional_coverage() {
 #[test]
 fn ssaa_resolves_edges_in_linear_light() {
     let (scene, cam) = white_triangle_scene();
-    let f = render(&scene, &cam, &Settings { width: 64, height: 48, ssaa: 3, ..Default::default() }).unwrap();
+    let f = render(
+        &scene,
+        &cam,
+        &Settings {
+            width: 64,
+            height: 48,
+            ssaa: 3,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     assert!(f.color.iter().any(|c| c.x > 0.0 && c.x < 1.0));
     assert_eq!(f.color.len(), 64 * 48);
 }
@@ -320,12 +462,23 @@ fn separated_objects() -> (Scene, Camera) {
     near.world_from_object *= Mat4::from_rotation_y(0.6);
     let mut far = builtin::uv_sphere(24, 13, 0);
     far.world_from_object = Mat4::from_translation(Vec3::new(-0.3, 0.0, -2.0));
-    let mut lit = Material::default();
-    lit.specular = 0.5;
+    let lit = Material {
+        specular: 0.5,
+        ..Default::default()
+    };
     let scene = Scene {
         meshes: vec![near, far],
-        materials: vec![lit.clone(), Material { base_color: Vec4::new(1.0, 0.5, 0.2, 1.0), ..lit }],
-        lights: vec![texmap::scene::Light::Directional { direction: Vec3::new(0.3, 0.8, 0.5), color: Vec3::ONE }],
+        materials: vec![
+            lit.clone(),
+            Material {
+                base_color: Vec4::new(1.0, 0.5, 0.2, 1.0),
+                ..lit
+            },
+        ],
+        lights: vec![texmap::scene::Light::Directional {
+            direction: Vec3::new(0.3, 0.8, 0.5),
+            color: Vec3::ONE,
+        }],
         ambient_light: Vec3::ONE,
         background: Vec4::new(0.1, 0.1, 0.1, 1.0),
         camera: None,
@@ -336,9 +489,22 @@ fn separated_objects() -> (Scene, Camera) {
 #[test]
 fn depth_sort_agrees_with_the_z_buffer_on_separated_objects() {
     let (scene, cam) = separated_objects();
-    let s = Settings { width: 96, height: 64, cull: CullMode::Back, ..Default::default() };
+    let s = Settings {
+        width: 96,
+        height: 64,
+        cull: CullMode::Back,
+        ..Default::default()
+    };
     let z = render(&scene, &cam, &s).unwrap();
-    let p = render(&scene, &cam, &Settings { visibility: Visibility::DepthSort, ..s }).unwrap();
+    let p = render(
+        &scene,
+        &cam,
+        &Settings {
+            visibility: Visibility::DepthSort,
+            ..s
+        },
+    )
+    .unwrap();
     let (worst, differing) = max_abs_diff(&z, &p);
     assert_eq!(differing, 0, "max difference {worst}");
 }
@@ -347,28 +513,50 @@ fn depth_sort_agrees_with_the_z_buffer_on_separated_objects() {
 fn blended_surfaces_are_drawn_over_opaque_ones() {
     let mut panel = builtin::cube(1, Mat4::from_translation(Vec3::new(0.0, 0.0, 1.0)));
     panel.world_from_object *= Mat4::from_scale(Vec3::new(3.0, 3.0, 0.1));
-    let back = builtin::cube(0, Mat4::from_scale(Vec3::splat(4.0)) * Mat4::from_translation(Vec3::new(0.0, 0.0, -1.0)));
+    let back = builtin::cube(
+        0,
+        Mat4::from_scale(Vec3::splat(4.0)) * Mat4::from_translation(Vec3::new(0.0, 0.0, -1.0)),
+    );
     // The translucent panel comes first in the scene but must be blended after the wall.
     let scene = Scene {
         meshes: vec![panel, back],
         materials: vec![
             unlit(Vec4::new(1.0, 0.0, 0.0, 1.0)),
-            Material { alpha_mode: AlphaMode::Blend, ..unlit(Vec4::new(0.0, 0.0, 1.0, 0.5)) },
+            Material {
+                alpha_mode: AlphaMode::Blend,
+                ..unlit(Vec4::new(0.0, 0.0, 1.0, 0.5))
+            },
         ],
         ..Default::default()
     };
     let cam = camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO);
-    let f = render(&scene, &cam, &Settings { width: 32, height: 32, ..Default::default() }).unwrap();
+    let f = render(
+        &scene,
+        &cam,
+        &Settings {
+            width: 32,
+            height: 32,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let c = f.color[16 * 32 + 16];
     // Two panel faces (front and back, both blended): blue over blue over red.
-    assert!((c - Vec4::new(0.25, 0.0, 0.75, 1.0)).abs().max_element() < 1e-5, "{c}");
+    assert!(
+        (c - Vec4::new(0.25, 0.0, 0.75, 1.0)).abs().max_element() < 1e-5,
+        "{c}"
+    );
 }
 
 #[test]
 fn shading_modes_all_render_and_agree_on_a_flat_surface() {
     let scene = builtin::plane(None, 8.0, Sampler::default());
     let cam = scene.camera.unwrap();
-    let base = Settings { width: 64, height: 36, ..Default::default() };
+    let base = Settings {
+        width: 64,
+        height: 36,
+        ..Default::default()
+    };
     let phong = render(&scene, &cam, &base).unwrap();
     for shading in [ShadingMode::Gouraud, ShadingMode::Flat] {
         let f = render(&scene, &cam, &Settings { shading, ..base }).unwrap();
@@ -383,13 +571,24 @@ fn shading_modes_all_render_and_agree_on_a_flat_surface() {
 fn same_image_whatever_the_thread_count() {
     let scene = builtin::demo();
     let cam = scene.camera.unwrap();
-    let s = Settings { width: 200, height: 120, msaa: 4, ..Default::default() };
+    let s = Settings {
+        width: 200,
+        height: 120,
+        msaa: 4,
+        ..Default::default()
+    };
     let run = |threads| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
         pool.install(|| render(&scene, &cam, &s)).unwrap()
     };
     let (a, b, c) = (run(1), run(2), run(3));
-    assert!(a.color == b.color && b.color == c.color, "images differ between thread counts");
+    assert!(
+        a.color == b.color && b.color == c.color,
+        "images differ between thread counts"
+    );
     assert_eq!(a.stats, b.stats);
 }
 
@@ -397,24 +596,42 @@ fn same_image_whatever_the_thread_count() {
 fn bad_settings_and_cameras_are_errors() {
     let scene = builtin::plane(None, 64.0, Sampler::default());
     let cam = scene.camera.unwrap();
-    let ok = Settings { width: 16, height: 16, ..Default::default() };
+    let ok = Settings {
+        width: 16,
+        height: 16,
+        ..Default::default()
+    };
     assert!(render(&scene, &cam, &ok).is_ok());
     for s in [
         Settings { width: 0, ..ok },
-        Settings { height: 20_000, ..ok },
+        Settings {
+            height: 20_000,
+            ..ok
+        },
         Settings { msaa: 3, ..ok },
         Settings { ssaa: 0, ..ok },
         Settings { ssaa: 9, ..ok },
-        Settings { interpolation: Interpolation::Subdivide { max_error_px: f32::NAN }, ..ok },
+        Settings {
+            interpolation: Interpolation::Subdivide {
+                max_error_px: f32::NAN,
+            },
+            ..ok
+        },
     ] {
         assert!(render(&scene, &cam, &s).is_err(), "{s:?}");
     }
     for c in [
-        Camera { eye: Vec3::splat(f32::NAN), ..cam },
+        Camera {
+            eye: Vec3::splat(f32::NAN),
+            ..cam
+        },
         Camera { near: 0.0, ..cam },
         Camera { near: -1.0, ..cam },
         Camera { far: 0.01, ..cam },
-        Camera { fov_y_deg: f32::INFINITY, ..cam },
+        Camera {
+            fov_y_deg: f32::INFINITY,
+            ..cam
+        },
     ] {
         assert!(render(&scene, &c, &ok).is_err(), "{c:?}");
     }
@@ -427,13 +644,28 @@ fn bad_settings_and_cameras_are_errors() {
 fn nan_degenerate_and_out_of_range_triangles_are_skipped() {
     let (mut scene, cam) = white_triangle_scene();
     let m = &mut scene.meshes[0];
-    m.positions.extend([Vec3::NAN, Vec3::new(f32::INFINITY, 0.0, 0.0), Vec3::new(0.5, 0.5, 0.0)]);
-    m.indices.extend([3, 1, 2, 0, 4, 2, 0, 0, 1, 5, 5, 5, 0, 1, 99]);
+    m.positions.extend([
+        Vec3::NAN,
+        Vec3::new(f32::INFINITY, 0.0, 0.0),
+        Vec3::new(0.5, 0.5, 0.0),
+    ]);
+    m.indices
+        .extend([3, 1, 2, 0, 4, 2, 0, 0, 1, 5, 5, 5, 0, 1, 99]);
     m.normals = vec![Vec3::Z; 2]; // wrong length: ignored
     m.uvs = vec![Vec2::ZERO; 1];
     m.colors = vec![Vec4::ONE; 6];
     for shading in [ShadingMode::Phong, ShadingMode::Gouraud, ShadingMode::Flat] {
-        let f = render(&scene, &cam, &Settings { width: 48, height: 48, shading, ..Default::default() }).unwrap();
+        let f = render(
+            &scene,
+            &cam,
+            &Settings {
+                width: 48,
+                height: 48,
+                shading,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         assert_eq!(f.stats.triangles_after_clip, 1, "{shading:?}");
         assert!(f.color.iter().any(|c| c.x > 0.5));
     }
@@ -441,9 +673,30 @@ fn nan_degenerate_and_out_of_range_triangles_are_skipped() {
 
 #[test]
 fn textured_sphere_renders_with_samples_counted() {
-    let scene = builtin::sphere(2000, Some(Arc::new(texmap::texture::Texture2D::from_rgba8(2, 2, texmap::texture::ColorSpace::Srgb, &[255; 16]).unwrap())), Sampler::default());
+    let scene = builtin::sphere(
+        2000,
+        Some(Arc::new(
+            texmap::texture::Texture2D::from_rgba8(
+                2,
+                2,
+                texmap::texture::ColorSpace::Srgb,
+                &[255; 16],
+            )
+            .unwrap(),
+        )),
+        Sampler::default(),
+    );
     let cam = scene.camera.unwrap();
-    let f = render(&scene, &cam, &Settings { width: 64, height: 64, ..Default::default() }).unwrap();
+    let f = render(
+        &scene,
+        &cam,
+        &Settings {
+            width: 64,
+            height: 64,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     assert!(f.stats.texture_samples > 0 && f.stats.texture_samples == f.stats.pixels_shaded);
     let centre = f.color[32 * 64 + 32];
     assert!(centre.x > 0.2, "{centre}");
@@ -454,7 +707,14 @@ fn textured_sphere_renders_with_samples_counted() {
 
 fn time_frames(scene: &Scene, s: &Settings, frames: usize) -> (f64, f64) {
     let cam = scene.camera.unwrap();
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+    let threads = std::env::var("TEXMAP_THREADS")
+        .ok()
+        .and_then(|t| t.parse().ok())
+        .unwrap_or(2);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
     pool.install(|| {
         let _ = render(scene, &cam, s).unwrap();
         let mut times = Vec::new();
@@ -473,15 +733,33 @@ fn time_frames(scene: &Scene, s: &Settings, frames: usize) -> (f64, f64) {
 #[test]
 #[ignore = "timing; run in release"]
 fn timing_1080p_two_threads() {
-    let s = Settings { width: 1920, height: 1080, ..Default::default() };
+    let s = Settings {
+        width: 1920,
+        height: 1080,
+        ..Default::default()
+    };
+    let only = std::env::var("TEXMAP_TIMING").unwrap_or_default();
+    let want = |name: &str| only.is_empty() || only.contains(name);
     let plane = builtin::plane(None, 64.0, Sampler::default());
-    let (min, med) = time_frames(&plane, &s, 10);
+    let (min, med) = if want("plane") {
+        time_frames(&plane, &s, 10)
+    } else {
+        (0.0, 0.0)
+    };
     println!("plane trilinear 1920x1080, 2 threads: min {min:.1} ms, median {med:.1} ms");
     let sphere = builtin::sphere(199_200, None, Sampler::default());
-    let (min, med) = time_frames(&sphere, &s, 10);
+    let (min, med) = if want("sphere") {
+        time_frames(&sphere, &s, 10)
+    } else {
+        (0.0, 0.0)
+    };
     println!("sphere 199200 tris 1920x1080, 2 threads: min {min:.1} ms, median {med:.1} ms");
     let demo = builtin::demo();
-    let (min, med) = time_frames(&demo, &s, 5);
+    let (min, med) = if want("demo") {
+        time_frames(&demo, &s, 5)
+    } else {
+        (0.0, 0.0)
+    };
     println!("demo 1920x1080, 2 threads: min {min:.1} ms, median {med:.1} ms");
     if let Ok(dir) = std::env::var("TEXMAP_DUMP") {
         for (name, scene) in [("plane", &plane), ("sphere", &sphere), ("demo", &demo)] {

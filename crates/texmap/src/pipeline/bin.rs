@@ -135,6 +135,14 @@ mod tests {
         assert_eq!(bins.tile_prims(1), &[0]);
         assert_eq!(bins.tile_prims(4), &[1]);
         assert!(bins.tile_prims(2).is_empty());
-        assert_eq!(bins.tile_rect(5), TileRect { x0: 128, y0: 64, x1: 130, y1: 100 });
+        assert_eq!(
+            bins.tile_rect(5),
+            TileRect {
+                x0: 128,
+                y0: 64,
+                x1: 130,
+                y1: 100
+            }
+        );
     }
 }

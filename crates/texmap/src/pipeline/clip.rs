@@ -145,7 +145,10 @@ mod tests {
             let c = q.clip;
             assert!(c.z >= -c.w - 1e-5 && c.z <= c.w + 1e-5, "{c}");
             assert!(c.w > 0.0);
-            assert!((q.varyings[0] - c.x).abs() < 1e-5, "attributes follow the position");
+            assert!(
+                (q.varyings[0] - c.x).abs() < 1e-5,
+                "attributes follow the position"
+            );
         }
     }
 
@@ -158,7 +161,10 @@ mod tests {
         clip_polygon(&mut p, outcode::NEAR, &vp, 1);
         clip_polygon(&mut q, outcode::NEAR, &vp, 1);
         let new_p: Vec<Vec4> = p.vertices().iter().map(|v| v.clip).collect();
-        assert!(q.vertices().iter().any(|v| new_p.contains(&v.clip) && v.clip != b.clip));
+        assert!(q
+            .vertices()
+            .iter()
+            .any(|v| new_p.contains(&v.clip) && v.clip != b.clip));
     }
 
     #[test]

@@ -31,39 +31,46 @@ impl TileBuffer {
         }
     }
 
+    /// Clears every sample to `clear` and depth 1.
+    pub fn clear(&mut self, clear: Vec4) {
+        self.color.fill(clear);
+        self.depth.fill(1.0);
+    }
+
+    /// Resolves local row `y` (the first `out.len()` pixels) into `out`: the average of each
+    /// pixel's samples.
+    #[inline]
+    pub fn resolve_row(&self, y: usize, out: &mut [Vec4]) {
+        let s = self.samples;
+        let base = y * TILE as usize * s;
+        if s == 1 {
+            out.copy_from_slice(&self.color[base..base + out.len()]);
+            return;
+        }
+        let inv = 1.0 / s as f32;
+        for (x, o) in out.iter_mut().enumerate() {
+            let i = base + x * s;
+            *o = self.color[i..i + s].iter().copied().sum::<Vec4>() * inv;
+        }
+    }
+
     /// Writes `src` to sample index `i`, blending or replacing.
     #[inline(always)]
     pub fn write(&mut self, i: usize, src: Vec4, blend: bool) {
         let dst = &mut self.color[i];
-        *dst = if blend { src + *dst * (1.0 - src.w) } else { src };
-    }
-
-    /// The average of each pixel's samples over `w × h` local pixels, row-major.
-    #[must_use]
-    pub fn resolve(&self, w: usize, h: usize) -> Vec<Vec4> {
-        let s = self.samples;
-        let mut out = Vec::with_capacity(w * h);
-        let inv = 1.0 / s as f32;
-        for y in 0..h {
-            for x in 0..w {
-                let i = (y * TILE as usize + x) * s;
-                if s == 1 {
-                    out.push(self.color[i]);
-                } else {
-                    let sum: Vec4 = self.color[i..i + s].iter().copied().sum();
-                    out.push(sum * inv);
-                }
-            }
-        }
-        out
+        *dst = if blend {
+            src + *dst * (1.0 - src.w)
+        } else {
+            src
+        };
     }
 }
 
 /// Box-filters an image of `(w·n) × (h·n)` pixels down to `w × h` (SSAA resolve).
 #[must_use]
-pub fn downsample_box(src: &[Vec4], w: usize, h: usize, n: usize) -> Vec<Vec4> {
+pub fn downsample_box(src: Vec<Vec4>, w: usize, h: usize, n: usize) -> Vec<Vec4> {
     if n <= 1 {
-        return src.to_vec();
+        return src;
     }
     let sw = w * n;
     let inv = 1.0 / (n * n) as f32;
@@ -100,8 +107,10 @@ mod tests {
     fn resolve_and_downsample_average() {
         let mut t = TileBuffer::new(4, Vec4::ZERO);
         t.color[0] = Vec4::ONE;
-        assert_eq!(t.resolve(1, 1)[0], Vec4::splat(0.25));
-        let src = [Vec4::ONE, Vec4::ZERO, Vec4::ZERO, Vec4::ZERO];
-        assert_eq!(downsample_box(&src, 1, 1, 2)[0], Vec4::splat(0.25));
+        let mut out = [Vec4::ZERO];
+        t.resolve_row(0, &mut out);
+        assert_eq!(out[0], Vec4::splat(0.25));
+        let src = vec![Vec4::ONE, Vec4::ZERO, Vec4::ZERO, Vec4::ZERO];
+        assert_eq!(downsample_box(src, 1, 1, 2)[0], Vec4::splat(0.25));
     }
 }

@@ -113,7 +113,12 @@ impl Planes {
         let n = self.n;
         if self.perspective {
             let q0 = self.q.at(x, y);
-            let qs = [q0, q0 + self.q.dx, q0 + self.q.dy, q0 + self.q.dx + self.q.dy];
+            let qs = [
+                q0,
+                q0 + self.q.dx,
+                q0 + self.q.dy,
+                q0 + self.q.dx + self.q.dy,
+            ];
             let w = qs.map(|q| 1.0 / q.max(f32::MIN_POSITIVE));
             for i in 0..n {
                 let p = &self.a[i];
@@ -151,7 +156,11 @@ mod tests {
             PostVertex::new(Vec4::new(x * w, y * w, 0.0, w), var, &vp)
         };
         // Vertices at pixel centres (ndc chosen so).
-        let v = [mk(-0.99, 0.99, 1.0, 1.0), mk(0.97, 0.99, 3.0, 5.0), mk(-0.99, -0.97, 2.0, -2.0)];
+        let v = [
+            mk(-0.99, 0.99, 1.0, 1.0),
+            mk(0.97, 0.99, 3.0, 5.0),
+            mk(-0.99, -0.97, 2.0, -2.0),
+        ];
         let planes = Planes::new([&v[0], &v[1], &v[2]], 1, true, 0, 0);
         let mut out = [[0.0; MAX_VARYINGS]; 4];
         planes.quad(0.0, 0.0, &mut out);

@@ -26,6 +26,11 @@
 //! The pipeline knows nothing of materials: it interpolates up to [`MAX_VARYINGS`] floats per
 //! vertex and hands 2×2 quads to a [`FragmentShader`].
 
+// `!(x > y)` is deliberate: it is true for NaN, which must be rejected too.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+// Hot loops index several parallel arrays with one counter.
+#![allow(clippy::needless_range_loop)]
+
 pub mod bin;
 pub mod clip;
 pub mod framebuffer;
@@ -41,7 +46,7 @@ pub use bin::{bin_prims, Bins, TILE};
 pub use clip::{clip_polygon, ClipPolygon};
 pub use framebuffer::{downsample_box, TileBuffer};
 pub use interpolate::Planes;
-pub use raster::{rasterize_tile, TileStats};
+pub use raster::{rasterize_tile_row, TileStats};
 pub use setup::{assemble_triangle, Prim};
 pub use transform::{PostVertex, Viewport};
 
@@ -259,7 +264,10 @@ pub fn draw(
         order.extend(0..prims.len() as u32);
         order.sort_by(back_to_front);
     } else {
-        order.extend((0..prims.len() as u32).filter(|&i| !calls[prims[i as usize].call as usize].state.blend));
+        order.extend(
+            (0..prims.len() as u32)
+                .filter(|&i| !calls[prims[i as usize].call as usize].state.blend),
+        );
         let mut blended: Vec<u32> = (0..prims.len() as u32)
             .filter(|&i| calls[prims[i as usize].call as usize].state.blend)
             .collect();
@@ -275,20 +283,16 @@ pub fn draw(
         shader,
         target,
     };
-    let tiles: Vec<(Vec<Vec4>, TileStats)> = (0..bins.tile_count())
-        .into_par_iter()
-        .map(|t| rasterize_tile(&ctx, &bins, t))
-        .collect();
-
+    // Rows of tiles in parallel, each writing its own band of the target.
     let (w, h) = (target.width as usize, target.height as usize);
     let mut color = vec![Vec4::ZERO; w * h];
-    for (t, (pixels, ts)) in tiles.iter().enumerate() {
-        let r = bins.tile_rect(t);
-        let tw = (r.x1 - r.x0) as usize;
-        for (ly, row) in pixels.chunks_exact(tw).enumerate() {
-            let y = r.y0 as usize + ly;
-            color[y * w + r.x0 as usize..y * w + r.x0 as usize + tw].copy_from_slice(row);
-        }
+    let band = w * TILE as usize;
+    let tile_stats: Vec<TileStats> = color
+        .par_chunks_mut(band)
+        .enumerate()
+        .map(|(ty, out)| raster::rasterize_tile_row(&ctx, &bins, ty as u32, out))
+        .collect();
+    for ts in tile_stats {
         stats.pixels_shaded += ts.pixels_shaded;
         stats.texture_samples += ts.texture_samples;
     }

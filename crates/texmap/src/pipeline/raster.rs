@@ -86,26 +86,42 @@ pub struct TileStats {
     pub texture_samples: u64,
 }
 
-/// Rasterizes tile `t`: returns its resolved pixels (row-major, the tile's width) and stats.
-#[must_use]
-pub fn rasterize_tile(ctx: &RasterContext, bins: &Bins, t: usize) -> (Vec<Vec4>, TileStats) {
-    let rect = bins.tile_rect(t);
-    let prims = bins.tile_prims(t);
+/// Rasterizes the row of tiles `ty` into `out`, the target's rows `ty·TILE ..` (full width),
+/// tile by tile with one reused tile buffer; returns the stats.
+pub fn rasterize_tile_row(
+    ctx: &RasterContext,
+    bins: &Bins,
+    ty: u32,
+    out: &mut [Vec4],
+) -> TileStats {
     let mut stats = TileStats::default();
     let samples = match ctx.target.samples {
         2 | 4 | 8 | 16 => ctx.target.samples as usize,
         _ => 1,
     };
     let mut buf = TileBuffer::new(samples, ctx.target.clear_color);
-    match samples {
-        2 => raster_prims::<2>(ctx, rect, prims, &mut buf, &mut stats),
-        4 => raster_prims::<4>(ctx, rect, prims, &mut buf, &mut stats),
-        8 => raster_prims::<8>(ctx, rect, prims, &mut buf, &mut stats),
-        16 => raster_prims::<16>(ctx, rect, prims, &mut buf, &mut stats),
-        _ => raster_prims::<1>(ctx, rect, prims, &mut buf, &mut stats),
+    let width = bins.width as usize;
+    for tx in 0..bins.tiles_x {
+        let t = (ty * bins.tiles_x + tx) as usize;
+        let rect = bins.tile_rect(t);
+        let prims = bins.tile_prims(t);
+        if tx > 0 {
+            buf.clear(ctx.target.clear_color);
+        }
+        match samples {
+            2 => raster_prims::<2>(ctx, rect, prims, &mut buf, &mut stats),
+            4 => raster_prims::<4>(ctx, rect, prims, &mut buf, &mut stats),
+            8 => raster_prims::<8>(ctx, rect, prims, &mut buf, &mut stats),
+            16 => raster_prims::<16>(ctx, rect, prims, &mut buf, &mut stats),
+            _ => raster_prims::<1>(ctx, rect, prims, &mut buf, &mut stats),
+        }
+        let (w, h) = ((rect.x1 - rect.x0) as usize, (rect.y1 - rect.y0) as usize);
+        for ly in 0..h {
+            let row = &mut out[ly * width + rect.x0 as usize..][..w];
+            buf.resolve_row(ly, row);
+        }
     }
-    let pixels = buf.resolve((rect.x1 - rect.x0) as usize, (rect.y1 - rect.y0) as usize);
-    (pixels, stats)
+    stats
 }
 
 fn raster_prims<const S: usize>(
@@ -164,7 +180,11 @@ fn raster_prims<const S: usize>(
         while qy <= y1 {
             let mut e = row;
             let mut qx = x0;
-            let valid_y = if qy + 1 < rect.y1 as i32 { 0b1111 } else { 0b0011 };
+            let valid_y = if qy + 1 < rect.y1 as i32 {
+                0b1111
+            } else {
+                0b0011
+            };
             while qx <= x1 {
                 // Coverage of the four pixels' samples.
                 let mut cov = [0u32; 4];
@@ -180,7 +200,11 @@ fn raster_prims<const S: usize>(
                     cov[j] = c;
                     pmask |= u8::from(c != 0) << j;
                 }
-                let valid_x = if qx + 1 < rect.x1 as i32 { 0b1111 } else { 0b0101 };
+                let valid_x = if qx + 1 < rect.x1 as i32 {
+                    0b1111
+                } else {
+                    0b0101
+                };
                 pmask &= valid_x & valid_y;
                 if pmask != 0 {
                     let pl = planes.get_or_insert_with(|| {
@@ -269,7 +293,9 @@ mod tests {
         for n in [1u32, 2, 4, 8, 16] {
             let p = sample_positions(n);
             assert_eq!(p.len(), n as usize);
-            assert!(p.iter().all(|&(x, y)| (-8..8).contains(&x) && (-8..8).contains(&y)));
+            assert!(p
+                .iter()
+                .all(|&(x, y)| (-8..8).contains(&x) && (-8..8).contains(&y)));
         }
     }
 }

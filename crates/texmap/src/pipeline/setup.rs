@@ -94,7 +94,11 @@ pub fn assemble_triangle(
     }
     for k in 1..poly.len - 1 {
         let r = [base, base + k as u32, base + k as u32 + 1];
-        let pv = [extra[r[0] as usize], extra[r[1] as usize], extra[r[2] as usize]];
+        let pv = [
+            extra[r[0] as usize],
+            extra[r[1] as usize],
+            extra[r[2] as usize],
+        ];
         if pv.iter().any(|v| v.outcode == u8::MAX) {
             continue;
         }
@@ -277,7 +281,15 @@ mod tests {
             },
         };
         let (mut prims, mut extra) = (Vec::new(), Vec::new());
-        assemble_triangle(&call, 0, [0, 1, 2], vp, Interpolation::Perspective, &mut prims, &mut extra);
+        assemble_triangle(
+            &call,
+            0,
+            [0, 1, 2],
+            vp,
+            Interpolation::Perspective,
+            &mut prims,
+            &mut extra,
+        );
         prims
     }
 
@@ -305,7 +317,12 @@ mod tests {
     #[test]
     fn edges_are_positive_inside_and_opposite_on_shared_edges() {
         let vp = Viewport::new(64, 64);
-        let q = [pv(-0.5, -0.5, &vp), pv(0.5, -0.5, &vp), pv(0.5, 0.5, &vp), pv(-0.5, 0.5, &vp)];
+        let q = [
+            pv(-0.5, -0.5, &vp),
+            pv(0.5, -0.5, &vp),
+            pv(0.5, 0.5, &vp),
+            pv(-0.5, 0.5, &vp),
+        ];
         let p = assemble(&q[..3], CullMode::None, &vp);
         let t = p[0].v.map(|i| &q[i as usize]);
         let e = Edges::new(t, 40, 40);

@@ -142,7 +142,11 @@ pub fn uv_sphere(slices: usize, rings: usize, material: usize) -> Mesh {
         let th = linspace(std::f64::consts::PI, rings, i);
         for k in 0..w {
             let ph = linspace(2.0 * std::f64::consts::PI, w, k);
-            pos64.push(glam::DVec3::new(th.sin() * ph.cos(), th.cos(), -th.sin() * ph.sin()));
+            pos64.push(glam::DVec3::new(
+                th.sin() * ph.cos(),
+                th.cos(),
+                -th.sin() * ph.sin(),
+            ));
             uvs.push(Vec2::new(
                 (ph / (2.0 * std::f64::consts::PI)) as f32,
                 (th / std::f64::consts::PI) as f32,
@@ -241,7 +245,10 @@ fn procedural(size: u32, f: impl Fn(f32, f32) -> [u8; 4]) -> Arc<Texture2D> {
     let mut bytes = Vec::with_capacity((size * size * 4) as usize);
     for y in 0..size {
         for x in 0..size {
-            let (u, v) = ((x as f32 + 0.5) / size as f32, (y as f32 + 0.5) / size as f32);
+            let (u, v) = (
+                (x as f32 + 0.5) / size as f32,
+                (y as f32 + 0.5) / size as f32,
+            );
             bytes.extend_from_slice(&f(u, v));
         }
     }
@@ -278,7 +285,11 @@ fn brick_texture() -> Arc<Texture2D> {
             [200, 195, 185, 255]
         } else {
             let shade = 0.8 + 0.2 * ((bu.floor() * 7.3 + row * 3.1).sin() * 0.5 + 0.5);
-            mix([0.0, 0.0, 0.0], [0.70 * shade, 0.28 * shade, 0.18 * shade], 1.0)
+            mix(
+                [0.0, 0.0, 0.0],
+                [0.70 * shade, 0.28 * shade, 0.18 * shade],
+                1.0,
+            )
         }
     })
 }
@@ -394,7 +405,11 @@ mod tests {
             .chunks_exact(4)
             .flat_map(|c| [c[0], c[1], c[2]])
             .collect();
-        assert!(ours == rgb.as_raw().as_slice(), "checker differs from {}", path.display());
+        assert!(
+            ours == rgb.as_raw().as_slice(),
+            "checker differs from {}",
+            path.display()
+        );
     }
 
     #[test]

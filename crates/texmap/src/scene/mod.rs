@@ -5,6 +5,9 @@
 //! when seen from their front side (after `world_from_object`; a mirroring transform flips the
 //! winding back). Texture coordinates follow glTF (v down the image rows).
 
+// `!(x > y)` is deliberate: it is true for NaN, which must be rejected too.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod builtin;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -55,7 +58,9 @@ impl Camera {
             return Err(Error::parameter("camera eye and target coincide"));
         }
         if f.normalize().cross(self.up).length_squared() <= 1e-12 {
-            return Err(Error::parameter("camera up is parallel to the view direction"));
+            return Err(Error::parameter(
+                "camera up is parallel to the view direction",
+            ));
         }
         if !(self.fov_y_deg > 0.0 && self.fov_y_deg < 180.0) {
             return Err(Error::parameter(format!(
@@ -64,7 +69,10 @@ impl Camera {
             )));
         }
         if !(self.near > 0.0) {
-            return Err(Error::parameter(format!("camera near {} must be > 0", self.near)));
+            return Err(Error::parameter(format!(
+                "camera near {} must be > 0",
+                self.near
+            )));
         }
         if !(self.far > self.near) {
             return Err(Error::parameter(format!(
@@ -234,12 +242,21 @@ mod tests {
         };
         assert!(ok.validate().is_ok());
         for bad in [
-            Camera { eye: Vec3::NAN, ..ok },
+            Camera {
+                eye: Vec3::NAN,
+                ..ok
+            },
             Camera { near: 0.0, ..ok },
             Camera { far: 0.05, ..ok },
             Camera { up: Vec3::Z, ..ok },
-            Camera { target: Vec3::Z, ..ok },
-            Camera { fov_y_deg: 180.0, ..ok },
+            Camera {
+                target: Vec3::Z,
+                ..ok
+            },
+            Camera {
+                fov_y_deg: 180.0,
+                ..ok
+            },
         ] {
             assert!(bad.validate().is_err(), "{bad:?}");
         }

@@ -17,6 +17,9 @@
 //! [`illuminate`] returns the two factors `(D, S)` such that `I = C·D + S`, so Gouraud and flat
 //! shading can compute them per vertex or per face and the texture is still applied per pixel.
 
+// `!(x > y)` is deliberate: it is true for NaN, which must be rejected too.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use std::sync::Arc;
 
 use glam::{Vec3, Vec4};
@@ -131,9 +134,7 @@ impl Light {
     #[must_use]
     pub fn incidence(&self, p: Vec3) -> Option<(Vec3, Vec3)> {
         match *self {
-            Light::Directional { direction, color } => {
-                Some((direction.try_normalize()?, color))
-            }
+            Light::Directional { direction, color } => Some((direction.try_normalize()?, color)),
             Light::Point {
                 position,
                 color,
