@@ -7,7 +7,10 @@
 //! [`shading`](crate::shading)), and the SSAA box filter.
 //!
 //! Culling: `Settings::cull` applies to single-sided materials; double-sided ones are never
-//! culled, and their back faces are lit with the flipped normal (Phong shading).
+//! culled, and their back faces are lit with the flipped normal (per pixel in Phong shading,
+//! per face in flat shading; Gouraud lights the vertices with their own normals only).
+//! A mesh without (or with a wrong number of) normals is shaded flat; Phong and Gouraud
+//! need vertex normals.
 
 // `!(x > y)` is deliberate: it is true for NaN, which must be rejected too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -22,7 +25,7 @@ use crate::pipeline::{
 };
 pub use crate::pipeline::{CullMode, Interpolation};
 use crate::scene::{Camera, Mesh, Scene};
-use crate::shading::{combine, illuminate, AlphaMode, Lighting, Material};
+use crate::shading::{combine, illuminate, AlphaMode, Light, Lighting, Material};
 use crate::texture::{sample, Filter, Footprint, Sampler, Texture2D, TextureTransform, Wrap};
 use crate::{Error, Result};
 
@@ -93,7 +96,7 @@ pub const MAX_SIZE: u32 = 16384;
 
 impl Settings {
     /// Checks the values: size in 1..=16384, msaa ∈ {1, 2, 4, 8, 16}, ssaa in 1..=8 with the
-    /// supersampled size ≤ 32768, a positive finite subdivision error.
+    /// supersampled size ≤ 32768, a finite subdivision error ≥ 0.01 pixel.
     pub fn validate(&self) -> Result<()> {
         if self.width == 0 || self.height == 0 || self.width > MAX_SIZE || self.height > MAX_SIZE {
             return Err(Error::parameter(format!(
@@ -115,9 +118,9 @@ impl Settings {
             )));
         }
         if let Interpolation::Subdivide { max_error_px } = self.interpolation {
-            if !(max_error_px.is_finite() && max_error_px > 0.0) {
+            if !(max_error_px.is_finite() && max_error_px >= 0.01) {
                 return Err(Error::parameter(format!(
-                    "subdivision error {max_error_px} must be a positive number of pixels"
+                    "subdivision error {max_error_px} must be at least 0.01 pixel"
                 )));
             }
         }
@@ -173,6 +176,21 @@ impl Frame {
 ///
 /// The image does not depend on the number of threads.
 ///
+/// ```
+/// use texmap::render::{render, Settings};
+/// use texmap::scene::builtin;
+/// use texmap::texture::Sampler;
+///
+/// let scene = builtin::plane(None, 64.0, Sampler::default());
+/// let settings = Settings { width: 64, height: 36, ..Default::default() };
+/// let frame = render(&scene, &scene.camera.unwrap(), &settings)?;
+/// assert_eq!(frame.to_srgb8().len(), 64 * 36 * 3);
+/// // The sky is the black background; the floor is lit.
+/// assert_eq!(frame.color[0].truncate(), glam::Vec3::ZERO);
+/// assert!(frame.color[64 * 35].x > 0.0);
+/// # Ok::<(), texmap::Error>(())
+/// ```
+///
 /// # Errors
 /// [`Error::Parameter`] for invalid settings or camera (zero or absurd size, non-finite
 /// camera, `near ≤ 0`, `far ≤ near`) or a mesh naming a material that does not exist.
@@ -198,8 +216,10 @@ pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Fra
     let aspect = settings.width as f32 / settings.height as f32;
     let clip_from_world = camera.clip_from_view(aspect) * camera.view_from_world();
     let viewport = Viewport::new(w, h);
+    // Directions normalized once, not per pixel; lights that cannot shine are dropped.
+    let lights: Vec<Light> = scene.lights.iter().filter_map(Light::normalized).collect();
     let lighting = Lighting {
-        lights: &scene.lights,
+        lights: &lights,
         ambient: scene.ambient_light,
     };
 

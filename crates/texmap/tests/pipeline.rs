@@ -739,6 +739,7 @@ fn timing_1080p_two_threads() {
         ..Default::default()
     };
     let only = std::env::var("TEXMAP_TIMING").unwrap_or_default();
+    let threads = std::env::var("TEXMAP_THREADS").unwrap_or_else(|_| "2".into());
     let want = |name: &str| only.is_empty() || only.contains(name);
     let plane = builtin::plane(None, 64.0, Sampler::default());
     let (min, med) = if want("plane") {
@@ -746,21 +747,31 @@ fn timing_1080p_two_threads() {
     } else {
         (0.0, 0.0)
     };
-    println!("plane trilinear 1920x1080, 2 threads: min {min:.1} ms, median {med:.1} ms");
+    println!("plane trilinear 1920x1080, {threads} threads: min {min:.1} ms, median {med:.1} ms");
+    if want("nearest") {
+        let s = Settings {
+            filter_override: Some(texmap::texture::Filter::NEAREST),
+            ..s
+        };
+        let (min, med) = time_frames(&plane, &s, 10);
+        println!("plane nearest 1920x1080, {threads} threads: min {min:.1} ms, median {med:.1} ms");
+    }
     let sphere = builtin::sphere(199_200, None, Sampler::default());
     let (min, med) = if want("sphere") {
         time_frames(&sphere, &s, 10)
     } else {
         (0.0, 0.0)
     };
-    println!("sphere 199200 tris 1920x1080, 2 threads: min {min:.1} ms, median {med:.1} ms");
+    println!(
+        "sphere 199200 tris 1920x1080, {threads} threads: min {min:.1} ms, median {med:.1} ms"
+    );
     let demo = builtin::demo();
     let (min, med) = if want("demo") {
         time_frames(&demo, &s, 5)
     } else {
         (0.0, 0.0)
     };
-    println!("demo 1920x1080, 2 threads: min {min:.1} ms, median {med:.1} ms");
+    println!("demo 1920x1080, {threads} threads: min {min:.1} ms, median {med:.1} ms");
     if let Ok(dir) = std::env::var("TEXMAP_DUMP") {
         for (name, scene) in [("plane", &plane), ("sphere", &sphere), ("demo", &demo)] {
             let f = render(scene, &scene.camera.unwrap(), &s).unwrap();

@@ -17,8 +17,8 @@ use super::{CullMode, DrawCall, Interpolation, SUBPIXEL_BITS};
 pub const EXTRA_VERTEX: u32 = 1 << 31;
 
 /// Deepest bisection in [`Interpolation::Subdivide`]. Each level halves one edge; pieces
-/// outside the view are dropped, so the count stays near the number of pieces on screen.
-pub const MAX_SUBDIVISION: u32 = 24;
+/// outside the view are dropped; at most 2^16 pieces come from one triangle.
+pub const MAX_SUBDIVISION: u32 = 16;
 
 /// A triangle ready for binning and rasterization.
 #[derive(Clone, Copy, Debug, PartialEq)]

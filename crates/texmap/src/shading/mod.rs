@@ -128,13 +128,35 @@ pub enum Light {
 }
 
 impl Light {
+    /// The light with unit direction vectors, or `None` when a direction is zero or not
+    /// finite.
+    #[must_use]
+    pub fn normalized(&self) -> Option<Light> {
+        let mut l = *self;
+        match &mut l {
+            Light::Directional { direction, .. } | Light::Spot { direction, .. } => {
+                *direction = direction.try_normalize()?;
+            }
+            Light::Point { .. } => {}
+        }
+        Some(l)
+    }
+
     /// The light's direction `L` (unit, towards the light) and `S·I` at world point `p`, or
     /// `None` when it does not reach `p`.
-    #[inline]
+    #[inline(always)]
     #[must_use]
     pub fn incidence(&self, p: Vec3) -> Option<(Vec3, Vec3)> {
         match *self {
-            Light::Directional { direction, color } => Some((direction.try_normalize()?, color)),
+            Light::Directional { direction, color } => {
+                // Already unit length after `normalized` (the cheap common case).
+                let len2 = direction.length_squared();
+                if (len2 - 1.0).abs() < 1e-6 {
+                    Some((direction, color))
+                } else {
+                    Some((direction.try_normalize()?, color))
+                }
+            }
             Light::Point {
                 position,
                 color,
@@ -207,7 +229,7 @@ impl Lighting<'_> {
 
 /// The Phong factors `(D, S)` at world point `p` with unit normal `n`, seen from `eye`:
 /// the lit colour is `C·D + S` (see the module docs).
-#[inline]
+#[inline(always)]
 #[must_use]
 pub fn illuminate(m: &Material, lighting: &Lighting, p: Vec3, n: Vec3, eye: Vec3) -> (Vec3, Vec3) {
     let mut d = lighting.ambient * m.ambient;
