@@ -24,6 +24,7 @@
 
 pub mod color;
 mod error;
+pub mod geometry;
 pub mod metrics;
 pub mod pipeline;
 pub mod render;

@@ -9,6 +9,7 @@ pub(crate) mod footprint;
 pub(crate) mod format;
 pub mod load;
 mod mip;
+pub mod procedural;
 mod sampler;
 mod storage;
 mod texture3d;
