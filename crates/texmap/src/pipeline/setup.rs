@@ -16,9 +16,9 @@ use super::{CullMode, DrawCall, Interpolation, SUBPIXEL_BITS};
 /// subdivision rather than in the draw call's vertex buffer.
 pub const EXTRA_VERTEX: u32 = 1 << 31;
 
-/// Deepest bisection in [`Interpolation::Subdivide`]. Each level halves one edge; pieces
-/// outside the view are dropped; at most 2^16 pieces come from one triangle.
-pub const MAX_SUBDIVISION: u32 = 16;
+/// Most bisections of one triangle in [`Interpolation::Subdivide`]. Each halves the edge
+/// with the largest affine error; pieces outside the view are dropped.
+pub const MAX_SUBDIVISION: u32 = 1 << 16;
 
 /// A triangle ready for binning and rasterization.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -75,7 +75,7 @@ pub fn assemble_triangle(
     };
     let any = (codes[0] | codes[1] | codes[2]) & outcode::CLIP;
     if any == 0 {
-        cx.emit_or_split(idx, [*a, *b, *c], 0, prims, extra);
+        cx.emit_or_split(idx, [*a, *b, *c], prims, extra);
         return;
     }
     let n = call.state.varyings;
@@ -102,7 +102,7 @@ pub fn assemble_triangle(
         if pv.iter().any(|v| v.outcode == u8::MAX) {
             continue;
         }
-        cx.emit_or_split(r.map(|i| i | EXTRA_VERTEX), pv, 0, prims, extra);
+        cx.emit_or_split(r.map(|i| i | EXTRA_VERTEX), pv, prims, extra);
     }
 }
 
@@ -118,7 +118,6 @@ impl Ctx<'_> {
         &self,
         r: [u32; 3],
         v: [PostVertex; 3],
-        depth: u32,
         prims: &mut Vec<Prim>,
         extra: &mut Vec<PostVertex>,
     ) {
@@ -126,27 +125,36 @@ impl Ctx<'_> {
             self.emit(r, &v, self.interpolation == Interpolation::Affine, prims);
             return;
         };
-        let (k, error) = affine_error_px(&v);
-        if depth >= MAX_SUBDIVISION || !(error > max_error_px) {
+        if !(affine_error_px(&v).1 > max_error_px) {
             self.emit(r, &v, true, prims);
             return;
         }
-        // Pieces entirely outside one side of the view need no more work.
-        if view_sides(v[0].clip) & view_sides(v[1].clip) & view_sides(v[2].clip) != 0 {
-            return;
+        // Breadth first, so a budget that runs out leaves the pieces evenly refined.
+        let mut queue = std::collections::VecDeque::from([(r, v)]);
+        let mut budget = MAX_SUBDIVISION;
+        while let Some((r, v)) = queue.pop_front() {
+            let (k, error) = affine_error_px(&v);
+            if budget == 0 || !(error > max_error_px) {
+                self.emit(r, &v, true, prims);
+                continue;
+            }
+            // Pieces entirely outside one side of the view need no more work.
+            if view_sides(v[0].clip) & view_sides(v[1].clip) & view_sides(v[2].clip) != 0 {
+                continue;
+            }
+            // Bisect the worst edge at its screen midpoint (perspective-correct attributes).
+            let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
+            let m = midpoint(&v[k], &v[k1], self.call.state.varyings, self.vp);
+            if m.outcode == u8::MAX {
+                self.emit(r, &v, true, prims);
+                continue;
+            }
+            budget -= 1;
+            let mr = extra.len() as u32 | EXTRA_VERTEX;
+            extra.push(m);
+            queue.push_back(([r[k], mr, r[k2]], [v[k], m, v[k2]]));
+            queue.push_back(([mr, r[k1], r[k2]], [m, v[k1], v[k2]]));
         }
-        // Bisect the worst edge at its screen-space midpoint (perspective-correct attributes).
-        let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
-        let m = midpoint(&v[k], &v[k1], self.call.state.varyings, self.vp);
-        if m.outcode == u8::MAX {
-            self.emit(r, &v, true, prims);
-            return;
-        }
-        let mr = extra.len() as u32 | EXTRA_VERTEX;
-        extra.push(m);
-        let d = depth + 1;
-        self.emit_or_split([r[k], mr, r[k2]], [v[k], m, v[k2]], d, prims, extra);
-        self.emit_or_split([mr, r[k1], r[k2]], [m, v[k1], v[k2]], d, prims, extra);
     }
 
     #[inline]
