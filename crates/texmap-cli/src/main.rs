@@ -1,5 +1,6 @@
 //! The `texmap` command line: it parses arguments and calls the library, nothing more.
 
+mod bake;
 mod compare;
 mod output;
 mod render;
@@ -20,6 +21,8 @@ struct Cli {
 enum Command {
     /// Render a scene (default: the embedded demo) to an image.
     Render(render::RenderArgs),
+    /// Write a procedural texture to an image (on a plane, or unwrapped from a cylinder or sphere).
+    Bake(bake::BakeArgs),
     /// Compare two images: PSNR, RMSE and SSIM, and optionally a false-colour difference image.
     Compare(compare::CompareArgs),
 }
@@ -29,6 +32,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render::run(args),
         Command::Compare(args) => compare::run(args),
+        Command::Bake(args) => bake::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -130,7 +130,7 @@ enum CullArg {
     Front,
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .to_lowercase()
         .split_once('x')

@@ -107,7 +107,43 @@ fn corners(x: f64, y: f64, z: f64) -> ([usize; 8], DVec3) {
 /// ```
 #[must_use]
 pub fn noise3(x: f64, y: f64, z: f64) -> f64 {
-    noise3_with_gradient(x, y, z).0
+    let (h, f) = corners(x, y, z);
+    let (u, v, w) = (fade(f.x), fade(f.y), fade(f.z));
+    let g = |i: usize, x: f64, y: f64, z: f64| grad(h[i], x, y, z);
+    let lerp = |t: f64, a: f64, b: f64| a + t * (b - a);
+    let (x, y, z) = (f.x, f.y, f.z);
+    lerp(
+        w,
+        lerp(
+            v,
+            lerp(u, g(0, x, y, z), g(1, x - 1.0, y, z)),
+            lerp(u, g(2, x, y - 1.0, z), g(3, x - 1.0, y - 1.0, z)),
+        ),
+        lerp(
+            v,
+            lerp(u, g(4, x, y, z - 1.0), g(5, x - 1.0, y, z - 1.0)),
+            lerp(
+                u,
+                g(6, x, y - 1.0, z - 1.0),
+                g(7, x - 1.0, y - 1.0, z - 1.0),
+            ),
+        ),
+    )
+}
+
+/// The reference's `grad`: the dot product of the hashed gradient with `(x, y, z)`.
+#[inline(always)]
+fn grad(hash: usize, x: f64, y: f64, z: f64) -> f64 {
+    let h = hash & 15;
+    let u = if h < 8 { x } else { y };
+    let v = if h < 4 {
+        y
+    } else if h == 12 || h == 14 {
+        x
+    } else {
+        z
+    };
+    (if h & 1 == 0 { u } else { -u }) + (if h & 2 == 0 { v } else { -v })
 }
 
 /// Noise and its analytic gradient (∂n/∂x, ∂n/∂y, ∂n/∂z).

@@ -46,9 +46,9 @@ impl Solid {
     pub fn named(name: &str) -> Option<Solid> {
         Some(match name {
             "marble" => Solid::Marble {
-                scale: 4.0,
+                scale: 2.0,
                 frequency: 3.0,
-                amplitude: 3.0,
+                amplitude: 1.2,
                 octaves: 6.0,
             },
             "wood" => Solid::Wood {
@@ -84,15 +84,19 @@ impl Solid {
         }
     }
 
-    /// The pattern's value in [0, 1] at `p`, box-filtered over a footprint `width` wide
-    /// (`width = 0` evaluates the pattern unfiltered, all octaves).
+    /// The pattern's value in [0, 1] at `p`, box-filtered over a footprint whose extent along
+    /// each object axis is `extent` (for a surface point, |∂P/∂x| + |∂P/∂y| per component; zero
+    /// evaluates the pattern unfiltered, all octaves). Periodic patterns filter per axis, so a
+    /// surface lying along a checker boundary is not blurred across it; noise patterns use the
+    /// largest extent.
     #[must_use]
-    pub fn value(&self, p: DVec3, width: f64) -> f64 {
-        let width = if width.is_finite() {
-            width.max(0.0)
+    pub fn value(&self, p: DVec3, extent: DVec3) -> f64 {
+        let extent = if extent.is_finite() {
+            extent.abs()
         } else {
-            0.0
+            DVec3::ZERO
         };
+        let width = extent.max_element();
         let v = match *self {
             Solid::Marble {
                 scale,
@@ -103,7 +107,10 @@ impl Solid {
                 let q = p * scale;
                 let oct = octaves_for_width(width * scale, octaves, 2.0);
                 let phase = frequency * (q.x + amplitude * turbulence(q, oct, 2.0, 0.5));
-                0.5 + 0.5 * filtered_sin(phase, frequency * width * scale)
+                // Thin dark veins in a light stone: |sin| near 0 is a vein; 1 − (1 − |s|)^4
+                // applied to the filtered wave keeps the mean right as the filter flattens it.
+                let s = filtered_sin(phase, frequency * width * scale);
+                1.0 - (1.0 - s.abs()).powi(3)
             }
             Solid::Wood {
                 scale,
@@ -135,10 +142,10 @@ impl Solid {
                 (0.5 + 0.6 * fbm(q, oct, 2.0, 0.5)).clamp(0.0, 1.0)
             }
             Solid::Checker3D { size } => {
-                let w = width / size;
-                let s = filtered_square(p.x / size, w)
-                    * filtered_square(p.y / size, w)
-                    * filtered_square(p.z / size, w);
+                let w = extent / size;
+                let s = filtered_square(p.x / size, w.x)
+                    * filtered_square(p.y / size, w.y)
+                    * filtered_square(p.z / size, w.z);
                 0.5 + 0.5 * s
             }
             Solid::Bricks {
@@ -151,7 +158,7 @@ impl Solid {
                 let y = p.y / bh;
                 // Mortar fraction per axis: the joint is the same width in both directions.
                 let (mx, my) = (mortar * bh / bw, mortar);
-                filtered_pulse(x, width / bw, mx) * filtered_pulse(y, width / bh, my)
+                filtered_pulse(x, extent.x / bw, mx) * filtered_pulse(y, extent.y / bh, my)
             }
         };
         // Rounding in the filtered forms can stray by an ulp.
@@ -160,8 +167,8 @@ impl Solid {
 
     /// Linear RGB at `p` with the two-colour ramp `colors`.
     #[must_use]
-    pub fn color(&self, p: DVec3, width: f64, colors: [Vec3; 2]) -> Vec3 {
-        colors[0].lerp(colors[1], self.value(p, width) as f32)
+    pub fn color(&self, p: DVec3, extent: DVec3, colors: [Vec3; 2]) -> Vec3 {
+        colors[0].lerp(colors[1], self.value(p, extent) as f32)
     }
 }
 
@@ -227,7 +234,7 @@ mod tests {
                     (i * 7 % 13) as f64 * 0.31,
                     -(i as f64) * 0.071,
                 );
-                for w in [0.0, 0.01, 0.3, 10.0] {
+                for w in [0.0, 0.01, 0.3, 10.0].map(DVec3::splat) {
                     let v = s.value(p, w);
                     assert!((0.0..=1.0).contains(&v), "{name} at {p} width {w}: {v}");
                 }
@@ -236,7 +243,7 @@ mod tests {
     }
 
     /// Mean and variance of a pattern over a block, at footprint width `w`.
-    fn stats(s: &Solid, w: f64) -> (f64, f64) {
+    fn stats(s: &Solid, w: DVec3) -> (f64, f64) {
         let n = 4000;
         let vals: Vec<f64> = (0..n)
             .map(|i| {
@@ -260,8 +267,8 @@ mod tests {
         // collapses: no shimmer. Unfiltered, the same points vary a lot.
         for name in ["marble", "checker3d", "bricks", "wood"] {
             let s = Solid::named(name).unwrap();
-            let (_, var_sharp) = stats(&s, 0.0);
-            let (_, var_far) = stats(&s, 50.0);
+            let (_, var_sharp) = stats(&s, DVec3::ZERO);
+            let (_, var_far) = stats(&s, DVec3::splat(50.0));
             assert!(var_sharp > 0.02, "{name}: {var_sharp}");
             assert!(
                 var_far < 0.1 * var_sharp,
@@ -291,7 +298,18 @@ mod tests {
     fn the_pattern_is_fixed_to_the_position() {
         let s = Solid::named("marble").unwrap();
         let p = DVec3::new(0.3, 0.2, 0.1);
-        assert_eq!(s.value(p, 0.0), s.value(p, 0.0));
-        assert_ne!(s.value(p, 0.0), s.value(p + DVec3::X * 0.05, 0.0));
+        assert_eq!(s.value(p, DVec3::ZERO), s.value(p, DVec3::ZERO));
+        assert_ne!(
+            s.value(p, DVec3::ZERO),
+            s.value(p + DVec3::X * 0.05, DVec3::ZERO)
+        );
+    }
+
+    #[test]
+    fn checker_on_a_boundary_plane_is_not_blurred_across_it() {
+        let s = Solid::named("checker3d").unwrap();
+        // On z = 0 (a cube boundary) with a footprint only in x and y: still black or white.
+        let v = s.value(DVec3::new(0.1, 0.1, 0.0), DVec3::new(0.01, 0.01, 0.0));
+        assert!(v < 0.01 || v > 0.99, "{v}");
     }
 }
