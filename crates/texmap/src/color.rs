@@ -26,10 +26,20 @@ pub fn linear_to_srgb(c: f32) -> f32 {
     }
 }
 
-/// Encodes a linear value to an 8-bit sRGB code (round to nearest).
+/// Encodes a linear value to an 8-bit sRGB code (round to nearest in the encoded space).
+///
+/// A binary search over the 255 linear values where the code changes (eight comparisons), in
+/// place of a `powf` per channel — which took a fifth of the instructions of loading a 1024²
+/// texture, in building its mip chain.
 #[must_use]
 pub fn linear_to_srgb8(c: f32) -> u8 {
-    (linear_to_srgb(c) * 255.0 + 0.5) as u8
+    static THRESHOLDS: OnceLock<[f32; 255]> = OnceLock::new();
+    let t = THRESHOLDS
+        .get_or_init(|| std::array::from_fn(|k| srgb_to_linear((k as f32 + 0.5) / 255.0)));
+    if c.is_nan() {
+        return 0;
+    }
+    t.partition_point(|&x| x <= c) as u8
 }
 
 /// Encodes a linear value to an 8-bit code without a transfer function (round to nearest).
@@ -84,6 +94,18 @@ mod tests {
             let lin = lut8(true)[i as usize];
             assert_eq!(linear_to_srgb8(lin), i);
         }
+    }
+
+    #[test]
+    fn fast_encoder_matches_the_formula() {
+        for i in 0..=100_000 {
+            let c = i as f32 / 100_000.0;
+            let direct = (linear_to_srgb(c) * 255.0 + 0.5) as u8;
+            let fast = linear_to_srgb8(c);
+            assert!(direct.abs_diff(fast) <= 1, "{c}: {direct} vs {fast}");
+        }
+        assert_eq!(linear_to_srgb8(-1.0), 0);
+        assert_eq!(linear_to_srgb8(7.0), 255);
     }
 
     #[test]

@@ -303,6 +303,43 @@ pub(crate) struct LevelRef<'a> {
 }
 
 impl LevelRef<'_> {
+    /// The 2×2 texels with top-left `(x, y)` (all in range): ((x,y), (x+1,y)), ((x,y+1), (x+1,y+1)).
+    #[inline(always)]
+    pub fn quad<C: Codec>(&self, x: i32, y: i32) -> ((Vec4, Vec4), (Vec4, Vec4)) {
+        let (i00, i10, i01, i11) = match self.layout {
+            Layout::RowMajor => {
+                let i = (y * self.w + x) as usize;
+                let w = self.w as usize;
+                (i, i + 1, i + w, i + w + 1)
+            }
+            Layout::Tiled4x4 => {
+                let (x, y) = (x as u32, y as u32);
+                let idx = |x: u32, y: u32| {
+                    (((y >> 2) * self.tiles_x + (x >> 2)) * 16 + ((y & 3) << 2) + (x & 3)) as usize
+                };
+                let i00 = idx(x, y);
+                // Inside one tile the neighbours are +1 and +4; across a tile edge, recompute.
+                let i10 = if x & 3 != 3 { i00 + 1 } else { idx(x + 1, y) };
+                let (i01, i11) = if y & 3 != 3 {
+                    (i00 + 4, i10 + 4)
+                } else {
+                    (idx(x, y + 1), idx(x + 1, y + 1))
+                };
+                (i00, i10, i01, i11)
+            }
+        };
+        let read = |i: usize| {
+            let b = i * C::BPP;
+            let c = C::decode(&self.data[b..b + C::BPP], self.lut);
+            if C::HAS_ALPHA {
+                (c.truncate() * c.w).extend(c.w)
+            } else {
+                c
+            }
+        };
+        ((read(i00), read(i10)), (read(i01), read(i11)))
+    }
+
     /// Linear, premultiplied texel at in-range `(x, y)`.
     #[inline(always)]
     pub fn texel<C: Codec>(&self, x: i32, y: i32) -> Vec4 {

@@ -121,6 +121,11 @@ pub(crate) fn bilinear<C: Codec>(lv: &LevelRef, s: &Sampler, uv: Vec2) -> Vec4 {
     let (fx, fy) = (px.floor(), py.floor());
     let (ax, ay) = (px - fx, py - fy);
     let (x0, y0) = (floor_index(fx), floor_index(fy));
+    // Interior fast path: all four texels inside the level, no wrapping or border to decide.
+    if x0 >= 0 && y0 >= 0 && x0 < lv.w - 1 && y0 < lv.h - 1 {
+        let (top, bottom) = lv.quad::<C>(x0, y0);
+        return top.0.lerp(top.1, ax).lerp(bottom.0.lerp(bottom.1, ax), ay);
+    }
     let (xa, xb) = (
         s.wrap_u.index(x0, lv.w),
         s.wrap_u.index(x0.wrapping_add(1), lv.w),
