@@ -72,7 +72,10 @@ pub fn run(args: BakeArgs) -> Result<(), Error> {
             args.pattern
         ))
     })?;
-    if !(args.extent > 0.0 && args.extent.is_finite()) || !args.depth.is_finite() {
+    if args.extent.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+        || !args.extent.is_finite()
+        || !args.depth.is_finite()
+    {
         return Err(Error::parameter(
             "--extent must be positive and --depth finite",
         ));

@@ -22,6 +22,10 @@
 //! # Ok::<(), texmap::Error>(())
 //! ```
 
+// `!(x > 0.0)` is how texmap spells "not positive, or NaN" on purpose: degenerate footprints
+// and NaN inputs must take the safe branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod color;
 mod error;
 pub mod geometry;

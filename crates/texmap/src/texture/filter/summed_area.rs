@@ -159,53 +159,65 @@ impl Table {
         self.sums[(y * (self.w + 1) + x) as usize]
     }
 
-    /// Exact (mod 2^32) sum of the extended texels `[x0, x1) × [y0, y1)`, plus the number of
-    /// positions that read the border colour.
-    fn box_sum(&self, s: &Sampler, x0: i64, x1: i64, y0: i64, y1: i64) -> ([u32; 4], i64) {
+    /// The extended prefix sum over positions `[0, x) × [0, y)` (exact mod 2^32), plus the
+    /// number of those positions that read the border colour.
+    fn prefix(&self, ex: &Extended, x: i64, ey: &Extended, y: i64) -> ([u32; 4], i64) {
         let mut acc = [0u32; 4];
-        let mut border = 0i64;
-        for (x, sx) in [(x1, 1i64), (x0, -1)] {
-            let ex = Extended::new(x, self.w as i64, s.wrap_u);
-            for (y, sy) in [(y1, 1i64), (y0, -1)] {
-                let ey = Extended::new(y, self.h as i64, s.wrap_v);
-                for &(cx, ix) in &ex.terms[..ex.len] {
-                    for &(cy, iy) in &ey.terms[..ey.len] {
-                        let k = (sx * sy * cx * cy) as u32;
-                        let v = self.at(ix, iy);
-                        for c in 0..4 {
-                            acc[c] = acc[c].wrapping_add(v[c].wrapping_mul(k));
-                        }
-                    }
+        for &(cx, ix) in &ex.terms[..ex.len] {
+            for &(cy, iy) in &ey.terms[..ey.len] {
+                let k = (cx * cy) as u32;
+                let v = self.at(ix, iy);
+                for c in 0..4 {
+                    acc[c] = acc[c].wrapping_add(v[c].wrapping_mul(k));
                 }
-                // Border positions: all of x's border column times y's extent, and so on.
-                border += sx * sy * (ex.border * y + x * ey.border - ex.border * ey.border);
             }
         }
-        (acc, border)
+        // Border positions: x's border columns times all of y's, and so on.
+        (acc, ex.border * y + x * ey.border - ex.border * ey.border)
     }
 }
 
-/// Up to three `[start, end)` texel spans covering `[a, b]` with their coverage weights.
-fn spans(a: f32, b: f32) -> ([(i64, i64, f32); 3], usize) {
+/// The texel boundaries around `[a, b]` (up to four) and the spans between them, as
+/// `(start index, end index, coverage weight)`.
+struct Spans {
+    points: [i64; 4],
+    n_points: usize,
+    spans: [(usize, usize, f32); 3],
+    n_spans: usize,
+}
+
+fn spans(a: f32, b: f32) -> Spans {
     let (ai, bi) = (a.floor() as i64, b.floor() as i64);
-    let mut out = [(0, 0, 0.0); 3];
+    let mut s = Spans {
+        points: [0; 4],
+        n_points: 0,
+        spans: [(0, 0, 0.0); 3],
+        n_spans: 0,
+    };
+    let point = |s: &mut Spans, p: i64| {
+        if s.n_points == 0 || s.points[s.n_points - 1] != p {
+            s.points[s.n_points] = p;
+            s.n_points += 1;
+        }
+        s.n_points - 1
+    };
+    let span = |s: &mut Spans, from: i64, to: i64, w: f32| {
+        if w > 0.0 {
+            let (i, j) = (point(s, from), point(s, to));
+            s.spans[s.n_spans] = (i, j, w);
+            s.n_spans += 1;
+        }
+    };
     if ai == bi {
-        out[0] = (ai, ai + 1, b - a);
-        return (out, 1);
+        span(&mut s, ai, ai + 1, b - a);
+    } else {
+        span(&mut s, ai, ai + 1, 1.0 - (a - ai as f32));
+        if bi > ai + 1 {
+            span(&mut s, ai + 1, bi, 1.0);
+        }
+        span(&mut s, bi, bi + 1, b - bi as f32);
     }
-    let mut n = 0;
-    out[n] = (ai, ai + 1, 1.0 - (a - ai as f32));
-    n += 1;
-    if bi > ai + 1 {
-        out[n] = (ai + 1, bi, 1.0);
-        n += 1;
-    }
-    let fb = b - bi as f32;
-    if fb > 0.0 {
-        out[n] = (bi, bi + 1, fb);
-        n += 1;
-    }
-    (out, n)
+    s
 }
 
 pub(crate) fn sample<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint) -> Vec4 {
@@ -229,16 +241,42 @@ pub(crate) fn sample<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint) -> 
     let h = h.max(Vec2::splat(0.5));
     let c = fp.uv * size;
     let (lo, hi) = (c - h, c + h);
-    let (xs, nx) = spans(lo.x, hi.x);
-    let (ys, ny) = spans(lo.y, hi.y);
+    let (xs, ys) = (spans(lo.x, hi.x), spans(lo.y, hi.y));
+    // The extended prefix sums at every pair of boundaries (at most 4 × 4), then each span
+    // pair's box from its four corners.
+    let mut ex: [Extended; 4] = Default::default();
+    let mut ey: [Extended; 4] = Default::default();
+    for (e, &x) in ex.iter_mut().zip(&xs.points[..xs.n_points]) {
+        *e = Extended::new(x, t.w as i64, s.wrap_u);
+    }
+    for (e, &y) in ey.iter_mut().zip(&ys.points[..ys.n_points]) {
+        *e = Extended::new(y, t.h as i64, s.wrap_v);
+    }
+    let mut corners = [[([0u32; 4], 0i64); 4]; 4];
+    for (i, e) in ex[..xs.n_points].iter().enumerate() {
+        for (j, f) in ey[..ys.n_points].iter().enumerate() {
+            corners[i][j] = t.prefix(e, xs.points[i], f, ys.points[j]);
+        }
+    }
     let mut sum = Vec4::ZERO;
     let mut border = 0.0f32;
-    for &(x0, x1, wx) in &xs[..nx] {
-        for &(y0, y1, wy) in &ys[..ny] {
-            let (v, b) = t.box_sum(s, x0, x1, y0, y1);
+    for &(x0, x1, wx) in &xs.spans[..xs.n_spans] {
+        for &(y0, y1, wy) in &ys.spans[..ys.n_spans] {
+            let (a, b, c, d) = (
+                corners[x1][y1],
+                corners[x0][y1],
+                corners[x1][y0],
+                corners[x0][y0],
+            );
+            let v: [u32; 4] = std::array::from_fn(|k| {
+                a.0[k]
+                    .wrapping_sub(b.0[k])
+                    .wrapping_sub(c.0[k])
+                    .wrapping_add(d.0[k])
+            });
             let w = wx * wy;
             sum += Vec4::new(v[0] as f32, v[1] as f32, v[2] as f32, v[3] as f32) * w;
-            border += b as f32 * w;
+            border += (a.1 - b.1 - c.1 + d.1) as f32 * w;
         }
     }
     let area = (hi.x - lo.x) * (hi.y - lo.y);

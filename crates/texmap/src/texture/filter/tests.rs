@@ -182,8 +182,8 @@ fn ewa_with_a_tiny_round_footprint_is_close_to_bilinear() {
     let tex = Texture2D::from_fn(64, 64, TextureOptions::default(), |x, y| {
         let (u, v) = (x as f32 / 64.0, y as f32 / 64.0);
         Vec4::new(
-            0.5 + 0.5 * (6.28 * u).sin(),
-            0.5 + 0.5 * (6.28 * v).cos(),
+            0.5 + 0.5 * (std::f32::consts::TAU * u).sin(),
+            0.5 + 0.5 * (std::f32::consts::TAU * v).cos(),
             u * v,
             1.0,
         )
