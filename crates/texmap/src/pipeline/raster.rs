@@ -4,7 +4,10 @@
 //! tile), stepped incrementally (three `i64` additions per quad). A quad's four pixels (and
 //! their MSAA samples) are tested together; uncovered quads cost only the edge tests. The
 //! attribute planes are set up lazily, at the first covered quad, so the many small triangles
-//! that cover no pixel centre in this tile cost no plane setup. Depth is tested per sample
+//! that cover no pixel centre in this tile cost no plane setup. Before the quad loop the edge
+//! functions are checked at the corners of the rectangle the quads span: a triangle outside
+//! one edge there is skipped, and one inside all three (a large triangle over the tile) skips
+//! the per-quad edge tests. Depth is tested per sample
 //! before shading; the shader runs once per pixel per triangle (at the pixel centre) and its
 //! colour goes to every covered sample that passed.
 //!
@@ -173,6 +176,25 @@ fn raster_prims<const S: usize>(
                 edges.dx[2] + edges.dy[2],
             ],
         ];
+        // Whole-rectangle tests at the corners of the quads' extent (edges are linear):
+        // outside one edge everywhere → skip; inside all edges everywhere → no per-quad tests.
+        let ext_x = (x1 - x0) as i64 | 1;
+        let ext_y = (y1 - y0) as i64 | 1;
+        let mut full = true;
+        let mut outside = false;
+        for k in 0..3 {
+            let (ax, ay) = (edges.dx[k] * ext_x, edges.dy[k] * ext_y);
+            let lo = edges.e[k] + ax.min(0) + ay.min(0);
+            let hi = edges.e[k] + ax.max(0) + ay.max(0);
+            let s_lo = soff.iter().map(|o| o[k]).min().unwrap_or(0);
+            let s_hi = soff.iter().map(|o| o[k]).max().unwrap_or(0);
+            full &= lo + s_lo >= 0;
+            outside |= hi + s_hi < 0;
+        }
+        if outside {
+            continue;
+        }
+        let all_samples = if S >= 32 { u32::MAX } else { (1u32 << S) - 1 };
         let mut planes: Option<Planes> = None;
         let mut zoff = [0.0f32; S];
         let mut row = edges.e;
@@ -187,9 +209,15 @@ fn raster_prims<const S: usize>(
             };
             while qx <= x1 {
                 // Coverage of the four pixels' samples.
-                let mut cov = [0u32; 4];
-                let mut pmask = 0u8;
+                let mut cov = [all_samples; 4];
+                let mut pmask = 0b1111u8;
                 for j in 0..4 {
+                    if full {
+                        break;
+                    }
+                    if j == 0 {
+                        pmask = 0;
+                    }
                     let p = [e[0] + pix[j][0], e[1] + pix[j][1], e[2] + pix[j][2]];
                     let mut c = 0u32;
                     for (s, o) in soff.iter().enumerate() {
