@@ -198,7 +198,10 @@ fn watertight_closed_mesh_inside_covers_every_pixel_once() {
             let cam = Camera { near, ..cam };
             let hits = count_hits(&p, &idx, &cam, 97, 61, samples, CullMode::None);
             let bad = hits.iter().filter(|&&c| c != 1.0).count();
-            assert_eq!(bad, 0, "near {near}, {samples} samples: {bad} pixels not covered once");
+            assert_eq!(
+                bad, 0,
+                "near {near}, {samples} samples: {bad} pixels not covered once"
+            );
         }
     }
 }
@@ -781,4 +784,25 @@ fn timing_1080p_two_threads() {
             img.save(format!("{dir}/{name}.png")).unwrap();
         }
     }
+}
+
+#[test]
+fn empty_tiles_show_the_background_premultiplied() {
+    let (mut scene, cam) = white_triangle_scene();
+    scene.background = Vec4::new(0.2, 0.4, 0.6, 0.5);
+    let f = render(
+        &scene,
+        &cam,
+        &Settings {
+            width: 300,
+            height: 200,
+            msaa: 4,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let bg = Vec4::new(0.1, 0.2, 0.3, 0.5);
+    assert_eq!(f.color[0], bg);
+    assert_eq!(f.color[300 * 200 - 1], bg);
+    assert_eq!(f.color[100 * 300 + 150], Vec4::ONE);
 }

@@ -104,13 +104,22 @@ pub fn rasterize_tile_row(
     };
     let mut buf = TileBuffer::new(samples, ctx.target.clear_color);
     let width = bins.width as usize;
+    let mut dirty = false;
     for tx in 0..bins.tiles_x {
         let t = (ty * bins.tiles_x + tx) as usize;
         let rect = bins.tile_rect(t);
         let prims = bins.tile_prims(t);
-        if tx > 0 {
+        let (w, h) = ((rect.x1 - rect.x0) as usize, (rect.y1 - rect.y0) as usize);
+        if prims.is_empty() {
+            for ly in 0..h {
+                out[ly * width + rect.x0 as usize..][..w].fill(ctx.target.clear_color);
+            }
+            continue;
+        }
+        if dirty {
             buf.clear(ctx.target.clear_color);
         }
+        dirty = true;
         match samples {
             2 => raster_prims::<2>(ctx, rect, prims, &mut buf, &mut stats),
             4 => raster_prims::<4>(ctx, rect, prims, &mut buf, &mut stats),
@@ -118,7 +127,6 @@ pub fn rasterize_tile_row(
             16 => raster_prims::<16>(ctx, rect, prims, &mut buf, &mut stats),
             _ => raster_prims::<1>(ctx, rect, prims, &mut buf, &mut stats),
         }
-        let (w, h) = ((rect.x1 - rect.x0) as usize, (rect.y1 - rect.y0) as usize);
         for ly in 0..h {
             let row = &mut out[ly * width + rect.x0 as usize..][..w];
             buf.resolve_row(ly, row);
