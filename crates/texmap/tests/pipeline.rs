@@ -806,3 +806,23 @@ fn empty_tiles_show_the_background_premultiplied() {
     assert_eq!(f.color[300 * 200 - 1], bg);
     assert_eq!(f.color[100 * 300 + 150], Vec4::ONE);
 }
+
+#[test]
+fn alpha_mask_discards_below_the_cutoff_and_is_opaque_above() {
+    let (mut scene, cam) = white_triangle_scene();
+    let s = Settings {
+        width: 32,
+        height: 32,
+        ..Default::default()
+    };
+    for (alpha, drawn) in [(0.3, false), (0.7, true)] {
+        scene.materials[0] = Material {
+            alpha_mode: AlphaMode::Mask(0.5),
+            ..unlit(Vec4::new(1.0, 1.0, 1.0, alpha))
+        };
+        let f = render(&scene, &cam, &s).unwrap();
+        let c = f.color[16 * 32 + 16];
+        let want = if drawn { Vec4::ONE } else { Vec4::ZERO };
+        assert_eq!(c, want, "alpha {alpha}");
+    }
+}
