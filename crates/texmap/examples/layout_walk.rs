@@ -11,7 +11,8 @@ use std::time::Instant;
 
 use glam::{Vec2, Vec4};
 use texmap::texture::{
-    sample_batch, ColorSpace, Filter, Footprint, Format, Layout, Sampler, Texture2D, TextureOptions, Wrap,
+    sample_batch, ColorSpace, Filter, Footprint, Format, Layout, Sampler, Texture2D,
+    TextureOptions, Wrap,
 };
 
 fn main() {
@@ -29,8 +30,12 @@ fn main() {
             (s >> 24) as u8
         })
         .collect();
-    let options = TextureOptions { mipmaps: true, layout };
-    let tex = Texture2D::from_texels(N, N, Format::Rgba8, ColorSpace::Srgb, &rgba, options).unwrap();
+    let options = TextureOptions {
+        mipmaps: true,
+        layout,
+    };
+    let tex =
+        Texture2D::from_texels(N, N, Format::Rgba8, ColorSpace::Srgb, &rgba, options).unwrap();
     let sampler = Sampler::new(Filter::TRILINEAR, Wrap::Repeat);
     // 256×256 pixels, 1.5 texels per pixel, in three orientations.
     let grid = 256u32;
