@@ -25,7 +25,7 @@ use crate::pipeline::{
 };
 pub use crate::pipeline::{CullMode, Interpolation};
 use crate::scene::{Camera, Mesh, Scene};
-use crate::shading::{combine, illuminate, AlphaMode, Light, Lighting, Material};
+use crate::shading::{combine, illuminate, AlphaMode, Light, Lighting, Material, Procedural};
 use crate::texture::{sample, Filter, Footprint, Sampler, Texture2D, TextureTransform, Wrap};
 use crate::{Error, Result};
 
@@ -316,6 +316,10 @@ struct DrawInfo<'a> {
     /// Offset of the vertex colour in the varyings.
     color_at: Option<usize>,
     needs_position: bool,
+    /// Offset of the object-space position and normal (6 floats) for procedural colour.
+    object_at: Option<usize>,
+    /// The projected texture's sampler, with the command line's overrides applied.
+    projected_sampler: Option<Sampler>,
     varyings: usize,
     mirrored: bool,
 }
@@ -345,8 +349,11 @@ impl<'a> DrawInfo<'a> {
                 varyings += 4;
                 varyings - 4
             });
-        let texture = material.base_color_texture.as_ref().map(|slot| {
-            let mut s = slot.sampler;
+        let object_at = material.procedural.is_some().then(|| {
+            varyings += 6;
+            varyings - 6
+        });
+        let overridden = |mut s: Sampler| {
             if let Some(f) = settings.filter_override {
                 s.filter = f;
             }
@@ -355,8 +362,20 @@ impl<'a> DrawInfo<'a> {
                 s.wrap_v = wr;
                 s.wrap_w = wr;
             }
-            (&*slot.texture, s, slot.transform, slot.uv_scale)
+            s
+        };
+        let texture = material.base_color_texture.as_ref().map(|slot| {
+            (
+                &*slot.texture,
+                overridden(slot.sampler),
+                slot.transform,
+                slot.uv_scale,
+            )
         });
+        let projected_sampler = match &material.procedural {
+            Some(Procedural::Projected { slot, .. }) => Some(overridden(slot.sampler)),
+            _ => None,
+        };
         let b = material.base_color;
         DrawInfo {
             material,
@@ -366,6 +385,8 @@ impl<'a> DrawInfo<'a> {
             texture,
             color_at,
             needs_position,
+            object_at,
+            projected_sampler,
             varyings,
             mirrored: Mat3::from_mat4(mesh.world_from_object).determinant() < 0.0,
         }
@@ -385,7 +406,8 @@ impl<'a> DrawInfo<'a> {
             depth_test: zbuffer,
             depth_write: zbuffer && !blend,
             blend,
-            texture_reads: u32::from(self.texture.is_some()),
+            texture_reads: u32::from(self.texture.is_some())
+                + u32::from(self.projected_sampler.is_some()),
         }
     }
 }
@@ -466,6 +488,11 @@ impl VertexShader<'_> {
         if let Some(c) = self.draw.color_at {
             var[c..c + 4].copy_from_slice(&self.mesh.colors[i].to_array());
         }
+        if let Some(k) = self.draw.object_at {
+            var[k..k + 3].copy_from_slice(&self.mesh.positions[i].to_array());
+            let n = self.mesh.normals.get(i).copied().unwrap_or(Vec3::ZERO);
+            var[k + 3..k + 6].copy_from_slice(&n.to_array());
+        }
         var
     }
 
@@ -545,6 +572,9 @@ impl FragmentShader for SceneShader<'_> {
                 let vc = Vec4::new(v[k], v[k + 1], v[k + 2], v[k + 3]);
                 c *= (vc.truncate() * vc.w).extend(vc.w);
             }
+            if let (Some(k), Some(proc)) = (d.object_at, &m.procedural) {
+                c *= procedural_color(proc, d.projected_sampler.as_ref(), quad, j, k);
+            }
             let (df, sp) = match d.mode {
                 Mode::Unlit => (Vec3::ONE, Vec3::ZERO),
                 Mode::Phong => {
@@ -567,5 +597,43 @@ impl FragmentShader for SceneShader<'_> {
             }
         }
         kept
+    }
+}
+
+/// The procedural colour of pixel `j` of a quad, from the object-space position and normal at
+/// varyings `k..k + 6` and the position's screen derivatives.
+fn procedural_color(
+    proc: &Procedural,
+    sampler: Option<&Sampler>,
+    quad: &Quad,
+    j: usize,
+    k: usize,
+) -> Vec4 {
+    let v = &quad.varyings[j];
+    let p = Vec3::new(v[k], v[k + 1], v[k + 2]);
+    let dp_dx = Vec3::new(quad.ddx(k), quad.ddx(k + 1), quad.ddx(k + 2));
+    let dp_dy = Vec3::new(quad.ddy(k), quad.ddy(k + 1), quad.ddy(k + 2));
+    match proc {
+        Procedural::Solid {
+            solid,
+            colors,
+            antialias,
+        } => {
+            let extent = if *antialias {
+                (dp_dx.abs() + dp_dy.abs()).as_dvec3()
+            } else {
+                glam::DVec3::ZERO
+            };
+            solid.color(p.as_dvec3(), extent, *colors).extend(1.0)
+        }
+        Procedural::Projected { slot, projection } => {
+            let n = Vec3::new(v[k + 3], v[k + 4], v[k + 5]);
+            let fp = projection.map_footprint(p, dp_dx, dp_dy, n);
+            let mut fp = slot.transform.apply_footprint(&fp);
+            fp.uv *= slot.uv_scale;
+            fp.duv_dx *= slot.uv_scale;
+            fp.duv_dy *= slot.uv_scale;
+            sample(&slot.texture, sampler.unwrap_or(&slot.sampler), &fp)
+        }
     }
 }

@@ -12,7 +12,7 @@ pub mod builtin;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-pub use crate::shading::{AlphaMode, Light, Material, TextureSlot};
+pub use crate::shading::{AlphaMode, Light, Material, Procedural, TextureSlot};
 use crate::{Error, Result};
 
 /// A perspective camera.

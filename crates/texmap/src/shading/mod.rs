@@ -24,6 +24,8 @@ use std::sync::Arc;
 
 use glam::{Vec3, Vec4};
 
+use crate::geometry::Projection;
+use crate::texture::procedural::Solid;
 use crate::texture::{Sampler, Texture2D, TextureTransform};
 
 /// A texture bound to a material: the image, how it is read, and the uv transform.
@@ -48,6 +50,28 @@ impl TextureSlot {
             uv_scale: 1.0,
         }
     }
+}
+
+/// A colour computed from the surface point rather than read through the mesh's UVs. It
+/// multiplies the base colour (and the base-colour texture, if any), like a texture.
+#[derive(Clone, Debug)]
+pub enum Procedural {
+    /// A solid texture evaluated at the object-space position: the object looks carved from
+    /// the block, and the pattern moves with it. With `antialias`, the pattern is box-filtered
+    /// over the pixel's footprint (|∂P/∂x| + |∂P/∂y|); without, it is point-sampled.
+    Solid {
+        solid: Solid,
+        /// Linear RGB for pattern values 0 and 1.
+        colors: [Vec3; 2],
+        antialias: bool,
+    },
+    /// An image texture whose coordinates a projection generates per pixel from the
+    /// object-space position (and normal, for cube faces and cylinder caps), with analytic
+    /// derivatives for the footprint — no seam where u wraps.
+    Projected {
+        slot: TextureSlot,
+        projection: Projection,
+    },
 }
 
 /// How a material's alpha is used (glTF's `alphaMode`).
@@ -84,6 +108,8 @@ pub struct Material {
     /// is flipped towards the viewer before lighting.
     pub double_sided: bool,
     pub alpha_mode: AlphaMode,
+    /// A procedural colour (solid texture or projected image), multiplying the base colour.
+    pub procedural: Option<Procedural>,
 }
 
 impl Default for Material {
@@ -100,6 +126,7 @@ impl Default for Material {
             unlit: false,
             double_sided: false,
             alpha_mode: AlphaMode::Opaque,
+            procedural: None,
         }
     }
 }
