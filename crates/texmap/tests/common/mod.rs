@@ -1,0 +1,66 @@
+//! Golden-image comparison shared by the integration tests.
+//!
+//! Policy: an image matches its reference when its PSNR against it (8-bit sRGB, RGB) is at
+//! least the test's stated threshold. On a mismatch the actual image and a difference image
+//! are written to `target/golden-failures/`. `REPLACE=1` rewrites the references (review them
+//! by eye before committing). A missing reference fails the test.
+
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+
+use texmap::metrics::compare_rgb8;
+
+fn golden_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden")
+}
+
+/// Compares `rgb` (w×h RGB8) with `tests/golden/<name>.png` at `min_psnr` dB.
+pub fn assert_golden(name: &str, w: u32, h: u32, rgb: &[u8], min_psnr: f64) {
+    let path = golden_dir().join(format!("{name}.png"));
+    if std::env::var_os("REPLACE").is_some() {
+        std::fs::create_dir_all(golden_dir()).unwrap();
+        image::RgbImage::from_raw(w, h, rgb.to_vec())
+            .unwrap()
+            .save(&path)
+            .unwrap();
+        eprintln!("REPLACED {}", path.display());
+        return;
+    }
+    let reference = match image::open(&path) {
+        Ok(img) => img.to_rgb8(),
+        Err(e) => panic!(
+            "{}: {e} (run with REPLACE=1 to create it, then review it)",
+            path.display()
+        ),
+    };
+    assert_eq!(
+        reference.dimensions(),
+        (w, h),
+        "{name}: size differs from the reference"
+    );
+    let c = compare_rgb8(reference.as_raw(), rgb, w as usize, h as usize, None);
+    if c.psnr_db < min_psnr {
+        let out = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../target/golden-failures");
+        std::fs::create_dir_all(&out).unwrap();
+        image::RgbImage::from_raw(w, h, rgb.to_vec())
+            .unwrap()
+            .save(out.join(format!("{name}.actual.png")))
+            .unwrap();
+        let diff: Vec<u8> = rgb
+            .iter()
+            .zip(reference.as_raw())
+            .map(|(a, b)| (a.abs_diff(*b) as u32 * 8).min(255) as u8)
+            .collect();
+        image::RgbImage::from_raw(w, h, diff)
+            .unwrap()
+            .save(out.join(format!("{name}.diff.png")))
+            .unwrap();
+        panic!(
+            "{name}: PSNR {:.2} dB < {min_psnr} dB against {} (actual and diff in {})",
+            c.psnr_db,
+            path.display(),
+            out.display()
+        );
+    }
+}
