@@ -8,9 +8,10 @@ use std::sync::{Arc, OnceLock};
 
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 
-use super::{Camera, Light, Material, Mesh, Scene, TextureSlot};
+use super::{Camera, Light, Material, Mesh, Procedural, Scene, TextureSlot};
 use crate::shading::AlphaMode;
-use crate::texture::{ColorSpace, Sampler, Texture2D, TextureTransform};
+use crate::texture::procedural::Solid;
+use crate::texture::{ColorSpace, Filter, Sampler, Texture2D, TextureTransform, Wrap};
 
 /// The peers' light direction (towards the light, world space), before normalizing.
 pub const PEER_LIGHT: Vec3 = Vec3::new(0.3, 0.8, 0.5);
@@ -262,18 +263,6 @@ fn mix(a: [f32; 3], b: [f32; 3], t: f32) -> [u8; 4] {
     [c(0), c(1), c(2), 255]
 }
 
-/// Marble-like bands: a sine of u distorted by a few octaves of sines (tileable).
-fn marble_texture() -> Arc<Texture2D> {
-    use std::f32::consts::TAU;
-    procedural(512, |u, v| {
-        let turb = (TAU * 3.0 * v).sin() * 0.5
-            + (TAU * (5.0 * u + 7.0 * v)).sin() * 0.25
-            + (TAU * (11.0 * u - 13.0 * v)).sin() * 0.125;
-        let t = 0.5 + 0.5 * (TAU * (8.0 * u + 2.0 * turb)).sin();
-        mix([0.93, 0.90, 0.85], [0.35, 0.25, 0.45], t.powf(3.0))
-    })
-}
-
 /// Bricks with mortar lines, 4 × 8 per image, odd rows offset by half a brick.
 fn brick_texture() -> Arc<Texture2D> {
     procedural(256, |u, v| {
@@ -294,11 +283,13 @@ fn brick_texture() -> Arc<Texture2D> {
     })
 }
 
-/// A showcase: a checker floor receding to the horizon, a marble sphere, a brick cube and a
+/// A showcase: a checker floor receding to the horizon (anisotropic filtering), a sphere carved
+/// from a block of solid marble (an antialiased procedural texture), a brick cube and a
 /// translucent panel, lit by a directional and a point light with Phong specular highlights.
 #[must_use]
 pub fn demo() -> Scene {
-    let sampler = Sampler::default();
+    // The floor recedes to the horizon: 8× anisotropic filtering keeps it sharp without moiré.
+    let sampler = Sampler::new(Filter::Anisotropic { max_aniso: 8 }, Wrap::Repeat);
     let floor = Material {
         base_color_texture: Some(TextureSlot {
             texture: checker_texture(),
@@ -313,8 +304,13 @@ pub fn demo() -> Scene {
         double_sided: true,
         ..Default::default()
     };
+    let marble_solid = Solid::named("marble").unwrap_or(Solid::Checker3D { size: 0.25 });
     let marble = Material {
-        base_color_texture: Some(TextureSlot::new(marble_texture(), sampler)),
+        procedural: Some(Procedural::Solid {
+            colors: marble_solid.default_colors(),
+            solid: marble_solid,
+            antialias: true,
+        }),
         ambient: 0.25,
         diffuse: 0.75,
         specular: 0.6,
