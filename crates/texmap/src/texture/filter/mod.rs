@@ -67,10 +67,10 @@ pub(crate) fn texel_derivatives(tex: &Texture2D, fp: &Footprint) -> (Vec2, Vec2)
     (fp.duv_dx * size, fp.duv_dy * size)
 }
 
-/// A float to a texel index, saturating (NaN reads index 0).
+/// A float to a texel index: `as` saturates, and NaN reads index 0.
 #[inline(always)]
 pub(crate) fn floor_index(v: f32) -> i32 {
-    v.floor().clamp(-1.0e9, 1.0e9) as i32
+    v.floor() as i32
 }
 
 /// Texel `(x, y)` of `lv`, wrapped by the sampler; the border colour where it says so.
@@ -125,6 +125,24 @@ pub(crate) fn bilinear<C: Codec>(lv: &LevelRef, s: &Sampler, uv: Vec2) -> Vec4 {
     if x0 >= 0 && y0 >= 0 && x0 < lv.w - 1 && y0 < lv.h - 1 {
         let (top, bottom) = lv.quad::<C>(x0, y0);
         return top.0.lerp(top.1, ax).lerp(bottom.0.lerp(bottom.1, ax), ay);
+    }
+    // Repeat on both axes (the common case off the interior): prewrap put x0 in [−1, w − 1],
+    // so wrapping is a select, not a division.
+    if s.wrap_u == Wrap::Repeat
+        && s.wrap_v == Wrap::Repeat
+        && x0 >= -1
+        && y0 >= -1
+        && x0 < lv.w
+        && y0 < lv.h
+    {
+        let xa = if x0 < 0 { lv.w - 1 } else { x0 };
+        let xb = if x0 + 1 >= lv.w { 0 } else { x0 + 1 };
+        let ya = if y0 < 0 { lv.h - 1 } else { y0 };
+        let yb = if y0 + 1 >= lv.h { 0 } else { y0 + 1 };
+        let t = |x, y| lv.texel::<C>(x, y);
+        return t(xa, ya)
+            .lerp(t(xb, ya), ax)
+            .lerp(t(xa, yb).lerp(t(xb, yb), ax), ay);
     }
     let (xa, xb) = (
         s.wrap_u.index(x0, lv.w),
