@@ -14,7 +14,7 @@ use texmap::Error;
 
 #[derive(Args)]
 pub struct RenderArgs {
-    /// `builtin:demo` (default), `builtin:plane` or `builtin:sphere`.
+    /// `builtin:demo` (default), `builtin:plane`, `builtin:sphere` or `builtin:marble`.
     scene: Option<String>,
     /// Output PNG; a `{frame}` in the name writes every turntable frame.
     #[arg(short = 'o', long = "output")]
@@ -180,6 +180,7 @@ fn build_scene(args: &RenderArgs, sampler: Sampler) -> Result<(Scene, String), E
     };
     let scene = match name {
         "builtin:demo" => builtin::demo(),
+        "builtin:marble" => builtin::marble(),
         "builtin:plane" => builtin::plane(texture.clone(), args.uv_scale.unwrap_or(64.0), sampler),
         "builtin:sphere" => {
             if args.tris < 8 || args.tris > 50_000_000 {
@@ -192,7 +193,7 @@ fn build_scene(args: &RenderArgs, sampler: Sampler) -> Result<(Scene, String), E
         }
         other if other.starts_with("builtin:") => {
             return Err(Error::parameter(format!(
-                "{other}: unknown built-in scene (builtin:demo, builtin:plane, builtin:sphere)"
+                "{other}: unknown built-in scene (builtin:demo, builtin:plane, builtin:sphere, builtin:marble)"
             )))
         }
         other => {
