@@ -26,7 +26,7 @@ use crate::pipeline::{
 pub use crate::pipeline::{CullMode, Interpolation};
 use crate::scene::{Camera, Mesh, Scene};
 use crate::shading::{combine, illuminate, AlphaMode, Light, Lighting, Material, Procedural};
-use crate::texture::{sample, Filter, Footprint, Sampler, Texture2D, TextureTransform, Wrap};
+use crate::texture::{sample, sample_quad, Filter, Sampler, Texture2D, TextureTransform, Wrap};
 use crate::{Error, Result};
 
 /// Where lighting is evaluated.
@@ -554,19 +554,19 @@ impl FragmentShader for SceneShader<'_> {
         let duv_dx = Vec2::new(quad.ddx(0), quad.ddx(1));
         let duv_dy = Vec2::new(quad.ddy(0), quad.ddy(1));
         let mut kept = quad.mask;
+        // The quad's texels in one call: one level of detail and format dispatch per quad.
+        let texels = d.texture.as_ref().map(|(tex, sampler, _, _)| {
+            let uvs = std::array::from_fn(|j| Vec2::new(quad.varyings[j][0], quad.varyings[j][1]));
+            sample_quad(tex, sampler, &uvs, duv_dx, duv_dy, quad.mask)
+        });
         for j in 0..4 {
             if quad.mask & (1 << j) == 0 {
                 continue;
             }
             let v = &quad.varyings[j];
             let mut c = d.base;
-            if let Some((tex, sampler, _, _)) = &d.texture {
-                let fp = Footprint {
-                    uv: Vec2::new(v[0], v[1]),
-                    duv_dx,
-                    duv_dy,
-                };
-                c *= sample(tex, sampler, &fp);
+            if let Some(t) = &texels {
+                c *= t[j];
             }
             if let Some(k) = d.color_at {
                 let vc = Vec4::new(v[k], v[k + 1], v[k + 2], v[k + 3]);

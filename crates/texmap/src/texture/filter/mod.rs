@@ -50,6 +50,77 @@ pub fn sample_batch(
     })
 }
 
+/// [`sample`] for the four pixels of a 2×2 quad, which share their derivatives (as the
+/// rasterizer computes them, once per quad): the format is dispatched and, for OpenGL filters,
+/// the level of detail and mip levels chosen once for the quad, as GPUs do. Pixels whose bit in
+/// `mask` is clear are skipped (left zero).
+#[must_use]
+pub fn sample_quad(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    uvs: &[Vec2; 4],
+    duv_dx: Vec2,
+    duv_dy: Vec2,
+    mask: u8,
+) -> [Vec4; 4] {
+    with_codec!(texture.format(), C => sample_quad_with::<C>(texture, sampler, uvs, duv_dx, duv_dy, mask))
+}
+
+fn sample_quad_with<C: Codec>(
+    tex: &Texture2D,
+    s: &Sampler,
+    uvs: &[Vec2; 4],
+    duv_dx: Vec2,
+    duv_dy: Vec2,
+    mask: u8,
+) -> [Vec4; 4] {
+    let mut out = [Vec4::ZERO; 4];
+    if let Filter::Gl {
+        mag,
+        min: MinFilter::LinearMipmapLinear,
+    } = s.filter
+    {
+        // Trilinear, the common case: one λ, two levels, for the whole quad.
+        let fp = Footprint::new(uvs[0], duv_dx, duv_dy);
+        let (dx, dy) = texel_derivatives(tex, &fp);
+        let lod = s.adjust_lod(s.lod_rule.lod(dx, dy));
+        if lod > 0.0 {
+            let last = (tex.levels().len() - 1) as f32;
+            let l = lod.min(last);
+            let d = l.floor();
+            let f = l - d;
+            let (a, b) = (tex.level(d as usize), tex.level(d as usize + 1));
+            for (j, o) in out.iter_mut().enumerate() {
+                if mask & (1 << j) != 0 {
+                    let c = bilinear::<C>(&a, s, uvs[j]);
+                    *o = if f > 0.0 {
+                        c.lerp(bilinear::<C>(&b, s, uvs[j]), f)
+                    } else {
+                        c
+                    };
+                }
+            }
+            return out;
+        }
+        let base = tex.level(0);
+        for (j, o) in out.iter_mut().enumerate() {
+            if mask & (1 << j) != 0 {
+                *o = match mag {
+                    MagFilter::Nearest => nearest::<C>(&base, s, uvs[j]),
+                    MagFilter::Linear => bilinear::<C>(&base, s, uvs[j]),
+                };
+            }
+        }
+        return out;
+    }
+    for (j, o) in out.iter_mut().enumerate() {
+        if mask & (1 << j) != 0 {
+            *o = sample_with::<C>(tex, s, &Footprint::new(uvs[j], duv_dx, duv_dy));
+        }
+    }
+    out
+}
+
 #[inline]
 fn sample_with<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint) -> Vec4 {
     match s.filter {

@@ -318,6 +318,18 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
 
     #[test]
+    fn quad_sampling_equals_per_pixel_sampling(fp in footprint_strategy(), f in 0usize..21, w in 0usize..5) {
+        let tex = noisy(13, 9);
+        let s = Sampler::new(every_filter()[f], WRAPS[w]);
+        let uvs = [fp.uv, fp.uv + Vec2::new(0.01, 0.0), fp.uv + Vec2::new(0.0, 0.02), fp.uv + Vec2::new(0.03, 0.01)];
+        let quad = crate::texture::sample_quad(&tex, &s, &uvs, fp.duv_dx, fp.duv_dy, 0b1011);
+        for j in 0..4 {
+            let want = if j == 2 { Vec4::ZERO } else { sample(&tex, &s, &Footprint::new(uvs[j], fp.duv_dx, fp.duv_dy)) };
+            prop_assert!(close(quad[j], want, 1e-6), "{:?} pixel {}: {} vs {}", s.filter, j, quad[j], want);
+        }
+    }
+
+    #[test]
     fn constant_texture_reads_the_constant(fp in footprint_strategy(), f in 0usize..21, w in 0usize..5) {
         let c = Vec4::new(0.2, 0.4, 0.6, 0.8);
         let tex = Texture2D::from_fn(11, 6, TextureOptions::default(), |_, _| c).unwrap();
