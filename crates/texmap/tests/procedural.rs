@@ -206,7 +206,6 @@ fn marble_floor(antialias: bool) -> (Scene, Camera) {
         Mat4::from_translation(Vec3::new(0.0, -0.5, -45.0))
             * Mat4::from_scale(Vec3::new(40.0, 1.0, 100.0)),
     );
-    floor.world_from_object = floor.world_from_object;
     let mut m = solid_material("checker3d", antialias);
     m.specular = 0.0;
     if let Some(Procedural::Solid { solid, .. }) = &mut m.procedural {

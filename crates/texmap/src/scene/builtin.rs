@@ -375,51 +375,6 @@ pub fn demo() -> Scene {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn default_sphere_is_400_by_251_with_199200_triangles() {
-        assert_eq!(sphere_resolution(199_200), (400, 251));
-        let m = uv_sphere(400, 251, 0);
-        assert_eq!(m.triangle_count(), 199_200);
-        assert_eq!(m.positions.len(), 251 * 401);
-    }
-
-    #[test]
-    fn checker_matches_the_peers_png() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../../shared/peers/data/checker.png");
-        let Ok(img) = image::open(&path) else {
-            eprintln!("skipped: {} not found", path.display());
-            return;
-        };
-        let rgb = img.to_rgb8();
-        assert_eq!(rgb.dimensions(), (1024, 1024));
-        let ours: Vec<u8> = checker_rgba8()
-            .chunks_exact(4)
-            .flat_map(|c| [c[0], c[1], c[2]])
-            .collect();
-        assert!(
-            ours == rgb.as_raw().as_slice(),
-            "checker differs from {}",
-            path.display()
-        );
-    }
-
-    #[test]
-    fn ground_and_cube_face_outwards() {
-        for m in [ground(1.0, 0), cube(0, Mat4::IDENTITY)] {
-            for t in m.indices.chunks_exact(3) {
-                let p = [t[0], t[1], t[2]].map(|i| m.positions[i as usize]);
-                let n = (p[1] - p[0]).cross(p[2] - p[0]);
-                assert!(n.dot(m.normals[t[0] as usize]) > 0.0);
-            }
-        }
-    }
-}
-
 /// The solid-texture showcase (`builtin:marble`): a sphere and a cube carved from marble, a
 /// wood block, on a granite floor — each pattern evaluated in its object's space and
 /// antialiased by the pixel footprint, so the far floor settles to its mean instead of
@@ -486,5 +441,50 @@ pub fn marble() -> Scene {
             near: 0.05,
             far: 1000.0,
         }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_sphere_is_400_by_251_with_199200_triangles() {
+        assert_eq!(sphere_resolution(199_200), (400, 251));
+        let m = uv_sphere(400, 251, 0);
+        assert_eq!(m.triangle_count(), 199_200);
+        assert_eq!(m.positions.len(), 251 * 401);
+    }
+
+    #[test]
+    fn checker_matches_the_peers_png() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../../shared/peers/data/checker.png");
+        let Ok(img) = image::open(&path) else {
+            eprintln!("skipped: {} not found", path.display());
+            return;
+        };
+        let rgb = img.to_rgb8();
+        assert_eq!(rgb.dimensions(), (1024, 1024));
+        let ours: Vec<u8> = checker_rgba8()
+            .chunks_exact(4)
+            .flat_map(|c| [c[0], c[1], c[2]])
+            .collect();
+        assert!(
+            ours == rgb.as_raw().as_slice(),
+            "checker differs from {}",
+            path.display()
+        );
+    }
+
+    #[test]
+    fn ground_and_cube_face_outwards() {
+        for m in [ground(1.0, 0), cube(0, Mat4::IDENTITY)] {
+            for t in m.indices.chunks_exact(3) {
+                let p = [t[0], t[1], t[2]].map(|i| m.positions[i as usize]);
+                let n = (p[1] - p[0]).cross(p[2] - p[0]);
+                assert!(n.dot(m.normals[t[0] as usize]) > 0.0);
+            }
+        }
     }
 }
