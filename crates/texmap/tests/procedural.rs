@@ -201,7 +201,7 @@ fn solid_pattern_stays_with_the_object() {
 
 /// A large marble floor receding to the horizon.
 fn marble_floor(antialias: bool) -> (Scene, Camera) {
-    let mut floor = builtin::cube(
+    let floor = builtin::cube(
         0,
         Mat4::from_translation(Vec3::new(0.0, -0.5, -45.0))
             * Mat4::from_scale(Vec3::new(40.0, 1.0, 100.0)),
