@@ -1,7 +1,9 @@
 //! The `texmap` command line: it parses arguments and calls the library, nothing more.
 
 mod compare;
+mod info;
 mod output;
+mod progress;
 mod render;
 
 use std::process::ExitCode;
@@ -22,6 +24,8 @@ enum Command {
     Render(render::RenderArgs),
     /// Compare two images: PSNR, RMSE and SSIM, and optionally a false-colour difference image.
     Compare(compare::CompareArgs),
+    /// List what a model, scene or texture holds: meshes, triangles, materials, textures, cameras.
+    Info(info::InfoArgs),
 }
 
 fn main() -> ExitCode {
@@ -29,6 +33,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render::run(args),
         Command::Compare(args) => compare::run(args),
+        Command::Info(args) => info::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

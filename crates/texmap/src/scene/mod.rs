@@ -6,6 +6,14 @@
 //! winding back). Texture coordinates follow glTF (v down the image rows).
 
 pub mod builtin;
+pub mod gltf;
+pub mod load;
+pub mod obj;
+pub mod primitives;
+pub mod tangents;
+pub mod toml;
+
+pub use load::{load, AssetInfo, LoadOptions, Loaded, TextureInfo};
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 

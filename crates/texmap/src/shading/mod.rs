@@ -32,6 +32,8 @@ pub struct TextureSlot {
     pub sampler: Sampler,
     pub transform: TextureTransform,
     pub uv_scale: f32,
+    /// Which texture coordinate set the slot reads: 0 (`Mesh::uvs`) or 1 (`Mesh::uvs1`).
+    pub tex_coord: u32,
 }
 
 impl TextureSlot {
@@ -43,6 +45,7 @@ impl TextureSlot {
             sampler,
             transform: TextureTransform::default(),
             uv_scale: 1.0,
+            tex_coord: 0,
         }
     }
 }
@@ -81,6 +84,80 @@ pub struct Material {
     /// is flipped towards the viewer before lighting.
     pub double_sided: bool,
     pub alpha_mode: AlphaMode,
+    /// glTF's metallic factor (0 = dielectric), kept for metallic-roughness shading.
+    pub metallic: f32,
+    /// glTF's roughness factor.
+    pub roughness: f32,
+    /// Texture maps other than the base colour (normal, occlusion, emissive, …), each with
+    /// its channel and scale. The renderer reads the channels it implements.
+    pub maps: Vec<MaterialMap>,
+}
+
+/// What a [`MaterialMap`] feeds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MapChannel {
+    /// glTF metallic (B) and roughness (G), linear.
+    MetallicRoughness,
+    /// Tangent-space normal map, linear; `scale` scales its x and y.
+    Normal,
+    /// Ambient occlusion (R), linear; `scale` is the strength.
+    Occlusion,
+    /// Emissive colour, sRGB; multiplies `Material::emissive`.
+    Emissive,
+    /// OBJ `map_Ka`: ambient colour, sRGB.
+    Ambient,
+    /// OBJ `map_Ks`: specular colour, sRGB.
+    Specular,
+    /// OBJ `map_Ns`: specular exponent (R), linear.
+    Shininess,
+    /// OBJ `map_d`: opacity (R, or alpha when present), linear.
+    Alpha,
+    /// OBJ `bump`/`map_bump`: a height field, linear; `scale` is `-bm`.
+    Bump,
+}
+
+impl MapChannel {
+    /// The lower-case name used in scene files and by `texmap info`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            MapChannel::MetallicRoughness => "metallic_roughness",
+            MapChannel::Normal => "normal",
+            MapChannel::Occlusion => "occlusion",
+            MapChannel::Emissive => "emissive",
+            MapChannel::Ambient => "ambient",
+            MapChannel::Specular => "specular",
+            MapChannel::Shininess => "shininess",
+            MapChannel::Alpha => "alpha",
+            MapChannel::Bump => "bump",
+        }
+    }
+
+    /// True for channels that hold colour (decoded from sRGB); the others hold linear data.
+    #[must_use]
+    pub fn is_color(self) -> bool {
+        matches!(
+            self,
+            MapChannel::Emissive | MapChannel::Ambient | MapChannel::Specular
+        )
+    }
+}
+
+/// A texture map of a material other than the base colour.
+#[derive(Clone, Debug)]
+pub struct MaterialMap {
+    pub channel: MapChannel,
+    pub slot: TextureSlot,
+    /// Normal scale, occlusion strength or bump multiplier (1 otherwise).
+    pub scale: f32,
+}
+
+impl Material {
+    /// The first map feeding `channel`, if any.
+    #[must_use]
+    pub fn map(&self, channel: MapChannel) -> Option<&MaterialMap> {
+        self.maps.iter().find(|m| m.channel == channel)
+    }
 }
 
 impl Default for Material {
@@ -97,6 +174,9 @@ impl Default for Material {
             unlit: false,
             double_sided: false,
             alpha_mode: AlphaMode::Opaque,
+            metallic: 0.0,
+            roughness: 1.0,
+            maps: Vec::new(),
         }
     }
 }
