@@ -21,6 +21,20 @@ pub struct InfoArgs {
     allow_outside_paths: bool,
 }
 
+/// Appends a line to a `String` (writing to a `String` cannot fail).
+macro_rules! outln {
+    ($out:expr, $($t:tt)*) => {{
+        use std::fmt::Write as _;
+        let _ = writeln!($out, $($t)*);
+    }};
+}
+
+/// Writes the report to stdout; a closed pipe (`| head`) is not an error.
+fn emit(s: &str) {
+    use std::io::Write as _;
+    let _ = std::io::stdout().write_all(s.as_bytes());
+}
+
 const VOLUME_EXTENSIONS: &[&str] = &["nii", "gz", "nrrd", "nhdr", "raw", "vol"];
 const IMAGE_EXTENSIONS: &[&str] = &["png", "jpg", "jpeg", "tga", "bmp", "hdr", "exr"];
 
@@ -33,14 +47,18 @@ pub fn run(args: InfoArgs) -> Result<(), Error> {
         .unwrap_or_default();
     if IMAGE_EXTENSIONS.contains(&ext.as_str()) {
         let t = load_texture(path, ColorSpace::Srgb, &Limits::default())?;
-        println!("{}: image", path.display());
-        println!(
+        let mut out = String::new();
+        let out = &mut out;
+        outln!(out, "{}: image", path.display());
+        outln!(
+            out,
             "  {}x{}, {:?}, {} mip levels",
             t.width(),
             t.height(),
             t.format(),
             t.levels().len()
         );
+        emit(out);
         return Ok(());
     }
     if VOLUME_EXTENSIONS.contains(&ext.as_str()) {
@@ -57,14 +75,17 @@ pub fn run(args: InfoArgs) -> Result<(), Error> {
         ..Default::default()
     };
     let loaded = texmap::scene::load(path, &options)?;
-    print_scene(path, &loaded);
+    let mut out = String::new();
+    print_scene(&mut out, path, &loaded);
+    emit(&out);
     Ok(())
 }
 
-fn print_scene(path: &std::path::Path, l: &Loaded) {
+fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
     let s = &l.scene;
-    println!("{}: {}", path.display(), l.info.format);
-    println!(
+    outln!(out, "{}: {}", path.display(), l.info.format);
+    outln!(
+        out,
         "meshes: {} ({} triangles, {} vertices)",
         s.meshes.len(),
         s.triangle_count(),
@@ -84,7 +105,8 @@ fn print_scene(path: &std::path::Path, l: &Loaded) {
                 attrs.push(a);
             }
         }
-        println!(
+        outln!(
+            out,
             "  [{i}] {name}: {} triangles, {} vertices, material {}, {}",
             m.triangle_count(),
             m.positions.len(),
@@ -92,7 +114,7 @@ fn print_scene(path: &std::path::Path, l: &Loaded) {
             attrs.join(" ")
         );
     }
-    println!("materials: {}", s.materials.len());
+    outln!(out, "materials: {}", s.materials.len());
     for (i, m) in s.materials.iter().enumerate() {
         let name = l.info.material_names.get(i).map_or("", String::as_str);
         let alpha = match m.alpha_mode {
@@ -119,7 +141,8 @@ fn print_scene(path: &std::path::Path, l: &Loaded) {
             ));
         }
         let b = m.base_color;
-        println!(
+        outln!(
+            out,
             "  [{i}] {name}: base colour ({:.3}, {:.3}, {:.3}, {:.3}), {alpha}{}{}; maps: {}",
             b.x,
             b.y,
@@ -134,9 +157,10 @@ fn print_scene(path: &std::path::Path, l: &Loaded) {
             }
         );
     }
-    println!("textures: {}", l.info.textures.len());
+    outln!(out, "textures: {}", l.info.textures.len());
     for t in &l.info.textures {
-        println!(
+        outln!(
+            out,
             "  {}: {}x{}, {:?}, {:?}{}",
             t.name,
             t.width,
@@ -146,9 +170,10 @@ fn print_scene(path: &std::path::Path, l: &Loaded) {
             if t.placeholder { " (placeholder)" } else { "" }
         );
     }
-    println!("cameras: {}", l.cameras.len());
+    outln!(out, "cameras: {}", l.cameras.len());
     for (i, c) in l.cameras.iter().enumerate() {
-        println!(
+        outln!(
+            out,
             "  [{i}] eye {:.3?} target {:.3?} fov {:.1}° near {} far {}",
             c.eye.to_array(),
             c.target.to_array(),
@@ -157,11 +182,16 @@ fn print_scene(path: &std::path::Path, l: &Loaded) {
             c.far
         );
     }
-    println!("lights: {}", s.lights.len());
-    println!("volumes: {}", l.info.volumes.len());
+    outln!(out, "lights: {}", s.lights.len());
+    outln!(out, "volumes: {}", l.info.volumes.len());
     let (lo, hi) = s.bounds();
-    println!("bounds: {:.3?} .. {:.3?}", lo.to_array(), hi.to_array());
+    outln!(
+        out,
+        "bounds: {:.3?} .. {:.3?}",
+        lo.to_array(),
+        hi.to_array()
+    );
     for w in &l.warnings {
-        println!("warning: {w}");
+        outln!(out, "warning: {w}");
     }
 }

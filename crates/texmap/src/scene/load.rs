@@ -100,7 +100,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
         .unwrap_or_default();
     match ext.as_str() {
         "gltf" | "glb" => super::gltf::load(path, options),
-        "obj" => Err(Error::Unsupported("obj: later".into())),
+        "obj" => super::obj::load(path, options),
         "toml" => Err(Error::Unsupported("toml: later".into())),
         _ => Err(Error::Unsupported(format!(
             "{}: not a scene file texmap reads (.gltf, .glb, .obj, .toml)",
