@@ -101,7 +101,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     match ext.as_str() {
         "gltf" | "glb" => super::gltf::load(path, options),
         "obj" => super::obj::load(path, options),
-        "toml" => Err(Error::Unsupported("toml: later".into())),
+        "toml" => super::toml::load(path, options),
         _ => Err(Error::Unsupported(format!(
             "{}: not a scene file texmap reads (.gltf, .glb, .obj, .toml)",
             path.display()
