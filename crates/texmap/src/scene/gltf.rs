@@ -116,7 +116,11 @@ fn gltf_message(e: &gltf::Error) -> String {
                 .collect();
             format!("invalid glTF: {}", first.join("; "))
         }
-        gltf::Error::Binary(b) => format!("invalid or truncated GLB: {b:?}"),
+        gltf::Error::Binary(gltf::binary::Error::Length {
+            length,
+            length_read,
+        }) => format!("truncated GLB: the header announces {length} bytes, only {length_read} could be read"),
+        gltf::Error::Binary(b) => format!("invalid GLB: {b}"),
         gltf::Error::Deserialize(d) => format!("invalid glTF JSON: {d}"),
         other => format!("invalid glTF: {other}"),
     }
