@@ -119,7 +119,9 @@ fn gltf_message(e: &gltf::Error) -> String {
         gltf::Error::Binary(gltf::binary::Error::Length {
             length,
             length_read,
-        }) => format!("truncated GLB: the header announces {length} bytes, only {length_read} could be read"),
+        }) => format!(
+            "truncated GLB: the header announces {length} bytes, only {length_read} could be read"
+        ),
         gltf::Error::Binary(b) => format!("invalid GLB: {b}"),
         gltf::Error::Deserialize(d) => format!("invalid glTF JSON: {d}"),
         other => format!("invalid glTF: {other}"),
@@ -449,6 +451,7 @@ impl Loader<'_> {
                 info.tex_coord(),
                 info.texture_transform(),
                 true,
+                mat.alpha_mode == AlphaMode::Opaque,
             )?;
         }
         if let Some(info) = pbr.metallic_roughness_texture() {
@@ -503,7 +506,7 @@ impl Loader<'_> {
         transform: Option<gltf::texture::TextureTransform>,
         scale: f32,
     ) -> Result<()> {
-        if let Some(slot) = self.slot(tex, tex_coord, transform, channel.is_color())? {
+        if let Some(slot) = self.slot(tex, tex_coord, transform, channel.is_color(), false)? {
             mat.maps.push(MaterialMap {
                 channel,
                 slot,
@@ -519,8 +522,9 @@ impl Loader<'_> {
         tex_coord: u32,
         transform: Option<gltf::texture::TextureTransform>,
         srgb: bool,
+        opaque: bool,
     ) -> Result<Option<TextureSlot>> {
-        let Some(texture) = self.image(&tex.source(), srgb)? else {
+        let Some(texture) = self.image(&tex.source(), srgb, opaque)? else {
             return Ok(None);
         };
         let mut slot = TextureSlot::new(texture, sampler(&tex.sampler()));
@@ -546,7 +550,12 @@ impl Loader<'_> {
         Ok(Some(slot))
     }
 
-    fn image(&mut self, img: &gltf::Image, srgb: bool) -> Result<Option<Arc<Texture2D>>> {
+    fn image(
+        &mut self,
+        img: &gltf::Image,
+        srgb: bool,
+        opaque: bool,
+    ) -> Result<Option<Arc<Texture2D>>> {
         let key = format!("image{}", img.index());
         let unsupported = |mime: Option<&str>| {
             matches!(mime, Some("image/ktx2" | "image/webp" | "image/vnd-ms.dds"))
@@ -563,7 +572,7 @@ impl Loader<'_> {
                 }
                 let bytes = self.acc.view_bytes(&view)?;
                 self.textures
-                    .get(&key, ImageSource::Bytes { name, bytes }, srgb)
+                    .get(&key, ImageSource::Bytes { name, bytes }, srgb, opaque)
             }
             gltf::image::Source::Uri { uri, mime_type } if uri.starts_with("data:") => {
                 let (mime, bytes) = decode_data_uri(self.path, uri, self.max_bytes)?;
@@ -578,6 +587,7 @@ impl Loader<'_> {
                         bytes: &bytes,
                     },
                     srgb,
+                    opaque,
                 )
             }
             gltf::image::Source::Uri { uri, mime_type } => {
@@ -585,7 +595,7 @@ impl Loader<'_> {
                 if unsupported(mime_type) {
                     return self.skip_image(p.display().to_string());
                 }
-                self.textures.get(&key, ImageSource::File(p), srgb)
+                self.textures.get(&key, ImageSource::File(p), srgb, opaque)
             }
         }
     }

@@ -19,6 +19,8 @@ use std::path::{Component, Path, PathBuf};
 use std::sync::Arc;
 
 use super::{Camera, Scene};
+use image::DynamicImage;
+
 use crate::texture::load::{decode_image, decode_image_bytes, texture_from_image, Limits};
 use crate::texture::{ColorSpace, Format, Texture2D, TextureOptions};
 use crate::{Error, Result};
@@ -272,13 +274,18 @@ impl TextureCache {
 
     /// The texture, `None` when the image format is one texmap cannot decode (KTX2, WebP:
     /// a warning, the channel reads as absent), or an error for a missing/corrupt image
-    /// unless lenient (then a magenta placeholder).
+    /// unless lenient (then a magenta placeholder). `opaque` drops the alpha channel (for
+    /// glTF's OPAQUE base colour, whose alpha is ignored: a texel with alpha 0 keeps its
+    /// colour instead of being premultiplied to black).
     pub fn get(
         &mut self,
         key: &str,
         source: ImageSource<'_>,
         srgb: bool,
+        opaque: bool,
     ) -> Result<Option<Arc<Texture2D>>> {
+        let key = format!("{key}{}", if opaque { "#opaque" } else { "" });
+        let key = key.as_str();
         if let Some(t) = self.cache.get(&(key.to_string(), srgb)) {
             return Ok(t.clone());
         }
@@ -309,6 +316,7 @@ impl TextureCache {
                 decode_image_bytes(bytes, Path::new(name), &self.limits)
             }
         };
+        let decoded = decoded.map(|img| if opaque { drop_alpha(img) } else { img });
         let result = decoded.and_then(|img| {
             texture_from_image(img, cs, TextureOptions::default())
                 .map_err(|e| Error::decode(&name, e.to_string()))
@@ -334,6 +342,19 @@ impl TextureCache {
         self.cache
             .insert((key.to_string(), srgb), Some(tex.clone()));
         Ok(Some(tex))
+    }
+}
+
+/// The image without its alpha channel.
+fn drop_alpha(img: DynamicImage) -> DynamicImage {
+    if !img.color().has_alpha() {
+        return img;
+    }
+    match img {
+        DynamicImage::ImageLumaA8(_) => DynamicImage::ImageLuma8(img.to_luma8()),
+        DynamicImage::ImageRgba8(_) => DynamicImage::ImageRgb8(img.to_rgb8()),
+        DynamicImage::ImageRgba32F(_) => DynamicImage::ImageRgb32F(img.to_rgb32f()),
+        other => DynamicImage::ImageRgb16(other.to_rgb16()),
     }
 }
 

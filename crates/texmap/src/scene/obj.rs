@@ -346,6 +346,7 @@ fn material(
             &file.to_string_lossy(),
             ImageSource::File(file.clone()),
             srgb,
+            false,
         )?
         else {
             return Ok(None);

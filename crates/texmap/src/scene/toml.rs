@@ -570,6 +570,7 @@ fn slot(
         &file.to_string_lossy(),
         ImageSource::File(file.clone()),
         srgb,
+        false,
     )?
     else {
         return Ok(None);
