@@ -70,7 +70,13 @@ fn triangle_json(buffer_uri: Option<&str>, image_uri: Option<&str>, extra: &str)
     )
 }
 
-fn write_gltf(d: &Path, name: &str, indices: [u16; 3], image: Option<&str>, extra: &str) -> PathBuf {
+fn write_gltf(
+    d: &Path,
+    name: &str,
+    indices: [u16; 3],
+    image: Option<&str>,
+    extra: &str,
+) -> PathBuf {
     std::fs::write(d.join("tri.bin"), triangle_bin(indices)).unwrap();
     let p = d.join(name);
     std::fs::write(&p, triangle_json(Some("tri.bin"), image, extra)).unwrap();
@@ -108,12 +114,20 @@ fn assert_fails(out: &Output, needles: &[&str], output_file: &Path) {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "expected failure, stderr: {stderr}");
     assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert_eq!(stderr.trim().lines().count(), 1, "one line expected: {stderr}");
+    assert_eq!(
+        stderr.trim().lines().count(),
+        1,
+        "one line expected: {stderr}"
+    );
     for n in needles {
         assert!(stderr.contains(n), "{n:?} not in {stderr:?}");
     }
     assert!(!stderr.contains("panicked"), "{stderr}");
-    assert!(!output_file.exists(), "a failed run left {}", output_file.display());
+    assert!(
+        !output_file.exists(),
+        "a failed run left {}",
+        output_file.display()
+    );
 }
 
 fn render(file: &Path, out: &Path, extra: &[&str]) -> Output {
@@ -179,7 +193,10 @@ fn missing_texture_fails_and_lenient_draws_a_placeholder() {
     let r = render(&g, &out, &["--lenient"]);
     let stderr = String::from_utf8_lossy(&r.stderr);
     assert!(r.status.success(), "{stderr}");
-    assert!(stderr.contains("warning") && stderr.contains("placeholder"), "{stderr}");
+    assert!(
+        stderr.contains("warning") && stderr.contains("placeholder"),
+        "{stderr}"
+    );
     assert!(out.exists());
 }
 
@@ -188,7 +205,11 @@ fn out_of_range_index_is_an_error() {
     let d = dir("oor");
     let g = write_gltf(&d, "oor.gltf", [0, 1, 7], None, "");
     let out = d.join("o.png");
-    assert_fails(&render(&g, &out, &[]), &["oor.gltf", "index 7 is out of range"], &out);
+    assert_fails(
+        &render(&g, &out, &[]),
+        &["oor.gltf", "index 7 is out of range"],
+        &out,
+    );
 }
 
 #[test]
@@ -206,7 +227,11 @@ fn unknown_toml_key_is_named() {
     let t = d.join("s.toml");
     std::fs::write(&t, "[[meshes]]\nprimitive = \"cube\"\ncolour = [1, 0, 0]\n").unwrap();
     let out = d.join("o.png");
-    assert_fails(&render(&t, &out, &[]), &["s.toml", "line 3", "unknown field `colour`"], &out);
+    assert_fails(
+        &render(&t, &out, &[]),
+        &["s.toml", "line 3", "unknown field `colour`"],
+        &out,
+    );
 }
 
 #[test]
@@ -217,7 +242,11 @@ fn references_outside_the_folder_need_the_flag() {
     png(&d, "up.png");
     let g = write_gltf(&sub, "o.gltf", [0, 1, 2], Some("../up.png"), "");
     let out = d.join("o.png");
-    assert_fails(&render(&g, &out, &[]), &["o.gltf", "--allow-outside-paths"], &out);
+    assert_fails(
+        &render(&g, &out, &[]),
+        &["o.gltf", "--allow-outside-paths"],
+        &out,
+    );
     let r = render(&g, &out, &["--allow-outside-paths"]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
 }
@@ -225,9 +254,19 @@ fn references_outside_the_folder_need_the_flag() {
 #[test]
 fn network_uris_are_refused() {
     let d = dir("http");
-    let g = write_gltf(&d, "h.gltf", [0, 1, 2], Some("https://example.com/t.png"), "");
+    let g = write_gltf(
+        &d,
+        "h.gltf",
+        [0, 1, 2],
+        Some("https://example.com/t.png"),
+        "",
+    );
     let out = d.join("o.png");
-    assert_fails(&render(&g, &out, &["--allow-outside-paths"]), &["h.gltf", "network"], &out);
+    assert_fails(
+        &render(&g, &out, &["--allow-outside-paths"]),
+        &["h.gltf", "network"],
+        &out,
+    );
 }
 
 #[test]
@@ -241,19 +280,36 @@ fn unsupported_required_extension_fails_optional_one_warns() {
         r#","extensionsUsed": ["KHR_draco_mesh_compression"], "extensionsRequired": ["KHR_draco_mesh_compression"]"#,
     );
     let out = d.join("o.png");
-    assert_fails(&render(&g, &out, &[]), &["req.gltf", "KHR_draco_mesh_compression"], &out);
-    let g = write_gltf(&d, "opt.gltf", [0, 1, 2], None, r#","extensionsUsed": ["KHR_materials_sheen"]"#);
+    assert_fails(
+        &render(&g, &out, &[]),
+        &["req.gltf", "KHR_draco_mesh_compression"],
+        &out,
+    );
+    let g = write_gltf(
+        &d,
+        "opt.gltf",
+        [0, 1, 2],
+        None,
+        r#","extensionsUsed": ["KHR_materials_sheen"]"#,
+    );
     let r = render(&g, &out, &[]);
     let stderr = String::from_utf8_lossy(&r.stderr);
     assert!(r.status.success(), "{stderr}");
-    assert!(stderr.contains("warning") && stderr.contains("KHR_materials_sheen"), "{stderr}");
+    assert!(
+        stderr.contains("warning") && stderr.contains("KHR_materials_sheen"),
+        "{stderr}"
+    );
 }
 
 #[test]
 fn missing_scene_file_and_unknown_format() {
     let d = dir("nofile");
     let out = d.join("o.png");
-    assert_fails(&render(&d.join("none.gltf"), &out, &[]), &["none.gltf"], &out);
+    assert_fails(
+        &render(&d.join("none.gltf"), &out, &[]),
+        &["none.gltf"],
+        &out,
+    );
     let x = d.join("scene.fbx");
     std::fs::write(&x, "x").unwrap();
     assert_fails(&render(&x, &out, &[]), &["scene.fbx"], &out);

@@ -32,7 +32,9 @@ fn assets() -> Option<PathBuf> {
 
 /// Files with one of `exts` in `dir`, down to `depth` folders below, sorted.
 fn find(dir: &Path, depth: usize, exts: &[&str], out: &mut Vec<PathBuf>) {
-    let Ok(rd) = std::fs::read_dir(dir) else { return };
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return;
+    };
     let mut entries: Vec<PathBuf> = rd.filter_map(|e| e.ok().map(|e| e.path())).collect();
     entries.sort();
     for p in entries {
@@ -67,7 +69,11 @@ fn render_model(path: &Path) -> Vec<u8> {
     // Spot ships its texture without an MTL: bind it as the base colour, as the peers do
     // with --texture.
     let tex = path.with_file_name("spot_texture.png");
-    if path.file_name().is_some_and(|n| n == "spot_triangulated.obj") && tex.exists() {
+    if path
+        .file_name()
+        .is_some_and(|n| n == "spot_triangulated.obj")
+        && tex.exists()
+    {
         let t = Arc::new(load_texture(&tex, ColorSpace::Srgb, &Limits::default()).unwrap());
         for m in &mut scene.materials {
             m.base_color_texture = Some(TextureSlot::new(t.clone(), Sampler::default()));
@@ -92,7 +98,10 @@ fn name_of(path: &Path) -> String {
 fn every_corpus_model_matches_its_golden() {
     let Some(root) = assets() else { return };
     let list = models(&root);
-    assert!(list.len() >= 12, "expected the corpus's models, found {list:?}");
+    assert!(
+        list.len() >= 12,
+        "expected the corpus's models, found {list:?}"
+    );
     let replace = std::env::var_os("REPLACE").is_some();
     let mut failures = Vec::new();
     for path in &list {
@@ -101,16 +110,28 @@ fn every_corpus_model_matches_its_golden() {
         let golden = golden_dir().join(format!("{name}.png"));
         if replace {
             std::fs::create_dir_all(golden_dir()).unwrap();
-            image::RgbImage::from_raw(WIDTH, HEIGHT, rgb).unwrap().save(&golden).unwrap();
+            image::RgbImage::from_raw(WIDTH, HEIGHT, rgb)
+                .unwrap()
+                .save(&golden)
+                .unwrap();
             eprintln!("wrote {}", golden.display());
             continue;
         }
         let Ok(expected) = image::open(&golden) else {
-            failures.push(format!("{name}: no golden {} (run with REPLACE=1)", golden.display()));
+            failures.push(format!(
+                "{name}: no golden {} (run with REPLACE=1)",
+                golden.display()
+            ));
             continue;
         };
         let expected = expected.to_rgb8();
-        let c = compare_rgb8(expected.as_raw(), &rgb, WIDTH as usize, HEIGHT as usize, None);
+        let c = compare_rgb8(
+            expected.as_raw(),
+            &rgb,
+            WIDTH as usize,
+            HEIGHT as usize,
+            None,
+        );
         eprintln!("{name}: PSNR {:.2} dB", c.psnr_db);
         if c.psnr_db < MIN_PSNR_DB {
             let diff_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/golden-diff");
@@ -119,7 +140,11 @@ fn every_corpus_model_matches_its_golden() {
             for y in 0..HEIGHT {
                 for x in 0..WIDTH {
                     let i = ((y * WIDTH + x) * 3) as usize;
-                    let e = [expected.as_raw()[i], expected.as_raw()[i + 1], expected.as_raw()[i + 2]];
+                    let e = [
+                        expected.as_raw()[i],
+                        expected.as_raw()[i + 1],
+                        expected.as_raw()[i + 2],
+                    ];
                     let a = [rgb[i], rgb[i + 1], rgb[i + 2]];
                     let d = [0, 1, 2].map(|k| (e[k].abs_diff(a[k]) as u32 * 8).min(255) as u8);
                     side.put_pixel(x, y, image::Rgb(e));

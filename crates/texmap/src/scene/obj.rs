@@ -55,7 +55,6 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
         single_index: true,
         ignore_points: true,
         ignore_lines: true,
-        ..Default::default()
     };
     let (models, materials) =
         tobj::load_obj_buf(&mut BufReader::new(text.as_bytes()), &opts, load_mtl)
