@@ -1088,6 +1088,76 @@ mod tests {
         assert_eq!(to_triangle_list(Mode::Triangles, &[0, 1, 2, 3]), [0, 1, 2]);
     }
 
+    /// A data-URI glTF: a non-indexed strip, a sparse POSITION, u8-normalized COLOR_0, and a
+    /// base-colour texture whose KHR_texture_transform reads TEXCOORD_1.
+    #[test]
+    fn data_uris_strips_sparse_colors_and_texcoord_override() {
+        use base64::Engine;
+        let mut b: Vec<u8> = Vec::new();
+        for p in [
+            [0.0f32, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [1.0, 1.0, 0.0],
+        ] {
+            p.iter().for_each(|v| b.extend_from_slice(&v.to_le_bytes()));
+        }
+        b.extend_from_slice(&[
+            255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 128,
+        ]);
+        for uv in [[0.0f32, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]] {
+            uv.iter()
+                .for_each(|v| b.extend_from_slice(&v.to_le_bytes()));
+        }
+        b.extend_from_slice(&[3, 0, 0, 0]);
+        [2.0f32, 2.0, 0.0]
+            .iter()
+            .for_each(|v| b.extend_from_slice(&v.to_le_bytes()));
+        assert_eq!(b.len(), 112);
+        let enc = |x: &[u8]| base64::engine::general_purpose::STANDARD.encode(x);
+        let mut png = Vec::new();
+        image::RgbaImage::from_pixel(2, 2, image::Rgba([9, 9, 9, 255]))
+            .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+            .unwrap();
+        let json = format!(
+            r#"{{"asset": {{"version": "2.0"}}, "extensionsUsed": ["KHR_texture_transform"],
+  "nodes": [{{"mesh": 0, "translation": [0, 0, -1]}}],
+  "meshes": [{{"primitives": [{{"mode": 5, "material": 0,
+     "attributes": {{"POSITION": 0, "COLOR_0": 1, "TEXCOORD_1": 2}}}}]}}],
+  "materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0,
+     "extensions": {{"KHR_texture_transform": {{"texCoord": 1, "scale": [2, 2]}}}}}}}}}}],
+  "textures": [{{"source": 0}}],
+  "images": [{{"uri": "data:image/png;base64,{}"}}],
+  "buffers": [{{"byteLength": 112, "uri": "data:application/octet-stream;base64,{}"}}],
+  "bufferViews": [{{"buffer": 0, "byteLength": 48}}, {{"buffer": 0, "byteOffset": 48, "byteLength": 16}},
+                  {{"buffer": 0, "byteOffset": 64, "byteLength": 32}}, {{"buffer": 0, "byteOffset": 96, "byteLength": 4}},
+                  {{"buffer": 0, "byteOffset": 100, "byteLength": 12}}],
+  "accessors": [
+    {{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [2, 2, 0],
+      "sparse": {{"count": 1, "indices": {{"bufferView": 3, "componentType": 5121}}, "values": {{"bufferView": 4}}}}}},
+    {{"bufferView": 1, "componentType": 5121, "normalized": true, "count": 4, "type": "VEC4"}},
+    {{"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"}}]}}"#,
+            enc(&png),
+            enc(&b)
+        );
+        let dir = std::env::temp_dir().join(format!("texmap-gltf-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("data.gltf");
+        std::fs::write(&p, json).unwrap();
+        let l = load(&p, &LoadOptions::default()).unwrap();
+        let m = &l.scene.meshes[0];
+        assert_eq!(m.indices, [0, 1, 2, 1, 3, 2]);
+        assert_eq!(m.positions[3], Vec3::new(2.0, 2.0, 0.0));
+        assert_eq!(m.colors[3], Vec4::new(1.0, 1.0, 1.0, 128.0 / 255.0));
+        assert_eq!(m.uvs1.len(), 4);
+        assert!(m.uvs.is_empty());
+        assert_eq!(m.world_from_object.w_axis.z, -1.0);
+        let slot = l.scene.materials[0].base_color_texture.as_ref().unwrap();
+        assert_eq!(slot.tex_coord, 1);
+        assert_eq!(slot.transform.scale, Vec2::splat(2.0));
+        assert_eq!(l.info.textures.len(), 1);
+    }
+
     #[test]
     fn normalized_components() {
         assert_eq!(component(&[255], DataType::U8, true), 1.0);

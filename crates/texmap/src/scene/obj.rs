@@ -163,6 +163,12 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
             ..Default::default()
         });
     }
+    for i in super::tangents::generate_where_needed(&mut scene.meshes, &scene.materials) {
+        warnings.push(format!(
+            "{}: mesh {i}: no tangents for its normal map (it lacks normals or uvs)",
+            path.display()
+        ));
+    }
     warnings.append(&mut textures.warnings);
     info.textures = textures.infos;
     Ok(Loaded {

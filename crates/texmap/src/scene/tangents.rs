@@ -102,6 +102,30 @@ pub fn generate(mesh: &mut Mesh, set: u32) -> bool {
     true
 }
 
+/// Generates tangents for every mesh without them whose material has a normal map (using the
+/// map's uv set). Returns the indices of meshes where that was not possible.
+pub fn generate_where_needed(
+    meshes: &mut [Mesh],
+    materials: &[crate::shading::Material],
+) -> Vec<usize> {
+    let mut failed = Vec::new();
+    for (i, m) in meshes.iter_mut().enumerate() {
+        if !m.tangents.is_empty() {
+            continue;
+        }
+        let Some(map) = materials
+            .get(m.material)
+            .and_then(|mat| mat.map(crate::shading::MapChannel::Normal))
+        else {
+            continue;
+        };
+        if !generate(m, map.slot.tex_coord) {
+            failed.push(i);
+        }
+    }
+    failed
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -387,6 +387,12 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
             }
         }
     }
+    for i in super::tangents::generate_where_needed(&mut scene.meshes, &scene.materials) {
+        warnings.push(format!(
+            "{}: mesh {i}: no tangents for its normal map (it lacks normals or uvs)",
+            path.display()
+        ));
+    }
     warnings.append(&mut textures.warnings);
     info.textures.append(&mut textures.infos);
     Ok(Loaded {
