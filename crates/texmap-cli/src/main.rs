@@ -2,7 +2,9 @@
 
 mod bake;
 mod compare;
+mod info;
 mod output;
+mod progress;
 mod render;
 
 use std::process::ExitCode;
@@ -25,6 +27,8 @@ enum Command {
     Bake(bake::BakeArgs),
     /// Compare two images: PSNR, RMSE and SSIM, and optionally a false-colour difference image.
     Compare(compare::CompareArgs),
+    /// List what a model, scene or texture holds: meshes, triangles, materials, textures, cameras.
+    Info(info::InfoArgs),
 }
 
 fn main() -> ExitCode {
@@ -33,6 +37,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Bake(args) => bake::run(args),
+        Command::Info(args) => info::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

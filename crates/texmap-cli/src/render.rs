@@ -7,15 +7,25 @@ use std::time::Instant;
 use clap::{Args, ValueEnum};
 use glam::Vec3;
 use texmap::render::{render, CullMode, Interpolation, Settings, ShadingMode, Visibility};
-use texmap::scene::{builtin, Camera, Scene};
+use texmap::scene::{builtin, Camera, LoadOptions, Scene, TextureSlot};
 use texmap::texture::load::{load_texture, Limits};
 use texmap::texture::{ColorSpace, Filter, LodRule, Sampler, Texture2D, Wrap};
 use texmap::Error;
 
 #[derive(Args)]
 pub struct RenderArgs {
-    /// `builtin:demo` (default), `builtin:plane`, `builtin:sphere` or `builtin:marble`.
+    /// `builtin:demo` (default), `builtin:plane`, `builtin:sphere`, `builtin:marble`, or a scene
+    /// file: `.gltf`, `.glb`, `.obj` or `.toml`.
     scene: Option<String>,
+    /// A missing or undecodable texture becomes a warning and a magenta placeholder.
+    #[arg(long)]
+    lenient: bool,
+    /// Let a file's references leave its folder (`..`, absolute paths).
+    #[arg(long)]
+    allow_outside_paths: bool,
+    /// Ignore the file's own camera: frame the bounding box as `gl_render.py` does.
+    #[arg(long)]
+    auto_camera: bool,
     /// Output PNG; a `{frame}` in the name writes every turntable frame.
     #[arg(short = 'o', long = "output")]
     output: Option<PathBuf>,
@@ -165,8 +175,8 @@ fn parse_wrap(s: &str) -> Result<Wrap, String> {
     Wrap::parse(s).ok_or_else(|| "expected repeat, mirror, clamp, border or mirror-clamp".into())
 }
 
-/// The scene, its default output name, and whether it is a mesh-framed scene.
-fn build_scene(args: &RenderArgs, sampler: Sampler) -> Result<(Scene, String), Error> {
+/// The scene, its default output name, and whether it was read from a file.
+fn build_scene(args: &RenderArgs, sampler: Sampler) -> Result<(Scene, String, bool), Error> {
     let name = args.scene.as_deref().unwrap_or("builtin:demo");
     let texture: Option<Arc<Texture2D>> = match &args.texture {
         Some(p) => {
@@ -197,20 +207,54 @@ fn build_scene(args: &RenderArgs, sampler: Sampler) -> Result<(Scene, String), E
             )))
         }
         other => {
-            let p = Path::new(other);
-            if !p.exists() {
-                return Err(Error::io(
-                    p,
-                    std::io::Error::from(std::io::ErrorKind::NotFound),
-                ));
-            }
-            return Err(Error::Unsupported(format!(
-                "{other}: model and scene files are not read yet; use builtin:demo, builtin:plane or builtin:sphere"
-            )));
+            let scene = load_file(args, Path::new(other), texture)?;
+            let short = Path::new(other)
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "scene".into());
+            return Ok((scene, short, true));
         }
     };
     let short = name.trim_start_matches("builtin:").to_string();
-    Ok((scene, short))
+    Ok((scene, short, false))
+}
+
+/// Loads a scene file, prints its warnings, and applies `--texture`, `--uv-scale` and
+/// `--auto-camera`.
+fn load_file(
+    args: &RenderArgs,
+    path: &Path,
+    texture: Option<Arc<Texture2D>>,
+) -> Result<Scene, Error> {
+    let options = LoadOptions {
+        allow_outside_paths: args.allow_outside_paths,
+        lenient: args.lenient,
+        ..Default::default()
+    };
+    let loaded = texmap::scene::load(path, &options)?;
+    if !args.quiet {
+        for w in &loaded.warnings {
+            eprintln!("texmap: warning: {w}");
+        }
+    }
+    let mut scene = loaded.scene;
+    for m in &mut scene.materials {
+        if let Some(t) = &texture {
+            match &mut m.base_color_texture {
+                Some(slot) => slot.texture = t.clone(),
+                None => {
+                    m.base_color_texture = Some(TextureSlot::new(t.clone(), Sampler::default()))
+                }
+            }
+        }
+        if let (Some(s), Some(slot)) = (args.uv_scale, &mut m.base_color_texture) {
+            slot.uv_scale *= s;
+        }
+    }
+    if args.auto_camera {
+        scene.camera = None;
+    }
+    Ok(scene)
 }
 
 pub fn run(args: RenderArgs) -> Result<(), Error> {
@@ -243,9 +287,16 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
         LodRuleArg::Gl => LodRule::GlMax,
         LodRuleArg::Rss => LodRule::RootSumSquares,
     };
-    let (scene, short) = build_scene(&args, sampler)?;
+    let progress = crate::progress::Progress::new(args.frames, args.quiet);
+    progress.message("loading");
+    let (scene, short, from_file) = build_scene(&args, sampler)?;
     let fov = args.fov.unwrap_or(60.0);
     let base = scene.camera.unwrap_or_else(|| scene.framing_camera(fov));
+    // A file's camera keeps its own field of view unless --fov is given.
+    let fov = match (from_file, scene.camera) {
+        (true, Some(c)) => args.fov.unwrap_or(c.fov_y_deg),
+        _ => fov,
+    };
     let camera = Camera {
         eye: args.eye.unwrap_or(base.eye),
         target: args.target.unwrap_or(base.target),
@@ -282,8 +333,16 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
         ssaa: args.ssaa,
         unlit: args.unlit,
         // Built-in plane and sphere already carry the sampler; elsewhere override only if asked.
-        filter_override: if short == "demo" { args.filter } else { None },
-        wrap_override: if short == "demo" { args.wrap } else { None },
+        filter_override: if short == "demo" || from_file {
+            args.filter
+        } else {
+            None
+        },
+        wrap_override: if short == "demo" || from_file {
+            args.wrap
+        } else {
+            None
+        },
     };
     let output = args
         .output
@@ -294,6 +353,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
 
     let mut times = Vec::with_capacity(args.frames as usize);
     let mut last = None;
+    progress.message("rendering");
     for k in 1..=args.frames {
         let angle = std::f32::consts::TAU * k as f32 / args.frames as f32;
         let cam = if k == args.frames {
@@ -313,7 +373,9 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             crate::output::write_png_rgb8(&path, frame.width, frame.height, &frame.to_srgb8())?;
         }
         last = Some(frame);
+        progress.tick();
     }
+    progress.finish();
     let frame = last.ok_or_else(|| Error::parameter("no frame rendered"))?;
     if !per_frame {
         crate::output::write_png_rgb8(&output, frame.width, frame.height, &frame.to_srgb8())?;

@@ -478,7 +478,17 @@ impl VertexShader<'_> {
     /// uv (transformed and scaled) and the vertex colour.
     fn common_varyings(&self, i: usize) -> [f32; MAX_VARYINGS] {
         let mut var = [0.0; MAX_VARYINGS];
-        let uv = self.mesh.uvs.get(i).copied().unwrap_or(Vec2::ZERO);
+        let set1 = self
+            .material
+            .base_color_texture
+            .as_ref()
+            .is_some_and(|t| t.tex_coord == 1);
+        let uvs = if set1 {
+            &self.mesh.uvs1
+        } else {
+            &self.mesh.uvs
+        };
+        let uv = uvs.get(i).copied().unwrap_or(Vec2::ZERO);
         let uv = match &self.draw.texture {
             Some((_, _, t, scale)) => t.apply(uv) * *scale,
             None => uv,

@@ -9,6 +9,14 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod builtin;
+pub mod gltf;
+pub mod load;
+pub mod obj;
+pub mod primitives;
+pub mod tangents;
+pub mod toml;
+
+pub use load::{load, AssetInfo, LoadOptions, Loaded, TextureInfo};
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 

@@ -37,6 +37,8 @@ pub struct TextureSlot {
     pub sampler: Sampler,
     pub transform: TextureTransform,
     pub uv_scale: f32,
+    /// Which texture coordinate set the slot reads: 0 (`Mesh::uvs`) or 1 (`Mesh::uvs1`).
+    pub tex_coord: u32,
 }
 
 impl TextureSlot {
@@ -48,6 +50,7 @@ impl TextureSlot {
             sampler,
             transform: TextureTransform::default(),
             uv_scale: 1.0,
+            tex_coord: 0,
         }
     }
 }
@@ -110,6 +113,80 @@ pub struct Material {
     pub alpha_mode: AlphaMode,
     /// A procedural colour (solid texture or projected image), multiplying the base colour.
     pub procedural: Option<Procedural>,
+    /// glTF's metallic factor (0 = dielectric), kept for metallic-roughness shading.
+    pub metallic: f32,
+    /// glTF's roughness factor.
+    pub roughness: f32,
+    /// Texture maps other than the base colour (normal, occlusion, emissive, …), each with
+    /// its channel and scale. The renderer reads the channels it implements.
+    pub maps: Vec<MaterialMap>,
+}
+
+/// What a [`MaterialMap`] feeds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MapChannel {
+    /// glTF metallic (B) and roughness (G), linear.
+    MetallicRoughness,
+    /// Tangent-space normal map, linear; `scale` scales its x and y.
+    Normal,
+    /// Ambient occlusion (R), linear; `scale` is the strength.
+    Occlusion,
+    /// Emissive colour, sRGB; multiplies `Material::emissive`.
+    Emissive,
+    /// OBJ `map_Ka`: ambient colour, sRGB.
+    Ambient,
+    /// OBJ `map_Ks`: specular colour, sRGB.
+    Specular,
+    /// OBJ `map_Ns`: specular exponent (R), linear.
+    Shininess,
+    /// OBJ `map_d`: opacity (R, or alpha when present), linear.
+    Alpha,
+    /// OBJ `bump`/`map_bump`: a height field, linear; `scale` is `-bm`.
+    Bump,
+}
+
+impl MapChannel {
+    /// The lower-case name used in scene files and by `texmap info`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            MapChannel::MetallicRoughness => "metallic_roughness",
+            MapChannel::Normal => "normal",
+            MapChannel::Occlusion => "occlusion",
+            MapChannel::Emissive => "emissive",
+            MapChannel::Ambient => "ambient",
+            MapChannel::Specular => "specular",
+            MapChannel::Shininess => "shininess",
+            MapChannel::Alpha => "alpha",
+            MapChannel::Bump => "bump",
+        }
+    }
+
+    /// True for channels that hold colour (decoded from sRGB); the others hold linear data.
+    #[must_use]
+    pub fn is_color(self) -> bool {
+        matches!(
+            self,
+            MapChannel::Emissive | MapChannel::Ambient | MapChannel::Specular
+        )
+    }
+}
+
+/// A texture map of a material other than the base colour.
+#[derive(Clone, Debug)]
+pub struct MaterialMap {
+    pub channel: MapChannel,
+    pub slot: TextureSlot,
+    /// Normal scale, occlusion strength or bump multiplier (1 otherwise).
+    pub scale: f32,
+}
+
+impl Material {
+    /// The first map feeding `channel`, if any.
+    #[must_use]
+    pub fn map(&self, channel: MapChannel) -> Option<&MaterialMap> {
+        self.maps.iter().find(|m| m.channel == channel)
+    }
 }
 
 impl Default for Material {
@@ -127,6 +204,9 @@ impl Default for Material {
             double_sided: false,
             alpha_mode: AlphaMode::Opaque,
             procedural: None,
+            metallic: 0.0,
+            roughness: 1.0,
+            maps: Vec::new(),
         }
     }
 }
@@ -260,7 +340,13 @@ impl Lighting<'_> {
 #[must_use]
 pub fn illuminate(m: &Material, lighting: &Lighting, p: Vec3, n: Vec3, eye: Vec3) -> (Vec3, Vec3) {
     let mut d = lighting.ambient * m.ambient;
-    let mut s = m.emissive;
+    // Until emissive maps are sampled, a textured emission is left out rather than drawn as
+    // a uniform glow of its factor.
+    let mut s = if m.map(MapChannel::Emissive).is_some() {
+        Vec3::ZERO
+    } else {
+        m.emissive
+    };
     let specular = m.specular > 0.0;
     let v = if specular {
         (eye - p).normalize_or_zero()

@@ -67,6 +67,33 @@ pub fn decode_image(path: &Path, limits: &Limits) -> Result<DynamicImage> {
     reader.decode().map_err(|e| image_error(path, e))
 }
 
+/// Decodes an image held in memory (`name` is used in messages and to guess nothing: the
+/// format comes from the bytes), refusing it before allocation when it breaks `limits`.
+pub fn decode_image_bytes(bytes: &[u8], name: &Path, limits: &Limits) -> Result<DynamicImage> {
+    let reader = ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| Error::io(name, e))?;
+    if reader.format().is_none() {
+        return Err(Error::decode(
+            name,
+            "not an image format texmap reads (PNG, JPEG, TGA, BMP, HDR, EXR)",
+        ));
+    }
+    let (w, h) = ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| Error::io(name, e))?
+        .into_dimensions()
+        .map_err(|e| image_error(name, e))?;
+    check_size(name, w, h, limits)?;
+    let mut reader = reader;
+    let mut l = image::Limits::default();
+    l.max_image_width = Some(limits.max_width);
+    l.max_image_height = Some(limits.max_height);
+    l.max_alloc = Some(limits.max_bytes);
+    reader.limits(l);
+    reader.decode().map_err(|e| image_error(name, e))
+}
+
 fn check_size(path: &Path, w: u32, h: u32, limits: &Limits) -> Result<()> {
     if w > limits.max_width || h > limits.max_height {
         return Err(Error::limits(

@@ -1,0 +1,197 @@
+//! `texmap info FILE`: what a model, scene or texture holds.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use texmap::scene::{LoadOptions, Loaded};
+use texmap::shading::AlphaMode;
+use texmap::texture::load::{load_texture, Limits};
+use texmap::texture::ColorSpace;
+use texmap::Error;
+
+#[derive(Args)]
+pub struct InfoArgs {
+    /// A scene (.gltf, .glb, .obj, .toml), an image, or a volume.
+    file: PathBuf,
+    /// A missing texture becomes a warning and a placeholder.
+    #[arg(long)]
+    lenient: bool,
+    /// Let the file's references leave its folder.
+    #[arg(long)]
+    allow_outside_paths: bool,
+}
+
+/// Appends a line to a `String` (writing to a `String` cannot fail).
+macro_rules! outln {
+    ($out:expr, $($t:tt)*) => {{
+        use std::fmt::Write as _;
+        let _ = writeln!($out, $($t)*);
+    }};
+}
+
+/// Writes the report to stdout; a closed pipe (`| head`) is not an error.
+fn emit(s: &str) {
+    use std::io::Write as _;
+    let _ = std::io::stdout().write_all(s.as_bytes());
+}
+
+const VOLUME_EXTENSIONS: &[&str] = &["nii", "gz", "nrrd", "nhdr", "raw", "vol"];
+const IMAGE_EXTENSIONS: &[&str] = &["png", "jpg", "jpeg", "tga", "bmp", "hdr", "exr"];
+
+pub fn run(args: InfoArgs) -> Result<(), Error> {
+    let path = &args.file;
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    if IMAGE_EXTENSIONS.contains(&ext.as_str()) {
+        let t = load_texture(path, ColorSpace::Srgb, &Limits::default())?;
+        let mut out = String::new();
+        let out = &mut out;
+        outln!(out, "{}: image", path.display());
+        outln!(
+            out,
+            "  {}x{}, {:?}, {} mip levels",
+            t.width(),
+            t.height(),
+            t.format(),
+            t.levels().len()
+        );
+        emit(out);
+        return Ok(());
+    }
+    if VOLUME_EXTENSIONS.contains(&ext.as_str()) {
+        // Hook: when the volume loaders land (scene::volume), list dimensions, spacing and
+        // value range here.
+        return Err(Error::Unsupported(format!(
+            "{}: volume files are not read yet (dimensions and value range will be listed once the volume loaders exist)",
+            path.display()
+        )));
+    }
+    let options = LoadOptions {
+        allow_outside_paths: args.allow_outside_paths,
+        lenient: args.lenient,
+        ..Default::default()
+    };
+    let loaded = texmap::scene::load(path, &options)?;
+    let mut out = String::new();
+    print_scene(&mut out, path, &loaded);
+    emit(&out);
+    Ok(())
+}
+
+fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
+    let s = &l.scene;
+    outln!(out, "{}: {}", path.display(), l.info.format);
+    outln!(
+        out,
+        "meshes: {} ({} triangles, {} vertices)",
+        s.meshes.len(),
+        s.triangle_count(),
+        s.meshes.iter().map(|m| m.positions.len()).sum::<usize>()
+    );
+    for (i, m) in s.meshes.iter().enumerate() {
+        let name = l.info.mesh_names.get(i).map_or("", String::as_str);
+        let mut attrs = vec!["POSITION"];
+        for (has, a) in [
+            (!m.normals.is_empty(), "NORMAL"),
+            (!m.uvs.is_empty(), "TEXCOORD_0"),
+            (!m.uvs1.is_empty(), "TEXCOORD_1"),
+            (!m.colors.is_empty(), "COLOR_0"),
+            (!m.tangents.is_empty(), "TANGENT"),
+        ] {
+            if has {
+                attrs.push(a);
+            }
+        }
+        outln!(
+            out,
+            "  [{i}] {name}: {} triangles, {} vertices, material {}, {}",
+            m.triangle_count(),
+            m.positions.len(),
+            m.material,
+            attrs.join(" ")
+        );
+    }
+    outln!(out, "materials: {}", s.materials.len());
+    for (i, m) in s.materials.iter().enumerate() {
+        let name = l.info.material_names.get(i).map_or("", String::as_str);
+        let alpha = match m.alpha_mode {
+            AlphaMode::Opaque => "opaque".to_string(),
+            AlphaMode::Mask(c) => format!("mask {c}"),
+            AlphaMode::Blend => "blend".to_string(),
+        };
+        let mut maps = Vec::new();
+        if let Some(t) = &m.base_color_texture {
+            maps.push(format!(
+                "base_color {}x{} uv{}",
+                t.texture.width(),
+                t.texture.height(),
+                t.tex_coord
+            ));
+        }
+        for map in &m.maps {
+            maps.push(format!(
+                "{} {}x{} uv{}",
+                map.channel.name(),
+                map.slot.texture.width(),
+                map.slot.texture.height(),
+                map.slot.tex_coord
+            ));
+        }
+        let b = m.base_color;
+        outln!(
+            out,
+            "  [{i}] {name}: base colour ({:.3}, {:.3}, {:.3}, {:.3}), {alpha}{}{}; maps: {}",
+            b.x,
+            b.y,
+            b.z,
+            b.w,
+            if m.double_sided { ", double-sided" } else { "" },
+            if m.unlit { ", unlit" } else { "" },
+            if maps.is_empty() {
+                "none".to_string()
+            } else {
+                maps.join(", ")
+            }
+        );
+    }
+    outln!(out, "textures: {}", l.info.textures.len());
+    for t in &l.info.textures {
+        outln!(
+            out,
+            "  {}: {}x{}, {:?}, {:?}{}",
+            t.name,
+            t.width,
+            t.height,
+            t.format,
+            t.color_space,
+            if t.placeholder { " (placeholder)" } else { "" }
+        );
+    }
+    outln!(out, "cameras: {}", l.cameras.len());
+    for (i, c) in l.cameras.iter().enumerate() {
+        outln!(
+            out,
+            "  [{i}] eye {:.3?} target {:.3?} fov {:.1}° near {} far {}",
+            c.eye.to_array(),
+            c.target.to_array(),
+            c.fov_y_deg,
+            c.near,
+            c.far
+        );
+    }
+    outln!(out, "lights: {}", s.lights.len());
+    outln!(out, "volumes: {}", l.info.volumes.len());
+    let (lo, hi) = s.bounds();
+    outln!(
+        out,
+        "bounds: {:.3?} .. {:.3?}",
+        lo.to_array(),
+        hi.to_array()
+    );
+    for w in &l.warnings {
+        outln!(out, "warning: {w}");
+    }
+}

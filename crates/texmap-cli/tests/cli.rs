@@ -1,0 +1,316 @@
+//! The command line on good and bad scene files: exit codes, one-line messages naming the
+//! file, no output file after a failure.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn texmap(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_texmap"))
+        .args(args)
+        .output()
+        .expect("the texmap binary runs")
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("texmap-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A triangle's binary buffer: 3 positions, 3 uvs, 3 u16 indices (+2 bytes padding).
+fn triangle_bin(indices: [u16; 3]) -> Vec<u8> {
+    let mut b = Vec::new();
+    for p in [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] {
+        for v in p {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    for uv in [[0.0f32, 1.0], [1.0, 1.0], [0.0, 0.0]] {
+        for v in uv {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    for i in indices {
+        b.extend_from_slice(&i.to_le_bytes());
+    }
+    b.extend_from_slice(&[0, 0]);
+    b
+}
+
+/// glTF JSON for the triangle; `buffer_uri` None means the GLB binary chunk.
+fn triangle_json(buffer_uri: Option<&str>, image_uri: Option<&str>, extra: &str) -> String {
+    let buffer = match buffer_uri {
+        Some(u) => format!(r#"{{"byteLength": 68, "uri": "{u}"}}"#),
+        None => r#"{"byteLength": 68}"#.to_string(),
+    };
+    let (material, textures) = match image_uri {
+        Some(u) => (
+            r#","material": 0"#.to_string(),
+            format!(
+                r#","materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}}}}}}],
+                   "textures": [{{"source": 0}}], "images": [{{"uri": "{u}"}}]"#
+            ),
+        ),
+        None => (String::new(), String::new()),
+    };
+    format!(
+        r#"{{"asset": {{"version": "2.0"}}{extra},
+  "scene": 0, "scenes": [{{"nodes": [0]}}], "nodes": [{{"mesh": 0}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1}}, "indices": 2{material}}}]}}],
+  "buffers": [{buffer}],
+  "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 36}},
+                  {{"buffer": 0, "byteOffset": 36, "byteLength": 24}},
+                  {{"buffer": 0, "byteOffset": 60, "byteLength": 6}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                  "min": [0, 0, 0], "max": [1, 1, 0]}},
+                {{"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}},
+                {{"bufferView": 2, "componentType": 5123, "count": 3, "type": "SCALAR"}}]
+  {textures}}}"#
+    )
+}
+
+fn write_gltf(
+    d: &Path,
+    name: &str,
+    indices: [u16; 3],
+    image: Option<&str>,
+    extra: &str,
+) -> PathBuf {
+    std::fs::write(d.join("tri.bin"), triangle_bin(indices)).unwrap();
+    let p = d.join(name);
+    std::fs::write(&p, triangle_json(Some("tri.bin"), image, extra)).unwrap();
+    p
+}
+
+fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
+    let mut j = json.as_bytes().to_vec();
+    while j.len() % 4 != 0 {
+        j.push(b' ');
+    }
+    let total = 12 + 8 + j.len() + 8 + bin.len();
+    let mut out = Vec::new();
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(j.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&j);
+    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(bin);
+    out
+}
+
+fn png(d: &Path, name: &str) {
+    image::RgbaImage::from_pixel(4, 4, image::Rgba([10, 200, 30, 255]))
+        .save(d.join(name))
+        .unwrap();
+}
+
+/// Asserts a failure: non-zero exit, one line on stderr containing every `needles`, and no
+/// output file.
+fn assert_fails(out: &Output, needles: &[&str], output_file: &Path) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "expected failure, stderr: {stderr}");
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert_eq!(
+        stderr.trim().lines().count(),
+        1,
+        "one line expected: {stderr}"
+    );
+    for n in needles {
+        assert!(stderr.contains(n), "{n:?} not in {stderr:?}");
+    }
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        !output_file.exists(),
+        "a failed run left {}",
+        output_file.display()
+    );
+}
+
+fn render(file: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "render",
+        file.to_str().unwrap(),
+        "--size",
+        "32x24",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    texmap(&args)
+}
+
+#[test]
+fn good_gltf_glb_and_obj_render_and_info_lists_them() {
+    let d = dir("good");
+    png(&d, "tex.png");
+    let g = write_gltf(&d, "tri.gltf", [0, 1, 2], Some("tex.png"), "");
+    let out = d.join("g.png");
+    let r = render(&g, &out, &[]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert!(out.exists());
+
+    let json = triangle_json(None, None, "");
+    let b = d.join("tri.glb");
+    std::fs::write(&b, glb(&json, &triangle_bin([0, 1, 2]))).unwrap();
+    let r = render(&b, &d.join("b.png"), &["--quiet"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+
+    let o = d.join("q.obj");
+    std::fs::write(&o, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n").unwrap();
+    let r = render(&o, &d.join("o.png"), &[]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+
+    let info = texmap(&["info", g.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&info.stdout);
+    assert!(info.status.success());
+    assert!(text.contains("meshes: 1 (1 triangles"), "{text}");
+    assert!(text.contains("tex.png: 4x4"), "{text}");
+    let info = texmap(&["info", o.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&info.stdout).contains("2 triangles"));
+}
+
+#[test]
+fn truncated_glb_is_one_line_naming_the_file() {
+    let d = dir("trunc");
+    let json = triangle_json(None, None, "");
+    let bytes = glb(&json, &triangle_bin([0, 1, 2]));
+    let b = d.join("cut.glb");
+    std::fs::write(&b, &bytes[..bytes.len() - 30]).unwrap();
+    let out = d.join("o.png");
+    assert_fails(&render(&b, &out, &[]), &["cut.glb"], &out);
+}
+
+#[test]
+fn missing_texture_fails_and_lenient_draws_a_placeholder() {
+    let d = dir("missing");
+    let g = write_gltf(&d, "m.gltf", [0, 1, 2], Some("nothere.png"), "");
+    let out = d.join("o.png");
+    assert_fails(&render(&g, &out, &[]), &["nothere.png"], &out);
+    let r = render(&g, &out, &["--lenient"]);
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(r.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("warning") && stderr.contains("placeholder"),
+        "{stderr}"
+    );
+    assert!(out.exists());
+}
+
+#[test]
+fn out_of_range_index_is_an_error() {
+    let d = dir("oor");
+    let g = write_gltf(&d, "oor.gltf", [0, 1, 7], None, "");
+    let out = d.join("o.png");
+    assert_fails(
+        &render(&g, &out, &[]),
+        &["oor.gltf", "index 7 is out of range"],
+        &out,
+    );
+}
+
+#[test]
+fn malformed_obj_line_is_named() {
+    let d = dir("obj");
+    let o = d.join("bad.obj");
+    std::fs::write(&o, "v 0 0 0\nv 1 0 0\nv 0 one 0\nf 1 2 3\n").unwrap();
+    let out = d.join("o.png");
+    assert_fails(&render(&o, &out, &[]), &["bad.obj", "line 3"], &out);
+}
+
+#[test]
+fn unknown_toml_key_is_named() {
+    let d = dir("toml");
+    let t = d.join("s.toml");
+    std::fs::write(&t, "[[meshes]]\nprimitive = \"cube\"\ncolour = [1, 0, 0]\n").unwrap();
+    let out = d.join("o.png");
+    assert_fails(
+        &render(&t, &out, &[]),
+        &["s.toml", "line 3", "unknown field `colour`"],
+        &out,
+    );
+}
+
+#[test]
+fn references_outside_the_folder_need_the_flag() {
+    let d = dir("outside");
+    let sub = d.join("model");
+    std::fs::create_dir_all(&sub).unwrap();
+    png(&d, "up.png");
+    let g = write_gltf(&sub, "o.gltf", [0, 1, 2], Some("../up.png"), "");
+    let out = d.join("o.png");
+    assert_fails(
+        &render(&g, &out, &[]),
+        &["o.gltf", "--allow-outside-paths"],
+        &out,
+    );
+    let r = render(&g, &out, &["--allow-outside-paths"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+}
+
+#[test]
+fn network_uris_are_refused() {
+    let d = dir("http");
+    let g = write_gltf(
+        &d,
+        "h.gltf",
+        [0, 1, 2],
+        Some("https://example.com/t.png"),
+        "",
+    );
+    let out = d.join("o.png");
+    assert_fails(
+        &render(&g, &out, &["--allow-outside-paths"]),
+        &["h.gltf", "network"],
+        &out,
+    );
+}
+
+#[test]
+fn unsupported_required_extension_fails_optional_one_warns() {
+    let d = dir("ext");
+    let g = write_gltf(
+        &d,
+        "req.gltf",
+        [0, 1, 2],
+        None,
+        r#","extensionsUsed": ["KHR_draco_mesh_compression"], "extensionsRequired": ["KHR_draco_mesh_compression"]"#,
+    );
+    let out = d.join("o.png");
+    assert_fails(
+        &render(&g, &out, &[]),
+        &["req.gltf", "KHR_draco_mesh_compression"],
+        &out,
+    );
+    let g = write_gltf(
+        &d,
+        "opt.gltf",
+        [0, 1, 2],
+        None,
+        r#","extensionsUsed": ["KHR_materials_sheen"]"#,
+    );
+    let r = render(&g, &out, &[]);
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(r.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("warning") && stderr.contains("KHR_materials_sheen"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn missing_scene_file_and_unknown_format() {
+    let d = dir("nofile");
+    let out = d.join("o.png");
+    assert_fails(
+        &render(&d.join("none.gltf"), &out, &[]),
+        &["none.gltf"],
+        &out,
+    );
+    let x = d.join("scene.fbx");
+    std::fs::write(&x, "x").unwrap();
+    assert_fails(&render(&x, &out, &[]), &["scene.fbx"], &out);
+}
