@@ -20,6 +20,7 @@
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
+use crate::geometry::Projection;
 use crate::pipeline::{
     self, DrawCall, DrawState, FragmentShader, PostVertex, Quad, Target, Viewport, MAX_VARYINGS,
 };
@@ -320,6 +321,8 @@ struct DrawInfo<'a> {
     object_at: Option<usize>,
     /// The projected texture's sampler, with the command line's overrides applied.
     projected_sampler: Option<Sampler>,
+    /// The projection, with an unset bounding-sphere centre resolved to the mesh's box centre.
+    projection: Option<Projection>,
     varyings: usize,
     mirrored: bool,
 }
@@ -372,9 +375,27 @@ impl<'a> DrawInfo<'a> {
                 slot.uv_scale,
             )
         });
-        let projected_sampler = match &material.procedural {
-            Some(Procedural::Projected { slot, .. }) => Some(overridden(slot.sampler)),
-            _ => None,
+        let (projected_sampler, projection) = match &material.procedural {
+            Some(Procedural::Projected { slot, projection }) => {
+                let projection = match *projection {
+                    Projection::BoundingSphere { center } if !center.is_finite() => {
+                        let (lo, hi) = mesh.positions.iter().fold(
+                            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+                            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+                        );
+                        Projection::BoundingSphere {
+                            center: if lo.cmple(hi).all() {
+                                (lo + hi) * 0.5
+                            } else {
+                                Vec3::ZERO
+                            },
+                        }
+                    }
+                    p => p,
+                };
+                (Some(overridden(slot.sampler)), Some(projection))
+            }
+            _ => (None, None),
         };
         let b = material.base_color;
         DrawInfo {
@@ -387,6 +408,7 @@ impl<'a> DrawInfo<'a> {
             needs_position,
             object_at,
             projected_sampler,
+            projection,
             varyings,
             mirrored: Mat3::from_mat4(mesh.world_from_object).determinant() < 0.0,
         }
@@ -583,7 +605,7 @@ impl FragmentShader for SceneShader<'_> {
                 c *= (vc.truncate() * vc.w).extend(vc.w);
             }
             if let (Some(k), Some(proc)) = (d.object_at, &m.procedural) {
-                c *= procedural_color(proc, d.projected_sampler.as_ref(), quad, j, k);
+                c *= procedural_color(proc, d, quad, j, k);
             }
             let (df, sp) = match d.mode {
                 Mode::Unlit => (Vec3::ONE, Vec3::ZERO),
@@ -612,13 +634,7 @@ impl FragmentShader for SceneShader<'_> {
 
 /// The procedural colour of pixel `j` of a quad, from the object-space position and normal at
 /// varyings `k..k + 6` and the position's screen derivatives.
-fn procedural_color(
-    proc: &Procedural,
-    sampler: Option<&Sampler>,
-    quad: &Quad,
-    j: usize,
-    k: usize,
-) -> Vec4 {
+fn procedural_color(proc: &Procedural, d: &DrawInfo, quad: &Quad, j: usize, k: usize) -> Vec4 {
     let v = &quad.varyings[j];
     let p = Vec3::new(v[k], v[k + 1], v[k + 2]);
     let dp_dx = Vec3::new(quad.ddx(k), quad.ddx(k + 1), quad.ddx(k + 2));
@@ -638,12 +654,17 @@ fn procedural_color(
         }
         Procedural::Projected { slot, projection } => {
             let n = Vec3::new(v[k + 3], v[k + 4], v[k + 5]);
+            let projection = d.projection.as_ref().unwrap_or(projection);
             let fp = projection.map_footprint(p, dp_dx, dp_dy, n);
             let mut fp = slot.transform.apply_footprint(&fp);
             fp.uv *= slot.uv_scale;
             fp.duv_dx *= slot.uv_scale;
             fp.duv_dy *= slot.uv_scale;
-            sample(&slot.texture, sampler.unwrap_or(&slot.sampler), &fp)
+            sample(
+                &slot.texture,
+                d.projected_sampler.as_ref().unwrap_or(&slot.sampler),
+                &fp,
+            )
         }
     }
 }

@@ -323,3 +323,42 @@ fn texture_colour_space_is_declared() {
     assert!((srgb.texel(0, 0, 0).x - 0.2158).abs() < 1e-3);
     assert!((lin.texel(0, 0, 0).x - 0.502).abs() < 1e-3);
 }
+
+#[test]
+fn scene_file_with_procedural_and_projected_materials() {
+    // scenes/procedural.toml: every solid pattern kind, a cylindrical photo and the
+    // bounding-sphere projection on a complex mesh (the glTF Duck). Its photo and duck come
+    // from the shared corpus.
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    if !root.join("../shared/assets/gltf/Duck").is_dir() {
+        eprintln!("SKIPPED: the asset corpus ../shared/assets is absent");
+        return;
+    }
+    let loaded =
+        texmap::scene::load(&root.join("scenes/procedural.toml"), &Default::default()).unwrap();
+    let camera = loaded.scene.camera.unwrap();
+    let img = rgb8(&loaded.scene, &camera, 320, 180, 1);
+    common::assert_golden("scene_procedural", 320, 180, &img, MIN_PSNR);
+}
+
+#[test]
+fn scene_file_rejects_bad_procedural_settings() {
+    let dir = std::env::temp_dir().join(format!("texmap-proc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cases = [
+        ("procedural = { pattern = \"lava\" }", "lava"),
+        (
+            "projected = { projection = \"conical\", texture = { file = \"x.png\" } }",
+            "conical",
+        ),
+        ("procedural = { pattern = \"wood\", grain = 3 }", "grain"),
+    ];
+    for (i, (line, needle)) in cases.iter().enumerate() {
+        let path = dir.join(format!("bad{i}.toml"));
+        std::fs::write(&path, format!("[materials.m]\n{line}\n")).unwrap();
+        let e = texmap::scene::load(&path, &Default::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(needle), "{e}");
+    }
+}

@@ -14,8 +14,10 @@ use serde::Deserialize;
 
 use super::load::{read_bounded, AssetInfo, ImageSource, LoadOptions, Loaded, TextureCache};
 use super::primitives::Primitive;
-use super::{AlphaMode, Camera, Light, Material, Scene, TextureSlot};
+use super::{AlphaMode, Camera, Light, Material, Procedural, Scene, TextureSlot};
+use crate::geometry::Projection;
 use crate::shading::{MapChannel, MaterialMap};
+use crate::texture::procedural::Solid;
 use crate::texture::{Filter, Sampler, TextureTransform, Wrap};
 use crate::{Error, Result};
 
@@ -132,6 +134,36 @@ struct MaterialSpec {
     base_color_texture: Option<TextureSpec>,
     #[serde(default)]
     maps: MapsSpec,
+    /// A solid (procedural) texture multiplying the base colour.
+    procedural: Option<ProceduralSpec>,
+    /// An image whose coordinates a projection generates per pixel, multiplying the base colour.
+    projected: Option<ProjectedSpec>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ProceduralSpec {
+    /// marble | wood | granite | clouds | checker3d | bricks.
+    pattern: String,
+    /// Linear RGB for pattern values 0 and 1 (default: the pattern's own).
+    colors: Option<[[f32; 3]; 2]>,
+    /// Box-filter the pattern over the pixel footprint (default true).
+    #[serde(default = "yes")]
+    antialias: bool,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ProjectedSpec {
+    /// planar-x | planar-y | planar-z | cylindrical | spherical | cube | bounding-sphere.
+    projection: String,
+    /// Centre for bounding-sphere, in object space (default: the mesh's bounding-box centre).
+    center: Option<[f32; 3]>,
+    texture: TextureSpec,
+}
+
+fn yes() -> bool {
+    true
 }
 
 #[derive(Deserialize, Default)]
@@ -505,6 +537,43 @@ fn material(
     if let Some(t) = &m.base_color_texture {
         mat.base_color_texture = slot(dir, t, true, textures)?;
     }
+    mat.procedural = match (&m.procedural, &m.projected) {
+        (Some(_), Some(_)) => {
+            return Err(Error::parameter(
+                "a material takes `procedural` or `projected`, not both",
+            ))
+        }
+        (Some(p), None) => {
+            let solid = Solid::named(&p.pattern).ok_or_else(|| {
+                Error::parameter(format!(
+                    "pattern {:?}: expected marble, wood, granite, clouds, checker3d or bricks",
+                    p.pattern
+                ))
+            })?;
+            Some(Procedural::Solid {
+                colors: p
+                    .colors
+                    .map_or(solid.default_colors(), |c| c.map(Vec3::from)),
+                solid,
+                antialias: p.antialias,
+            })
+        }
+        (None, Some(p)) => {
+            let mut projection = Projection::parse(&p.projection).ok_or_else(|| {
+                Error::parameter(format!(
+                    "projection {:?}: expected planar-x, planar-y, planar-z, cylindrical, spherical, cube or bounding-sphere",
+                    p.projection
+                ))
+            })?;
+            if let Projection::BoundingSphere { center } = &mut projection {
+                // NaN: resolved to the mesh's bounding-box centre when drawn.
+                *center = p.center.map_or(Vec3::NAN, Vec3::from);
+            }
+            slot(dir, &p.texture, true, textures)?
+                .map(|slot| Procedural::Projected { slot, projection })
+        }
+        (None, None) => None,
+    };
     let maps = &m.maps;
     for (channel, spec) in [
         (MapChannel::MetallicRoughness, &maps.metallic_roughness),

@@ -70,7 +70,8 @@ pub enum Procedural {
     },
     /// An image texture whose coordinates a projection generates per pixel from the
     /// object-space position (and normal, for cube faces and cylinder caps), with analytic
-    /// derivatives for the footprint — no seam where u wraps.
+    /// derivatives for the footprint — no seam where u wraps. A bounding-sphere projection
+    /// whose centre is not finite (NaN) is centred on each mesh's bounding box.
     Projected {
         slot: TextureSlot,
         projection: Projection,
