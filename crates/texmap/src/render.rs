@@ -26,7 +26,9 @@ use crate::pipeline::{
 };
 pub use crate::pipeline::{CullMode, Interpolation};
 use crate::scene::{Camera, Mesh, Scene};
-use crate::shading::{combine, illuminate, AlphaMode, Light, Lighting, Material, Procedural};
+use crate::shading::{
+    combine, illuminate, AlphaMode, Light, Lighting, MapChannel, Material, Procedural, TextureSlot,
+};
 use crate::texture::{sample, sample_quad, Filter, Sampler, Texture2D, TextureTransform, Wrap};
 use crate::{Error, Result};
 
@@ -306,6 +308,36 @@ enum Mode {
     Interpolated,
 }
 
+/// A texture the fragment stage reads: image, sampler (command-line overrides applied), the
+/// slot's uv transform and scale, its uv set, and the map's scale (normal scale, occlusion
+/// strength).
+#[derive(Clone, Copy)]
+struct MapRead<'a> {
+    tex: &'a Texture2D,
+    sampler: Sampler,
+    transform: TextureTransform,
+    uv_scale: f32,
+    /// Offset of the raw uv set in the varyings (0 for set 0).
+    uv_at: usize,
+    scale: f32,
+}
+
+impl MapRead<'_> {
+    /// The quad's four reads. The transform is affine, so applying it per pixel to the raw,
+    /// interpolated uv (and its linear part to the derivatives) equals applying it per vertex.
+    fn quad(&self, quad: &Quad) -> [Vec4; 4] {
+        let k = self.uv_at;
+        let m = self.transform.matrix() * self.uv_scale;
+        let offset = self.transform.offset * self.uv_scale;
+        let uvs = std::array::from_fn(|j| {
+            m * Vec2::new(quad.varyings[j][k], quad.varyings[j][k + 1]) + offset
+        });
+        let dx = m * Vec2::new(quad.ddx(k), quad.ddx(k + 1));
+        let dy = m * Vec2::new(quad.ddy(k), quad.ddy(k + 1));
+        sample_quad(self.tex, &self.sampler, &uvs, dx, dy, quad.mask)
+    }
+}
+
 /// Per-draw shading data.
 struct DrawInfo<'a> {
     material: &'a Material,
@@ -313,7 +345,17 @@ struct DrawInfo<'a> {
     flat: bool,
     /// Straight-alpha base colour, premultiplied.
     base: Vec4,
-    texture: Option<(&'a Texture2D, Sampler, TextureTransform, f32)>,
+    texture: Option<MapRead<'a>>,
+    /// Tangent-space normal map (Phong shading with mesh tangents only).
+    normal_map: Option<MapRead<'a>>,
+    /// Ambient occlusion: scales the ambient term by 1 + strength·(R − 1).
+    occlusion_map: Option<MapRead<'a>>,
+    /// Emissive colour map: multiplies the material's emissive factor.
+    emissive_map: Option<MapRead<'a>>,
+    /// Offset of the raw second uv set, when some texture reads it.
+    uv1_at: Option<usize>,
+    /// Offset of the world-space tangent and handedness (4 floats), for normal mapping.
+    tangent_at: Option<usize>,
     /// Offset of the vertex colour in the varyings.
     color_at: Option<usize>,
     needs_position: bool,
@@ -356,6 +398,24 @@ impl<'a> DrawInfo<'a> {
             varyings += 6;
             varyings - 6
         });
+        let has_uv1 = mesh.uvs1.len() == mesh.positions.len();
+        let uses_set1 = material
+            .base_color_texture
+            .iter()
+            .map(|t| t.tex_coord)
+            .chain(material.maps.iter().map(|m| m.slot.tex_coord))
+            .any(|c| c == 1);
+        let uv1_at = (has_uv1 && uses_set1).then(|| {
+            varyings += 2;
+            varyings - 2
+        });
+        let has_tangents = mesh.tangents.len() == mesh.positions.len();
+        let tangent_at =
+            (mode == Mode::Phong && has_tangents && material.map(MapChannel::Normal).is_some())
+                .then(|| {
+                    varyings += 4;
+                    varyings - 4
+                });
         let overridden = |mut s: Sampler| {
             if let Some(f) = settings.filter_override {
                 s.filter = f;
@@ -367,14 +427,35 @@ impl<'a> DrawInfo<'a> {
             }
             s
         };
-        let texture = material.base_color_texture.as_ref().map(|slot| {
-            (
-                &*slot.texture,
-                overridden(slot.sampler),
-                slot.transform,
-                slot.uv_scale,
-            )
-        });
+        let read = |slot: &'a TextureSlot, scale: f32| MapRead {
+            tex: &slot.texture,
+            sampler: overridden(slot.sampler),
+            transform: slot.transform,
+            uv_scale: slot.uv_scale,
+            // A texture on set 1 of a mesh without it reads set 0 (the peers read (0, 0)).
+            uv_at: if slot.tex_coord == 1 {
+                uv1_at.unwrap_or(0)
+            } else {
+                0
+            },
+            scale,
+        };
+        let texture = material
+            .base_color_texture
+            .as_ref()
+            .map(|slot| read(slot, 1.0));
+        let map = |c: MapChannel| material.map(c).map(|m| read(&m.slot, m.scale));
+        let normal_map = tangent_at.and(map(MapChannel::Normal));
+        let occlusion_map = if mode == Mode::Unlit {
+            None
+        } else {
+            map(MapChannel::Occlusion)
+        };
+        let emissive_map = if mode == Mode::Unlit {
+            None
+        } else {
+            map(MapChannel::Emissive)
+        };
         let (projected_sampler, projection) = match &material.procedural {
             Some(Procedural::Projected { slot, projection }) => {
                 let projection = match *projection {
@@ -404,6 +485,11 @@ impl<'a> DrawInfo<'a> {
             flat,
             base: (b.truncate() * b.w).extend(b.w),
             texture,
+            normal_map,
+            occlusion_map,
+            emissive_map,
+            uv1_at,
+            tangent_at,
             color_at,
             needs_position,
             object_at,
@@ -429,6 +515,9 @@ impl<'a> DrawInfo<'a> {
             depth_write: zbuffer && !blend,
             blend,
             texture_reads: u32::from(self.texture.is_some())
+                + u32::from(self.normal_map.is_some())
+                + u32::from(self.occlusion_map.is_some())
+                + u32::from(self.emissive_map.is_some())
                 + u32::from(self.projected_sampler.is_some()),
         }
     }
@@ -500,25 +589,22 @@ impl VertexShader<'_> {
     /// uv (transformed and scaled) and the vertex colour.
     fn common_varyings(&self, i: usize) -> [f32; MAX_VARYINGS] {
         let mut var = [0.0; MAX_VARYINGS];
-        let set1 = self
-            .material
-            .base_color_texture
-            .as_ref()
-            .is_some_and(|t| t.tex_coord == 1);
-        let uvs = if set1 {
-            &self.mesh.uvs1
-        } else {
-            &self.mesh.uvs
-        };
-        let uv = uvs.get(i).copied().unwrap_or(Vec2::ZERO);
-        let uv = match &self.draw.texture {
-            Some((_, _, t, scale)) => t.apply(uv) * *scale,
-            None => uv,
-        };
+        // Raw uv sets: each texture applies its own transform per pixel.
+        let uv = self.mesh.uvs.get(i).copied().unwrap_or(Vec2::ZERO);
         var[0] = uv.x;
         var[1] = uv.y;
         if let Some(c) = self.draw.color_at {
             var[c..c + 4].copy_from_slice(&self.mesh.colors[i].to_array());
+        }
+        if let Some(k) = self.draw.uv1_at {
+            var[k..k + 2].copy_from_slice(&self.mesh.uvs1[i].to_array());
+        }
+        if let Some(k) = self.draw.tangent_at {
+            let t = self.mesh.tangents[i];
+            let world =
+                (Mat3::from_mat4(self.mesh.world_from_object) * t.truncate()).normalize_or_zero();
+            var[k..k + 3].copy_from_slice(&world.to_array());
+            var[k + 3] = t.w;
         }
         if let Some(k) = self.draw.object_at {
             var[k..k + 3].copy_from_slice(&self.mesh.positions[i].to_array());
@@ -583,14 +669,12 @@ impl FragmentShader for SceneShader<'_> {
     fn shade(&self, draw: u32, quad: &Quad, out: &mut [Vec4; 4]) -> u8 {
         let d = &self.draws[draw as usize];
         let m = d.material;
-        let duv_dx = Vec2::new(quad.ddx(0), quad.ddx(1));
-        let duv_dy = Vec2::new(quad.ddy(0), quad.ddy(1));
         let mut kept = quad.mask;
         // The quad's texels in one call: one level of detail and format dispatch per quad.
-        let texels = d.texture.as_ref().map(|(tex, sampler, _, _)| {
-            let uvs = std::array::from_fn(|j| Vec2::new(quad.varyings[j][0], quad.varyings[j][1]));
-            sample_quad(tex, sampler, &uvs, duv_dx, duv_dy, quad.mask)
-        });
+        let texels = d.texture.as_ref().map(|t| t.quad(quad));
+        let normals = d.normal_map.as_ref().map(|t| t.quad(quad));
+        let occlusion = d.occlusion_map.as_ref().map(|t| t.quad(quad));
+        let emission = d.emissive_map.as_ref().map(|t| t.quad(quad));
         for j in 0..4 {
             if quad.mask & (1 << j) == 0 {
                 continue;
@@ -611,6 +695,20 @@ impl FragmentShader for SceneShader<'_> {
                 Mode::Unlit => (Vec3::ONE, Vec3::ZERO),
                 Mode::Phong => {
                     let mut n = Vec3::new(v[2], v[3], v[4]).normalize_or_zero();
+                    if let (Some(k), Some(texel), Some(map)) =
+                        (d.tangent_at, &normals, &d.normal_map)
+                    {
+                        // Tangent space → world: T, B = (N × T)·w, N; the map's x and y scaled.
+                        let t = Vec3::new(v[k], v[k + 1], v[k + 2]);
+                        let t = (t - n * n.dot(t)).normalize_or_zero();
+                        let b = n.cross(t) * v[k + 3].signum();
+                        let ts = texel[j].truncate() * 2.0 - Vec3::ONE;
+                        let ts = Vec3::new(ts.x * map.scale, ts.y * map.scale, ts.z);
+                        let mapped = (t * ts.x + b * ts.y + n * ts.z).normalize_or_zero();
+                        if mapped != Vec3::ZERO && t != Vec3::ZERO {
+                            n = mapped;
+                        }
+                    }
                     if m.double_sided && !quad.front_facing {
                         n = -n;
                     }
@@ -623,6 +721,16 @@ impl FragmentShader for SceneShader<'_> {
                 }
                 Mode::Interpolated => (Vec3::new(v[2], v[3], v[4]), Vec3::new(v[5], v[6], v[7])),
             };
+            let (mut df, mut sp) = (df, sp);
+            if let (Some(texel), Some(map)) = (&occlusion, &d.occlusion_map) {
+                // Occlusion darkens the ambient term only: 1 + strength·(R − 1).
+                let o = 1.0 + map.scale * (texel[j].x - 1.0);
+                df -= self.lighting.ambient * m.ambient * (1.0 - o);
+            }
+            if let Some(texel) = &emission {
+                // (illuminate leaves the emissive factor out when a map modulates it.)
+                sp += m.emissive * texel[j].truncate();
+            }
             match combine(m.alpha_mode, c, df, sp) {
                 Some(color) => out[j] = color,
                 None => kept &= !(1 << j),

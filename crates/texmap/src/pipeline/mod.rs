@@ -51,7 +51,7 @@ pub use setup::{assemble_triangle, Prim};
 pub use transform::{PostVertex, Viewport};
 
 /// The number of floats a vertex can carry to the fragment shader.
-pub const MAX_VARYINGS: usize = 18;
+pub const MAX_VARYINGS: usize = 24;
 
 /// Fractional bits of the fixed-point screen positions.
 pub const SUBPIXEL_BITS: u32 = 8;
