@@ -41,51 +41,42 @@ pub fn load_texture(path: &Path, color_space: ColorSpace, limits: &Limits) -> Re
 
 /// Decodes an image file, refusing it before allocation when it breaks `limits`.
 pub fn decode_image(path: &Path, limits: &Limits) -> Result<DynamicImage> {
-    let reader = ImageReader::open(path).map_err(|e| Error::io(path, e))?;
-    let reader = reader
-        .with_guessed_format()
-        .map_err(|e| Error::io(path, e))?;
-    if reader.format().is_none() {
-        return Err(Error::decode(
-            path,
-            "not an image format texmap reads (PNG, JPEG, TGA, BMP, HDR, EXR)",
-        ));
-    }
-    // Read the header first: refuse oversized images before the decoder allocates.
-    let (w, h) = ImageReader::open(path)
-        .and_then(|r| r.with_guessed_format())
-        .map_err(|e| Error::io(path, e))?
-        .into_dimensions()
-        .map_err(|e| image_error(path, e))?;
-    check_size(path, w, h, limits)?;
-    let mut reader = reader;
-    let mut l = image::Limits::default();
-    l.max_image_width = Some(limits.max_width);
-    l.max_image_height = Some(limits.max_height);
-    l.max_alloc = Some(limits.max_bytes);
-    reader.limits(l);
-    reader.decode().map_err(|e| image_error(path, e))
+    decode_with(|| ImageReader::open(path), path, limits)
 }
 
-/// Decodes an image held in memory (`name` is used in messages and to guess nothing: the
-/// format comes from the bytes), refusing it before allocation when it breaks `limits`.
+/// Decodes an image held in memory (`name` is used in messages; the format comes from the
+/// bytes), refusing it before allocation when it breaks `limits`.
 pub fn decode_image_bytes(bytes: &[u8], name: &Path, limits: &Limits) -> Result<DynamicImage> {
-    let reader = ImageReader::new(std::io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| Error::io(name, e))?;
+    decode_with(
+        || Ok(ImageReader::new(std::io::Cursor::new(bytes))),
+        name,
+        limits,
+    )
+}
+
+/// The decoding both sources share: `open` is called twice, once to read the header alone.
+fn decode_with<R: std::io::BufRead + std::io::Seek>(
+    open: impl Fn() -> std::io::Result<ImageReader<R>>,
+    name: &Path,
+    limits: &Limits,
+) -> Result<DynamicImage> {
+    let guessed = || {
+        open()
+            .and_then(|r| r.with_guessed_format())
+            .map_err(|e| Error::io(name, e))
+    };
+    let mut reader = guessed()?;
     if reader.format().is_none() {
         return Err(Error::decode(
             name,
             "not an image format texmap reads (PNG, JPEG, TGA, BMP, HDR, EXR)",
         ));
     }
-    let (w, h) = ImageReader::new(std::io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| Error::io(name, e))?
+    // Read the header first: refuse oversized images before the decoder allocates.
+    let (w, h) = guessed()?
         .into_dimensions()
         .map_err(|e| image_error(name, e))?;
     check_size(name, w, h, limits)?;
-    let mut reader = reader;
     let mut l = image::Limits::default();
     l.max_image_width = Some(limits.max_width);
     l.max_image_height = Some(limits.max_height);
