@@ -3,6 +3,7 @@
 mod compare;
 mod output;
 mod render;
+mod volume;
 
 use std::process::ExitCode;
 

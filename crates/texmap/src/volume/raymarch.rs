@@ -1,0 +1,666 @@
+//! Ray marching: one ray per pixel from the camera, clipped to the volume's box, sampled at
+//! a fixed step in world units and composited front to back.
+//!
+//! Rules:
+//! - Samples sit at `t_entry + (k + j)·step`, `j ∈ [0, 1)` a hash of the pixel (jitter; 0 when
+//!   off): the same pixel always gets the same offset, whatever the thread count.
+//! - Composite: `C += (1 − A)·α·c`, `A += (1 − A)·α`, with `α = 1 − (1 − a)^step` (opacity per
+//!   unit length, VTK's unit distance 1). Rays stop once `A ≥ early_termination`.
+//! - Empty-space skipping: the box is cut into 8³-cell bricks with the min/max of their
+//!   voxels; a brick whose whole value interval is transparent under the table is crossed in
+//!   one jump to the first sample position past it (so skipping never moves samples).
+//! - Values are read by trilinear interpolation from a plain `f32` copy of the field
+//!   ([`super::Volume::value_at`]), which is tested equal to the texture engine's
+//!   [`crate::texture::sample_3d`] (`value_at_engine`): the engine dispatches on the texel
+//!   format and the wrap mode per read, which costs more than the rest of the sample (see the
+//!   README's benchmark); `MarchParams::engine_sampling` selects the engine path.
+//! - Colours are display values composited as VTK composites them; the frame stores
+//!   `srgb_to_linear` of the result, so writing it as sRGB gives VTK's bytes.
+
+use glam::{Mat3, Vec3, Vec4};
+use rayon::prelude::*;
+
+use super::transfer::{gradient_factor, PreIntegrated, TransferFunction, TransferLut};
+use super::{trilinear, Volume};
+use crate::render::{Frame, FrameStats};
+use crate::scene::Camera;
+use crate::{Error, Result};
+
+/// What a ray computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Mode {
+    /// Direct volume rendering: classification and front-to-back compositing.
+    #[default]
+    Composite,
+    /// Maximum intensity projection (grey, the value range mapped to [0, 1]).
+    Mip,
+    /// The first crossing of the iso-value, refined by bisection, shaded.
+    Iso,
+    /// The average value along the ray (grey, the value range mapped to [0, 1]).
+    Xray,
+}
+
+/// Where classification happens relative to interpolation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Classification {
+    /// Interpolate values, then classify (the default; sharpest).
+    #[default]
+    Post,
+    /// Classify the eight voxels, then interpolate premultiplied colour and opacity.
+    Pre,
+    /// Classify each segment between two samples from a pre-integrated table.
+    PreIntegrated,
+}
+
+/// Blinn-Phong coefficients for a white headlight (VTK's defaults in `vtk_volume.py`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lighting {
+    pub ambient: f32,
+    pub diffuse: f32,
+    pub specular: f32,
+    pub power: f32,
+}
+
+impl Default for Lighting {
+    fn default() -> Self {
+        Lighting {
+            ambient: 0.2,
+            diffuse: 0.7,
+            specular: 0.2,
+            power: 10.0,
+        }
+    }
+}
+
+/// How a volume is rendered.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MarchParams {
+    pub mode: Mode,
+    /// Distance between samples along a ray, world units (> 0).
+    pub step: f32,
+    /// Blinn-Phong shading from central-difference gradients (composite mode).
+    pub shade: bool,
+    pub classification: Classification,
+    pub lighting: Lighting,
+    /// Iso-value for [`Mode::Iso`] (default: the transfer function's first opaque value).
+    pub iso: Option<f32>,
+    /// Opacity × a piecewise-linear function of the gradient magnitude: `(g, factor)` points
+    /// (the 2D transfer function); empty for none.
+    pub gradient_opacity: Vec<(f32, f32)>,
+    /// Jittered ray starts (hides wood-grain banding).
+    pub jitter: bool,
+    pub empty_space_skipping: bool,
+    /// Stop a ray once its opacity reaches this (1 or more: never).
+    pub early_termination: f32,
+    /// Read values through the texture engine instead of the plain copy (slow; for checks).
+    pub engine_sampling: bool,
+}
+
+impl Default for MarchParams {
+    fn default() -> Self {
+        MarchParams {
+            mode: Mode::Composite,
+            step: 0.5,
+            shade: false,
+            classification: Classification::Post,
+            lighting: Lighting::default(),
+            iso: None,
+            gradient_opacity: Vec::new(),
+            jitter: true,
+            empty_space_skipping: true,
+            early_termination: 0.995,
+            engine_sampling: false,
+        }
+    }
+}
+
+/// Cells per brick side for empty-space skipping.
+pub const BRICK: u32 = 8;
+
+/// Min/max of the voxels of each brick (computed once per volume).
+#[derive(Clone, Debug)]
+pub struct Bricks {
+    pub counts: [u32; 3],
+    pub min_max: Vec<(f32, f32)>,
+}
+
+impl Bricks {
+    /// Brick `b` covers cells `[8b, 8b + 8)`, i.e. voxels `8b ..= 8b + 8`.
+    #[must_use]
+    pub fn new(vol: &Volume) -> Self {
+        let d = vol.dims();
+        let cells = d.map(|n| (n - 1).max(1));
+        let counts = cells.map(|c| c.div_ceil(BRICK));
+        let data = vol.scalars();
+        let (nx, ny) = (d[0] as usize, d[1] as usize);
+        let slabs: Vec<Vec<(f32, f32)>> = (0..counts[2])
+            .into_par_iter()
+            .map(|bz| {
+                let mut out =
+                    vec![(f32::INFINITY, f32::NEG_INFINITY); (counts[0] * counts[1]) as usize];
+                let z0 = bz * BRICK;
+                let z1 = (z0 + BRICK).min(d[2] - 1);
+                for z in z0..=z1 {
+                    for y in 0..d[1] {
+                        let by_lo = (y.saturating_sub(1) / BRICK).min(counts[1] - 1);
+                        let by_hi = (y / BRICK).min(counts[1] - 1);
+                        let row = &data[(z as usize * ny + y as usize) * nx..][..nx];
+                        for (x, &v) in row.iter().enumerate() {
+                            let x = x as u32;
+                            let bx_lo = (x.saturating_sub(1) / BRICK).min(counts[0] - 1);
+                            let bx_hi = (x / BRICK).min(counts[0] - 1);
+                            for by in by_lo..=by_hi {
+                                for bx in bx_lo..=bx_hi {
+                                    let m = &mut out[(by * counts[0] + bx) as usize];
+                                    m.0 = m.0.min(v);
+                                    m.1 = m.1.max(v);
+                                }
+                            }
+                        }
+                    }
+                }
+                out
+            })
+            .collect();
+        Bricks {
+            counts,
+            min_max: slabs.concat(),
+        }
+    }
+}
+
+/// A per-pixel hash in [0, 1) (jitter): the same pixel always gets the same value.
+#[inline]
+#[must_use]
+pub fn pixel_hash(x: u32, y: u32) -> f32 {
+    let mut h = x.wrapping_mul(0x8da6_b343) ^ y.wrapping_mul(0xd816_3841) ^ 0x9e37_79b9;
+    h ^= h >> 16;
+    h = h.wrapping_mul(0x7feb_352d);
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x846c_a68b);
+    h ^= h >> 16;
+    (h >> 8) as f32 / (1u32 << 24) as f32
+}
+
+/// A camera ray for pixel `(x, y)`: origin and unit direction in world space.
+#[inline]
+#[must_use]
+pub fn camera_ray(cam: &Camera, width: u32, height: u32, x: f32, y: f32) -> (Vec3, Vec3) {
+    let f = (cam.target - cam.eye).normalize();
+    let r = f.cross(cam.up).normalize();
+    let u = r.cross(f);
+    let th = (cam.fov_y_deg.to_radians() * 0.5).tan();
+    let aspect = width as f32 / height as f32;
+    let sx = (2.0 * x / width as f32 - 1.0) * th * aspect;
+    let sy = (1.0 - 2.0 * y / height as f32) * th;
+    (cam.eye, (f + r * sx + u * sy).normalize())
+}
+
+/// Everything a ray needs, prepared once per frame.
+struct Ctx<'a> {
+    vol: &'a Volume,
+    data: &'a [f32],
+    dims: [u32; 3],
+    hi: Vec3,
+    voxel_from_world: glam::Mat4,
+    /// Transposed linear part of voxel_from_world: voxel gradient → world gradient.
+    grad_to_world: Mat3,
+    lut: TransferLut,
+    pre_int: Option<PreIntegrated>,
+    empty: Vec<bool>,
+    brick_counts: [u32; 3],
+    p: &'a MarchParams,
+    iso: f32,
+    iso_color: Vec3,
+    range: (f32, f32),
+}
+
+/// Renders `vol` classified by `tf`, seen by `camera`, into a `width × height` frame, in
+/// rayon's current pool. `depth`, when given, holds per pixel (row-major, top row first) the
+/// distance along the ray from the eye where the ray stops (a surface in front).
+///
+/// The image does not depend on the number of threads.
+///
+/// # Errors
+/// [`Error::Parameter`] for a bad camera, size, step or depth buffer length.
+pub fn raymarch(
+    vol: &Volume,
+    tf: &TransferFunction,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    params: &MarchParams,
+    depth: Option<&[f32]>,
+) -> Result<Frame> {
+    camera.validate()?;
+    if width == 0 || height == 0 || width > 16384 || height > 16384 {
+        return Err(Error::parameter(format!(
+            "image size {width}x{height} is out of range"
+        )));
+    }
+    if !(params.step.is_finite() && params.step > 0.0) {
+        return Err(Error::parameter(format!(
+            "--step {} must be > 0",
+            params.step
+        )));
+    }
+    if let Some(d) = depth {
+        if d.len() != (width * height) as usize {
+            return Err(Error::parameter(format!(
+                "depth buffer has {} values for a {width}x{height} image",
+                d.len()
+            )));
+        }
+    }
+    let ctx = Ctx::new(vol, tf, params)?;
+    let w = width as usize;
+    let mut color = vec![Vec4::ZERO; w * height as usize];
+    let samples: u64 = color
+        .par_chunks_mut(w)
+        .enumerate()
+        .map(|(y, row)| {
+            let mut n = 0u64;
+            for (x, px) in row.iter_mut().enumerate() {
+                let (o, d) = camera_ray(camera, width, height, x as f32 + 0.5, y as f32 + 0.5);
+                let t_max = depth.map_or(f32::INFINITY, |dd| dd[y * w + x]);
+                let j = if params.jitter {
+                    pixel_hash(x as u32, y as u32)
+                } else {
+                    0.0
+                };
+                let (c, k) = ctx.march(o, d, t_max, j);
+                n += k;
+                *px = to_frame(c);
+            }
+            n
+        })
+        .sum();
+    Ok(Frame {
+        width,
+        height,
+        color,
+        stats: FrameStats {
+            texture_samples: samples,
+            ..Default::default()
+        },
+    })
+}
+
+/// Display-space premultiplied colour → the frame's linear premultiplied colour.
+#[inline]
+fn to_frame(c: Vec4) -> Vec4 {
+    let f = |v: f32| crate::color::srgb_to_linear(v.clamp(0.0, 1.0));
+    Vec4::new(f(c.x), f(c.y), f(c.z), c.w.clamp(0.0, 1.0))
+}
+
+/// The empty flags of every brick for a table (composite) or an iso-value.
+fn empty_bricks(b: &Bricks, test: impl Fn(f32, f32) -> bool) -> Vec<bool> {
+    b.min_max.iter().map(|&(lo, hi)| test(lo, hi)).collect()
+}
+
+impl<'a> Ctx<'a> {
+    fn new(vol: &'a Volume, tf: &TransferFunction, p: &'a MarchParams) -> Result<Self> {
+        let range = vol.range();
+        let lut = TransferLut::new(tf, range, p.step);
+        let pre_int = (p.classification == Classification::PreIntegrated
+            && p.mode == Mode::Composite)
+            .then(|| PreIntegrated::new(tf, range, p.step, 256));
+        let iso = p
+            .iso
+            .or_else(|| tf.first_opaque_value())
+            .unwrap_or(0.5 * (range.0 + range.1));
+        if !iso.is_finite() {
+            return Err(Error::parameter("--iso must be finite"));
+        }
+        let c = tf.eval(iso).truncate();
+        let iso_color = if c.max_element() > 0.05 { c } else { Vec3::ONE };
+        let voxel_from_world = vol.world_from_voxel().inverse();
+        let grad_to_world = Mat3::from_mat4(voxel_from_world).transpose();
+        let bricks = vol.bricks();
+        let empty = if !p.empty_space_skipping {
+            vec![false; bricks.min_max.len()]
+        } else {
+            match p.mode {
+                Mode::Composite => empty_bricks(bricks, |lo, hi| {
+                    // Pre-integrated segments may span a brick edge; the table of the
+                    // brick's own values is still the right test for samples inside it.
+                    lut.is_transparent(lo, hi)
+                }),
+                Mode::Iso => empty_bricks(bricks, |_, hi| hi < iso),
+                Mode::Mip | Mode::Xray => vec![false; bricks.min_max.len()],
+            }
+        };
+        let d = vol.dims();
+        Ok(Ctx {
+            vol,
+            data: vol.scalars(),
+            dims: d,
+            hi: Vec3::from_array(d.map(|n| (n - 1) as f32)),
+            voxel_from_world,
+            grad_to_world,
+            lut,
+            pre_int,
+            empty,
+            brick_counts: bricks.counts,
+            p,
+            iso,
+            iso_color,
+            range,
+        })
+    }
+
+    #[inline(always)]
+    fn value(&self, q: Vec3) -> f32 {
+        if self.p.engine_sampling {
+            self.vol.value_at_engine(q)
+        } else {
+            trilinear(self.data, self.dims, q)
+        }
+    }
+
+    /// World-space gradient by central differences (one voxel each way).
+    #[inline]
+    fn gradient(&self, q: Vec3) -> Vec3 {
+        let g = Vec3::new(
+            self.value(q + Vec3::X) - self.value(q - Vec3::X),
+            self.value(q + Vec3::Y) - self.value(q - Vec3::Y),
+            self.value(q + Vec3::Z) - self.value(q - Vec3::Z),
+        ) * 0.5;
+        self.grad_to_world * g
+    }
+
+    /// Blinn-Phong with a white headlight: light and eye both along −ray, so the half vector
+    /// is −ray too; two-sided (the gradient's sign is arbitrary).
+    #[inline]
+    fn shade(&self, c: Vec3, g: Vec3, ray: Vec3) -> Vec3 {
+        let l = &self.p.lighting;
+        let len = g.length();
+        if len <= 1e-6 {
+            return c * (l.ambient + l.diffuse);
+        }
+        let ndl = (g.dot(ray) / len).abs();
+        c * (l.ambient + l.diffuse * ndl) + Vec3::splat(l.specular * ndl.powf(l.power))
+    }
+
+    /// The brick holding the trilinear cell of `q` (clamped as [`trilinear`] clamps).
+    #[inline(always)]
+    fn brick_of(&self, q: Vec3) -> (usize, [u32; 3]) {
+        let c = |v: f32, n: u32, k: u32| {
+            let i = (v.max(0.0) as u32).min(n.saturating_sub(2));
+            (i / BRICK).min(k - 1)
+        };
+        let b = [
+            c(q.x, self.dims[0], self.brick_counts[0]),
+            c(q.y, self.dims[1], self.brick_counts[1]),
+            c(q.z, self.dims[2], self.brick_counts[2]),
+        ];
+        (
+            ((b[2] * self.brick_counts[1] + b[1]) * self.brick_counts[0] + b[0]) as usize,
+            b,
+        )
+    }
+
+    /// Ray parameter where the ray leaves brick `b` (voxel-space ray `o + d·t`).
+    #[inline]
+    fn brick_exit(&self, b: [u32; 3], o: Vec3, d: Vec3) -> f32 {
+        let lo = Vec3::new(b[0] as f32, b[1] as f32, b[2] as f32) * BRICK as f32;
+        let hi = lo + BRICK as f32;
+        let mut t = f32::INFINITY;
+        for a in 0..3 {
+            if d[a] > 0.0 {
+                t = t.min((hi[a] - o[a]) / d[a]);
+            } else if d[a] < 0.0 {
+                t = t.min((lo[a] - o[a]) / d[a]);
+            }
+        }
+        t
+    }
+
+    /// One ray: display-space premultiplied colour and the number of samples taken.
+    fn march(&self, eye: Vec3, dir: Vec3, t_max: f32, jitter: f32) -> (Vec4, u64) {
+        let o = self.voxel_from_world.transform_point3(eye);
+        let d = self.voxel_from_world.transform_vector3(dir);
+        // Clip to the box [0, n − 1] (slabs).
+        let (mut t0, mut t1) = (0.0f32, t_max);
+        for a in 0..3 {
+            if d[a].abs() < 1e-12 {
+                if o[a] < 0.0 || o[a] > self.hi[a] {
+                    return (Vec4::ZERO, 0);
+                }
+                continue;
+            }
+            let inv = 1.0 / d[a];
+            let (mut ta, mut tb) = (-o[a] * inv, (self.hi[a] - o[a]) * inv);
+            if ta > tb {
+                std::mem::swap(&mut ta, &mut tb);
+            }
+            t0 = t0.max(ta);
+            t1 = t1.min(tb);
+        }
+        if !(t0 < t1) {
+            return (Vec4::ZERO, 0);
+        }
+        match self.p.mode {
+            Mode::Composite => self.composite(o, d, dir, t0, t1, jitter),
+            Mode::Mip | Mode::Xray => self.project(o, d, t0, t1, jitter),
+            Mode::Iso => self.isosurface(o, d, dir, t0, t1, jitter),
+        }
+    }
+
+    /// Next sample index after the brick holding `q` is left, if that brick is empty.
+    #[inline(always)]
+    fn skip(&self, q: Vec3, o: Vec3, d: Vec3, t0: f32, jitter: f32, k: u32) -> Option<u32> {
+        let (bi, b) = self.brick_of(q);
+        if !self.empty[bi] {
+            return None;
+        }
+        let t_exit = self.brick_exit(b, o, d);
+        let step = self.p.step;
+        let kk = ((t_exit - t0) / step - jitter).floor() + 1.0;
+        Some((kk.max(0.0) as u32).max(k + 1))
+    }
+
+    fn composite(&self, o: Vec3, d: Vec3, dir: Vec3, t0: f32, t1: f32, jitter: f32) -> (Vec4, u64) {
+        let step = self.p.step;
+        let n = ((t1 - t0) / step - jitter).floor().max(-1.0) as i64 + 1;
+        let n = n.max(0) as u32;
+        let mut rgb = Vec3::ZERO;
+        let mut a = 0.0f32;
+        let mut k = 0u32;
+        let mut taken = 0u64;
+        let shade = self.p.shade;
+        let grad_op = !self.p.gradient_opacity.is_empty();
+        let mut prev: Option<f32> = None;
+        while k < n {
+            let t = t0 + (k as f32 + jitter) * step;
+            let q = o + d * t;
+            if let Some(next) = self.skip(q, o, d, t0, jitter, k) {
+                k = next;
+                prev = None;
+                continue;
+            }
+            taken += 1;
+            let (c, alpha) = match self.p.classification {
+                Classification::Post => {
+                    let v = self.value(q);
+                    let c = self.lut.get(v);
+                    (c.truncate(), c.w)
+                }
+                Classification::Pre => self.pre_classified(q),
+                Classification::PreIntegrated => {
+                    let v = self.value(q);
+                    let sf = prev.unwrap_or(v);
+                    prev = Some(v);
+                    let s = self.pre_int.as_ref().map_or(Vec4::ZERO, |p| p.get(sf, v));
+                    if s.w > 0.0 {
+                        (s.truncate() / s.w, s.w)
+                    } else {
+                        (Vec3::ZERO, 0.0)
+                    }
+                }
+            };
+            if alpha > 0.0 {
+                let mut alpha = alpha;
+                let mut c = c;
+                if shade || grad_op {
+                    let g = self.gradient(q);
+                    if grad_op {
+                        alpha *= gradient_factor(&self.p.gradient_opacity, g.length());
+                    }
+                    if shade {
+                        c = self.shade(c, g, dir);
+                    }
+                }
+                let w = (1.0 - a) * alpha;
+                rgb += c * w;
+                a += w;
+                if a >= self.p.early_termination {
+                    break;
+                }
+            }
+            k += 1;
+        }
+        (rgb.extend(a), taken)
+    }
+
+    /// Pre-classification: classify the eight voxels, interpolate premultiplied RGBA.
+    fn pre_classified(&self, q: Vec3) -> (Vec3, f32) {
+        let [nx, ny, nz] = self.dims;
+        let x = q.x.clamp(0.0, self.hi.x);
+        let y = q.y.clamp(0.0, self.hi.y);
+        let z = q.z.clamp(0.0, self.hi.z);
+        let (ix, iy, iz) = (
+            (x as u32).min(nx.saturating_sub(2)),
+            (y as u32).min(ny.saturating_sub(2)),
+            (z as u32).min(nz.saturating_sub(2)),
+        );
+        let f = Vec3::new(x - ix as f32, y - iy as f32, z - iz as f32);
+        let mut acc = Vec4::ZERO;
+        for corner in 0..8u32 {
+            let (cx, cy, cz) = (corner & 1, (corner >> 1) & 1, corner >> 2);
+            let (vx, vy, vz) = (
+                (ix + cx).min(nx - 1),
+                (iy + cy).min(ny - 1),
+                (iz + cz).min(nz - 1),
+            );
+            let v = self.data[((vz * ny + vy) * nx + vx) as usize];
+            let c = self.lut.get(v);
+            let w = (if cx == 1 { f.x } else { 1.0 - f.x })
+                * (if cy == 1 { f.y } else { 1.0 - f.y })
+                * (if cz == 1 { f.z } else { 1.0 - f.z });
+            acc += (c.truncate() * c.w).extend(c.w) * w;
+        }
+        if acc.w > 0.0 {
+            (acc.truncate() / acc.w, acc.w)
+        } else {
+            (Vec3::ZERO, 0.0)
+        }
+    }
+
+    /// MIP and X-ray: the maximum or mean value along the ray, as grey.
+    fn project(&self, o: Vec3, d: Vec3, t0: f32, t1: f32, jitter: f32) -> (Vec4, u64) {
+        let step = self.p.step;
+        let n = (((t1 - t0) / step - jitter).floor().max(-1.0) as i64 + 1).max(0) as u32;
+        if n == 0 {
+            return (Vec4::ZERO, 0);
+        }
+        let (mut mx, mut sum) = (f32::NEG_INFINITY, 0.0f64);
+        for k in 0..n {
+            let v = self.value(o + d * (t0 + (k as f32 + jitter) * step));
+            mx = mx.max(v);
+            sum += f64::from(v);
+        }
+        let v = if self.p.mode == Mode::Mip {
+            mx
+        } else {
+            (sum / f64::from(n)) as f32
+        };
+        let g = ((v - self.range.0) / (self.range.1 - self.range.0).max(1e-12)).clamp(0.0, 1.0);
+        (Vec4::new(g, g, g, 1.0), u64::from(n))
+    }
+
+    /// Isosurface: the first sample at or above the iso-value, bisected 10 times, shaded.
+    fn isosurface(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        dir: Vec3,
+        t0: f32,
+        t1: f32,
+        jitter: f32,
+    ) -> (Vec4, u64) {
+        let step = self.p.step;
+        let n = (((t1 - t0) / step - jitter).floor().max(-1.0) as i64 + 1).max(0) as u32;
+        let mut k = 0u32;
+        let mut taken = 0u64;
+        let mut t_prev: Option<f32> = None;
+        while k < n {
+            let t = t0 + (k as f32 + jitter) * step;
+            let q = o + d * t;
+            if let Some(next) = self.skip(q, o, d, t0, jitter, k) {
+                if t_prev.is_none() {
+                    t_prev = Some(t);
+                }
+                k = next;
+                continue;
+            }
+            taken += 1;
+            if self.value(q) >= self.iso {
+                let mut hit = t;
+                if let Some(tp) = t_prev {
+                    // Bisection: value(lo) < iso ≤ value(hi).
+                    let (mut lo, mut hi) = (tp, t);
+                    for _ in 0..10 {
+                        let m = 0.5 * (lo + hi);
+                        if self.value(o + d * m) >= self.iso {
+                            hi = m;
+                        } else {
+                            lo = m;
+                        }
+                    }
+                    hit = hi;
+                    taken += 10;
+                }
+                let g = self.gradient(o + d * hit);
+                let c = self.shade(self.iso_color, g, dir);
+                return (c.extend(1.0), taken);
+            }
+            t_prev = Some(t);
+            k += 1;
+        }
+        (Vec4::ZERO, taken)
+    }
+}
+
+/// The distance along each pixel's ray at which `depth_ndc` (window depth in [0, 1], OpenGL
+/// projection of `camera`, 1 = nothing) lies: the `depth` argument of [`raymarch`].
+#[must_use]
+pub fn ray_distances_from_depth(
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    depth_window: &[f32],
+) -> Vec<f32> {
+    let (n, f) = (camera.near, camera.far);
+    let fwd = (camera.target - camera.eye).normalize();
+    let w = width as usize;
+    depth_window
+        .iter()
+        .enumerate()
+        .map(|(i, &z)| {
+            if z >= 1.0 {
+                return f32::INFINITY;
+            }
+            let zn = z * 2.0 - 1.0;
+            let view_z = 2.0 * n * f / (f + n - zn * (f - n));
+            let (_, d) = camera_ray(
+                camera,
+                width,
+                height,
+                (i % w) as f32 + 0.5,
+                (i / w) as f32 + 0.5,
+            );
+            view_z / d.dot(fwd)
+        })
+        .collect()
+}
