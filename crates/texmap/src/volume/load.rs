@@ -178,7 +178,7 @@ fn make_volume(path: &Path, dims: [u32; 3], m: Mat4, values: Vec<f32>) -> Result
 fn check_dims(path: &Path, dims: &[i64]) -> Result<[u32; 3]> {
     let mut out = [1u32; 3];
     for (i, &d) in dims.iter().take(3).enumerate() {
-        if d < 1 || d > 65_535 {
+        if !(1..=65_535).contains(&d) {
             return Err(Error::decode(path, format!("axis {i} has size {d}")));
         }
         out[i] = d as u32;

@@ -21,7 +21,7 @@ use crate::texture::{ColorSpace, Format, Texture3D};
 use crate::{Error, Result};
 
 pub use load::{load_volume, RawDesc, ScalarType};
-pub use raymarch::{raymarch, Classification, Lighting, MarchParams, Mode};
+pub use raymarch::{iso_hit, raymarch, Classification, Lighting, MarchParams, Mode};
 pub use slice::render_slices;
 
 pub use transfer::{PreIntegrated, TransferFunction, TransferFunction2D, TransferLut};
@@ -33,10 +33,12 @@ pub struct Volume {
     spacing: Vec3,
     world_from_voxel: Mat4,
     range: (f32, f32),
-    /// The values as a 3D texture (`R32F`, linear), read through the texture engine.
+    /// Value of quantized level q: `range.0 + q·value_step`.
+    value_step: f32,
+    /// The values as a 3D texture (`R16`, linear: q/65535), read through the texture engine.
     texture: Texture3D,
-    /// The same values as plain `f32`, x fastest: the marcher's fast path (see `raymarch`).
-    scalars: Vec<f32>,
+    /// The same 16-bit levels, x fastest: the marcher's fast path (see `raymarch`).
+    quant: Vec<u16>,
     /// Min/max per brick for empty-space skipping, built on first use.
     bricks: std::sync::OnceLock<raymarch::Bricks>,
 }
@@ -80,9 +82,25 @@ impl Volume {
             lo = lo.min(v);
             hi = hi.max(v);
         }
-        let bytes: Vec<u8> = scalars.iter().flat_map(|v| v.to_le_bytes()).collect();
-        let texture =
-            Texture3D::from_texels(dims, Format::R32F, ColorSpace::Linear, &bytes, false)?;
+        // 16-bit levels over [lo, hi]: exact for 8-bit data and for integers spanning at most
+        // 65,535; otherwise 1/65,535 of the range (finer than the 4,096-entry tables).
+        let value_step = (hi - lo) / 65535.0;
+        let inv = if hi > lo {
+            65535.0 / (f64::from(hi) - f64::from(lo))
+        } else {
+            0.0
+        };
+        let quant: Vec<u16> = scalars
+            .iter()
+            .map(|&v| {
+                ((f64::from(v) - f64::from(lo)) * inv)
+                    .round()
+                    .clamp(0.0, 65535.0) as u16
+            })
+            .collect();
+        drop(scalars);
+        let bytes: Vec<u8> = quant.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let texture = Texture3D::from_texels(dims, Format::R16, ColorSpace::Linear, &bytes, false)?;
         let spacing = Vec3::new(
             world_from_voxel.x_axis.truncate().length(),
             world_from_voxel.y_axis.truncate().length(),
@@ -93,8 +111,9 @@ impl Volume {
             spacing,
             world_from_voxel,
             range: (lo, hi),
+            value_step,
             texture,
-            scalars,
+            quant,
             bricks: std::sync::OnceLock::new(),
         })
     }
@@ -119,15 +138,32 @@ impl Volume {
     pub fn range(&self) -> (f32, f32) {
         self.range
     }
-    /// The values as a 3D texture (`R32F`, texel centres at the voxels).
+    /// The values as a 3D texture (`R16`, linear: level/65535; texel centres at the voxels).
     #[must_use]
     pub fn texture(&self) -> &Texture3D {
         &self.texture
     }
-    /// The values, x fastest.
+    /// The 16-bit levels, x fastest (value = `range().0 + level·value_step()`).
     #[must_use]
-    pub fn scalars(&self) -> &[f32] {
-        &self.scalars
+    pub fn quantized(&self) -> &[u16] {
+        &self.quant
+    }
+    /// The value of one 16-bit level.
+    #[must_use]
+    pub fn value_step(&self) -> f32 {
+        self.value_step
+    }
+    /// The value of (fractional) level `q`.
+    #[inline]
+    #[must_use]
+    pub fn value_of(&self, q: f32) -> f32 {
+        self.range.0 + q * self.value_step
+    }
+    /// The value of voxel `(x, y, z)` (in range), as stored (16-bit levels).
+    #[must_use]
+    pub fn voxel(&self, x: u32, y: u32, z: u32) -> f32 {
+        let [nx, ny, _] = self.dims;
+        self.value_of(f32::from(self.quant[((z * ny + y) * nx + x) as usize]))
     }
     /// Min/max of each 8³-cell brick (built on first use, then kept).
     #[must_use]
@@ -209,7 +245,7 @@ impl Volume {
     #[inline]
     #[must_use]
     pub fn value_at(&self, p: Vec3) -> f32 {
-        trilinear(&self.scalars, self.dims, p)
+        self.value_of(trilinear(&self.quant, self.dims, p))
     }
 
     /// Trilinear value at a point in voxel space read through the texture engine
@@ -222,13 +258,19 @@ impl Volume {
         let uvw = (p + 0.5) / n;
         let s = Sampler::new(Filter::BILINEAR, Wrap::ClampToEdge);
         let c: Vec4 = sample_3d(&self.texture, &s, &Footprint3::point(uvw));
-        c.x
+        self.value_of(c.x * 65535.0)
+    }
+
+    /// [`Self::value_at_engine`] as a fractional 16-bit level.
+    #[must_use]
+    pub fn level_at_engine(&self, p: Vec3) -> f32 {
+        (self.value_at_engine(p) - self.range.0) / self.value_step.max(f32::MIN_POSITIVE)
     }
 }
 
 /// Trilinear interpolation of `data` (x fastest, `dims`) at voxel-space `p`, clamped to the box.
 #[inline(always)]
-pub(crate) fn trilinear(data: &[f32], dims: [u32; 3], p: Vec3) -> f32 {
+pub(crate) fn trilinear(data: &[u16], dims: [u32; 3], p: Vec3) -> f32 {
     let [nx, ny, nz] = dims;
     let mx = (nx - 1) as f32;
     let my = (ny - 1) as f32;
@@ -247,7 +289,7 @@ pub(crate) fn trilinear(data: &[f32], dims: [u32; 3], p: Vec3) -> f32 {
     let sz = if nz > 1 { nx as usize * ny as usize } else { 0 };
     let i = (iz as usize * ny as usize + iy as usize) * nx as usize + ix as usize;
     // Bounds: i + sx + sy + sz is the voxel (ix+1, iy+1, iz+1), inside the grid.
-    let g = |k: usize| data.get(k).copied().unwrap_or(0.0);
+    let g = |k: usize| f32::from(data.get(k).copied().unwrap_or(0));
     let c000 = g(i);
     let c100 = g(i + sx);
     let c010 = g(i + sy);

@@ -117,7 +117,7 @@ impl Default for MarchParams {
 /// Cells per brick side for empty-space skipping.
 pub const BRICK: u32 = 8;
 
-/// Min/max of the voxels of each brick (computed once per volume).
+/// Min/max 16-bit level of the voxels of each brick (computed once per volume).
 #[derive(Clone, Debug)]
 pub struct Bricks {
     pub counts: [u32; 3],
@@ -131,7 +131,7 @@ impl Bricks {
         let d = vol.dims();
         let cells = d.map(|n| (n - 1).max(1));
         let counts = cells.map(|c| c.div_ceil(BRICK));
-        let data = vol.scalars();
+        let data = vol.quantized();
         let (nx, ny) = (d[0] as usize, d[1] as usize);
         let slabs: Vec<Vec<(f32, f32)>> = (0..counts[2])
             .into_par_iter()
@@ -146,6 +146,7 @@ impl Bricks {
                         let by_hi = (y / BRICK).min(counts[1] - 1);
                         let row = &data[(z as usize * ny + y as usize) * nx..][..nx];
                         for (x, &v) in row.iter().enumerate() {
+                            let v = f32::from(v);
                             let x = x as u32;
                             let bx_lo = (x.saturating_sub(1) / BRICK).min(counts[0] - 1);
                             let bx_hi = (x / BRICK).min(counts[0] - 1);
@@ -199,7 +200,12 @@ pub fn camera_ray(cam: &Camera, width: u32, height: u32, x: f32, y: f32) -> (Vec
 /// Everything a ray needs, prepared once per frame.
 struct Ctx<'a> {
     vol: &'a Volume,
-    data: &'a [f32],
+    data: &'a [u16],
+    /// 16-bit level → table index.
+    q_to_index: f32,
+    /// Value of one level.
+    value_step: f32,
+    iso_q: f32,
     dims: [u32; 3],
     hi: Vec3,
     voxel_from_world: glam::Mat4,
@@ -210,7 +216,6 @@ struct Ctx<'a> {
     empty: Vec<bool>,
     brick_counts: [u32; 3],
     p: &'a MarchParams,
-    iso: f32,
     iso_color: Vec3,
     range: (f32, f32),
 }
@@ -253,28 +258,45 @@ pub fn raymarch(
         }
     }
     let ctx = Ctx::new(vol, tf, params)?;
-    let w = width as usize;
-    let mut color = vec![Vec4::ZERO; w * height as usize];
-    let samples: u64 = color
-        .par_chunks_mut(w)
-        .enumerate()
-        .map(|(y, row)| {
+    // Square tiles: a tile's rays stay in a narrow bundle of the volume, so their samples
+    // share cache lines (rows of 512 rays sweep a whole slab).
+    const TILE: usize = 16;
+    let (w, h) = (width as usize, height as usize);
+    let (tx, ty) = (w.div_ceil(TILE), h.div_ceil(TILE));
+    let tiles: Vec<(Vec<Vec4>, u64)> = (0..tx * ty)
+        .into_par_iter()
+        .map(|t| {
+            let (x0, y0) = ((t % tx) * TILE, (t / tx) * TILE);
+            let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
+            let mut out = Vec::with_capacity((x1 - x0) * (y1 - y0));
             let mut n = 0u64;
-            for (x, px) in row.iter_mut().enumerate() {
-                let (o, d) = camera_ray(camera, width, height, x as f32 + 0.5, y as f32 + 0.5);
-                let t_max = depth.map_or(f32::INFINITY, |dd| dd[y * w + x]);
-                let j = if params.jitter {
-                    pixel_hash(x as u32, y as u32)
-                } else {
-                    0.0
-                };
-                let (c, k) = ctx.march(o, d, t_max, j);
-                n += k;
-                *px = to_frame(c);
+            for y in y0..y1 {
+                for x in x0..x1 {
+                    let (o, d) = camera_ray(camera, width, height, x as f32 + 0.5, y as f32 + 0.5);
+                    let t_max = depth.map_or(f32::INFINITY, |dd| dd[y * w + x]);
+                    let j = if params.jitter {
+                        pixel_hash(x as u32, y as u32)
+                    } else {
+                        0.0
+                    };
+                    let (c, k) = ctx.march(o, d, t_max, j);
+                    n += k;
+                    out.push(to_frame(c));
+                }
             }
-            n
+            (out, n)
         })
-        .sum();
+        .collect();
+    let mut color = vec![Vec4::ZERO; w * h];
+    let mut samples = 0u64;
+    for (t, (px, n)) in tiles.iter().enumerate() {
+        let (x0, y0) = ((t % tx) * TILE, (t / tx) * TILE);
+        let tw = (x0 + TILE).min(w) - x0;
+        for (r, row) in px.chunks_exact(tw).enumerate() {
+            color[(y0 + r) * w + x0..][..tw].copy_from_slice(row);
+        }
+        samples += n;
+    }
     Ok(Frame {
         width,
         height,
@@ -315,7 +337,15 @@ impl<'a> Ctx<'a> {
         let c = tf.eval(iso).truncate();
         let iso_color = if c.max_element() > 0.05 { c } else { Vec3::ONE };
         let voxel_from_world = vol.world_from_voxel().inverse();
-        let grad_to_world = Mat3::from_mat4(voxel_from_world).transpose();
+        let value_step = vol.value_step();
+        // Level differences → value differences → world gradient.
+        let grad_to_world = Mat3::from_mat4(voxel_from_world).transpose() * value_step;
+        let iso_q = if value_step > 0.0 {
+            (iso - range.0) / value_step
+        } else {
+            0.0
+        };
+        let lo_v = range.0;
         let bricks = vol.bricks();
         let empty = if !p.empty_space_skipping {
             vec![false; bricks.min_max.len()]
@@ -324,16 +354,19 @@ impl<'a> Ctx<'a> {
                 Mode::Composite => empty_bricks(bricks, |lo, hi| {
                     // Pre-integrated segments may span a brick edge; the table of the
                     // brick's own values is still the right test for samples inside it.
-                    lut.is_transparent(lo, hi)
+                    lut.is_transparent(lo_v + lo * value_step, lo_v + hi * value_step)
                 }),
-                Mode::Iso => empty_bricks(bricks, |_, hi| hi < iso),
+                Mode::Iso => empty_bricks(bricks, |_, hi| hi < iso_q),
                 Mode::Mip | Mode::Xray => vec![false; bricks.min_max.len()],
             }
         };
         let d = vol.dims();
         Ok(Ctx {
             vol,
-            data: vol.scalars(),
+            data: vol.quantized(),
+            q_to_index: value_step * lut.scale,
+            value_step,
+            iso_q,
             dims: d,
             hi: Vec3::from_array(d.map(|n| (n - 1) as f32)),
             voxel_from_world,
@@ -343,19 +376,26 @@ impl<'a> Ctx<'a> {
             empty,
             brick_counts: bricks.counts,
             p,
-            iso,
             iso_color,
             range,
         })
     }
 
+    /// The 16-bit level (fractional) at voxel-space `q`.
     #[inline(always)]
     fn value(&self, q: Vec3) -> f32 {
         if self.p.engine_sampling {
-            self.vol.value_at_engine(q)
+            self.vol.level_at_engine(q)
         } else {
             trilinear(self.data, self.dims, q)
         }
+    }
+
+    /// `[r, g, b, a_step]` of a level.
+    #[inline(always)]
+    fn classify(&self, q: f32) -> Vec4 {
+        let i = ((q * self.q_to_index + 0.5) as usize).min(self.lut.table.len() - 1);
+        self.lut.table[i]
     }
 
     /// World-space gradient by central differences (one voxel each way).
@@ -421,25 +461,9 @@ impl<'a> Ctx<'a> {
         let o = self.voxel_from_world.transform_point3(eye);
         let d = self.voxel_from_world.transform_vector3(dir);
         // Clip to the box [0, n − 1] (slabs).
-        let (mut t0, mut t1) = (0.0f32, t_max);
-        for a in 0..3 {
-            if d[a].abs() < 1e-12 {
-                if o[a] < 0.0 || o[a] > self.hi[a] {
-                    return (Vec4::ZERO, 0);
-                }
-                continue;
-            }
-            let inv = 1.0 / d[a];
-            let (mut ta, mut tb) = (-o[a] * inv, (self.hi[a] - o[a]) * inv);
-            if ta > tb {
-                std::mem::swap(&mut ta, &mut tb);
-            }
-            t0 = t0.max(ta);
-            t1 = t1.min(tb);
-        }
-        if !(t0 < t1) {
+        let Some((t0, t1)) = self.clip_box(o, d, t_max) else {
             return (Vec4::ZERO, 0);
-        }
+        };
         match self.p.mode {
             Mode::Composite => self.composite(o, d, dir, t0, t1, jitter),
             Mode::Mip | Mode::Xray => self.project(o, d, t0, t1, jitter),
@@ -482,8 +506,7 @@ impl<'a> Ctx<'a> {
             taken += 1;
             let (c, alpha) = match self.p.classification {
                 Classification::Post => {
-                    let v = self.value(q);
-                    let c = self.lut.get(v);
+                    let c = self.classify(self.value(q));
                     (c.truncate(), c.w)
                 }
                 Classification::Pre => self.pre_classified(q),
@@ -491,7 +514,11 @@ impl<'a> Ctx<'a> {
                     let v = self.value(q);
                     let sf = prev.unwrap_or(v);
                     prev = Some(v);
-                    let s = self.pre_int.as_ref().map_or(Vec4::ZERO, |p| p.get(sf, v));
+                    let (a, b) = (
+                        self.range.0 + sf * self.value_step,
+                        self.range.0 + v * self.value_step,
+                    );
+                    let s = self.pre_int.as_ref().map_or(Vec4::ZERO, |p| p.get(a, b));
                     if s.w > 0.0 {
                         (s.truncate() / s.w, s.w)
                     } else {
@@ -544,7 +571,7 @@ impl<'a> Ctx<'a> {
                 (iz + cz).min(nz - 1),
             );
             let v = self.data[((vz * ny + vy) * nx + vx) as usize];
-            let c = self.lut.get(v);
+            let c = self.classify(f32::from(v));
             let w = (if cx == 1 { f.x } else { 1.0 - f.x })
                 * (if cy == 1 { f.y } else { 1.0 - f.y })
                 * (if cz == 1 { f.z } else { 1.0 - f.z });
@@ -575,7 +602,7 @@ impl<'a> Ctx<'a> {
         } else {
             (sum / f64::from(n)) as f32
         };
-        let g = ((v - self.range.0) / (self.range.1 - self.range.0).max(1e-12)).clamp(0.0, 1.0);
+        let g = (v / 65535.0).clamp(0.0, 1.0);
         (Vec4::new(g, g, g, 1.0), u64::from(n))
     }
 
@@ -589,6 +616,18 @@ impl<'a> Ctx<'a> {
         t1: f32,
         jitter: f32,
     ) -> (Vec4, u64) {
+        let (hit, taken) = self.iso_t(o, d, t0, t1, jitter);
+        match hit {
+            Some(t) => {
+                let g = self.gradient(o + d * t);
+                (self.shade(self.iso_color, g, dir).extend(1.0), taken)
+            }
+            None => (Vec4::ZERO, taken),
+        }
+    }
+
+    /// The ray parameter of the first crossing of the iso-value (from below), if any.
+    fn iso_t(&self, o: Vec3, d: Vec3, t0: f32, t1: f32, jitter: f32) -> (Option<f32>, u64) {
         let step = self.p.step;
         let n = (((t1 - t0) / step - jitter).floor().max(-1.0) as i64 + 1).max(0) as u32;
         let mut k = 0u32;
@@ -605,31 +644,81 @@ impl<'a> Ctx<'a> {
                 continue;
             }
             taken += 1;
-            if self.value(q) >= self.iso {
+            if self.value(q) >= self.iso_q {
                 let mut hit = t;
                 if let Some(tp) = t_prev {
                     // Bisection: value(lo) < iso ≤ value(hi).
                     let (mut lo, mut hi) = (tp, t);
                     for _ in 0..10 {
                         let m = 0.5 * (lo + hi);
-                        if self.value(o + d * m) >= self.iso {
+                        if self.value(o + d * m) >= self.iso_q {
                             hi = m;
                         } else {
                             lo = m;
                         }
                     }
-                    hit = hi;
+                    hit = 0.5 * (lo + hi);
                     taken += 10;
                 }
-                let g = self.gradient(o + d * hit);
-                let c = self.shade(self.iso_color, g, dir);
-                return (c.extend(1.0), taken);
+                return (Some(hit), taken);
             }
             t_prev = Some(t);
             k += 1;
         }
-        (Vec4::ZERO, taken)
+        (None, taken)
     }
+
+    /// The box entry and exit parameters of a voxel-space ray, if it meets the box.
+    fn clip_box(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32)> {
+        let (mut t0, mut t1) = (0.0f32, t_max);
+        for a in 0..3 {
+            if d[a].abs() < 1e-12 {
+                if o[a] < 0.0 || o[a] > self.hi[a] {
+                    return None;
+                }
+                continue;
+            }
+            let inv = 1.0 / d[a];
+            let (mut ta, mut tb) = (-o[a] * inv, (self.hi[a] - o[a]) * inv);
+            if ta > tb {
+                std::mem::swap(&mut ta, &mut tb);
+            }
+            t0 = t0.max(ta);
+            t1 = t1.min(tb);
+        }
+        (t0 < t1).then_some((t0, t1))
+    }
+}
+
+/// The distance along the world ray `origin + t·dir` (`dir` of unit length) to the
+/// isosurface [`Mode::Iso`] would draw (`params.iso`, else the transfer function's first
+/// opaque value), without jitter.
+///
+/// # Errors
+/// [`Error::Parameter`] for a bad step or iso-value.
+pub fn iso_hit(
+    vol: &Volume,
+    tf: &TransferFunction,
+    origin: Vec3,
+    dir: Vec3,
+    params: &MarchParams,
+) -> Result<Option<f32>> {
+    if !(params.step.is_finite() && params.step > 0.0) {
+        return Err(Error::parameter(format!(
+            "--step {} must be > 0",
+            params.step
+        )));
+    }
+    let p = MarchParams {
+        mode: Mode::Iso,
+        ..params.clone()
+    };
+    let ctx = Ctx::new(vol, tf, &p)?;
+    let o = ctx.voxel_from_world.transform_point3(origin);
+    let d = ctx.voxel_from_world.transform_vector3(dir);
+    Ok(ctx
+        .clip_box(o, d, f32::INFINITY)
+        .and_then(|(t0, t1)| ctx.iso_t(o, d, t0, t1, 0.0).0))
 }
 
 /// The distance along each pixel's ray at which `depth_ndc` (window depth in [0, 1], OpenGL

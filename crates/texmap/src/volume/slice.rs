@@ -87,12 +87,13 @@ struct SliceShader<'a> {
 
 impl SliceShader<'_> {
     fn value(&self, q: Vec3) -> f32 {
-        sample_3d(
+        let level = sample_3d(
             self.vol.texture(),
             &self.sampler,
             &Footprint3::point((q + 0.5) * self.inv_n),
         )
-        .x
+        .x;
+        self.vol.value_of(level * 65535.0)
     }
 }
 
