@@ -211,7 +211,13 @@ pub fn run(v: &VolumeArgs, c: &Common) -> Result<(), Error> {
         far: dist + radius + 1.0,
         ..camera
     };
-    pool.install(|| vol.bricks());
+    // Per-volume structures (VTK builds its own in its first frame): outside the frame times.
+    pool.install(|| {
+        let _ = vol.bricks();
+        if params.shade {
+            let _ = vol.normals();
+        }
+    });
     let stem = path
         .file_name()
         .map(|n| {

@@ -90,7 +90,8 @@ pub struct MarchParams {
     /// Jittered ray starts (hides wood-grain banding).
     pub jitter: bool,
     pub empty_space_skipping: bool,
-    /// Stop a ray once its opacity reaches this (1 or more: never).
+    /// Stop a ray once its opacity reaches this (1 or more: never). Default 0.992: VTK's
+    /// fixed-point mapper stops when the remaining opacity falls below 255/32768.
     pub early_termination: f32,
     /// Read values through the texture engine instead of the plain copy (slow; for checks).
     pub engine_sampling: bool,
@@ -108,7 +109,7 @@ impl Default for MarchParams {
             gradient_opacity: Vec::new(),
             jitter: true,
             empty_space_skipping: true,
-            early_termination: 0.995,
+            early_termination: 0.992,
             engine_sampling: false,
         }
     }
@@ -170,6 +171,214 @@ impl Bricks {
     }
 }
 
+/// The eight voxels of the last cell a ray read: at half-voxel steps about every other
+/// sample stays in the same cell, and then skips the eight loads (measured ~10% per sample).
+struct CellCache {
+    index: usize,
+    corners: [f32; 8],
+    frac: Vec3,
+    normals_of: usize,
+    normals: [Vec3; 8],
+}
+
+impl CellCache {
+    fn new() -> Self {
+        CellCache {
+            index: usize::MAX,
+            corners: [0.0; 8],
+            frac: Vec3::ZERO,
+            normals_of: usize::MAX,
+            normals: [Vec3::ZERO; 8],
+        }
+    }
+
+    /// The cell of `p` (clamped as [`trilinear`]): base index, strides, fractions.
+    #[inline(always)]
+    fn locate(dims: [u32; 3], p: Vec3) -> (usize, [usize; 3], Vec3) {
+        let [nx, ny, nz] = dims;
+        let x = p.x.clamp(0.0, (nx - 1) as f32);
+        let y = p.y.clamp(0.0, (ny - 1) as f32);
+        let z = p.z.clamp(0.0, (nz - 1) as f32);
+        let (ix, iy, iz) = (
+            (x as u32).min(nx.saturating_sub(2)),
+            (y as u32).min(ny.saturating_sub(2)),
+            (z as u32).min(nz.saturating_sub(2)),
+        );
+        let f = Vec3::new(x - ix as f32, y - iy as f32, z - iz as f32);
+        let st = [
+            usize::from(nx > 1),
+            if ny > 1 { nx as usize } else { 0 },
+            if nz > 1 { nx as usize * ny as usize } else { 0 },
+        ];
+        (
+            (iz as usize * ny as usize + iy as usize) * nx as usize + ix as usize,
+            st,
+            f,
+        )
+    }
+
+    /// Trilinear value at `p`, equal to [`trilinear`].
+    #[inline(always)]
+    fn value(&mut self, data: &[u16], dims: [u32; 3], p: Vec3) -> f32 {
+        let (i, [sx, sy, sz], f) = Self::locate(dims, p);
+        self.frac = f;
+        if i != self.index {
+            if data.len() < dims.iter().map(|&v| v as usize).product::<usize>() {
+                return 0.0;
+            }
+            // SAFETY: as in `trilinear`: i + sx + sy + sz is a voxel of the grid, and `data`
+            // holds every voxel (checked above).
+            let g = |k: usize| f32::from(unsafe { *data.get_unchecked(k) });
+            self.corners = [
+                g(i),
+                g(i + sx),
+                g(i + sy),
+                g(i + sx + sy),
+                g(i + sz),
+                g(i + sx + sz),
+                g(i + sy + sz),
+                g(i + sx + sy + sz),
+            ];
+            self.index = i;
+        }
+        let c = &self.corners;
+        let c00 = c[0] + (c[1] - c[0]) * f.x;
+        let c10 = c[2] + (c[3] - c[2]) * f.x;
+        let c01 = c[4] + (c[5] - c[4]) * f.x;
+        let c11 = c[6] + (c[7] - c[6]) * f.x;
+        let c0 = c00 + (c10 - c00) * f.y;
+        let c1 = c01 + (c11 - c01) * f.y;
+        c0 + (c1 - c0) * f.z
+    }
+
+    /// The interpolated normal of the cell last passed to [`Self::value`], as
+    /// [`trilinear_normal`] at that point.
+    #[inline(always)]
+    fn normal(&mut self, data: &[[i8; 4]], dims: [u32; 3]) -> Vec3 {
+        let f = self.frac;
+        if self.normals_of != self.index {
+            let [nx, ny, nz] = dims;
+            if data.len() < nx as usize * ny as usize * nz as usize {
+                return Vec3::ZERO;
+            }
+            let (sx, sy, sz) = (
+                usize::from(nx > 1),
+                if ny > 1 { nx as usize } else { 0 },
+                if nz > 1 { nx as usize * ny as usize } else { 0 },
+            );
+            let i = self.index;
+            // SAFETY: `self.index` came from `locate` on the same grid (see `value`).
+            let g = |k: usize| {
+                let n = unsafe { *data.get_unchecked(k) };
+                Vec3::new(f32::from(n[0]), f32::from(n[1]), f32::from(n[2]))
+            };
+            self.normals = [
+                g(i),
+                g(i + sx),
+                g(i + sy),
+                g(i + sx + sy),
+                g(i + sz),
+                g(i + sx + sz),
+                g(i + sy + sz),
+                g(i + sx + sy + sz),
+            ];
+            self.normals_of = i;
+        }
+        let c = &self.normals;
+        let c00 = c[0].lerp(c[1], f.x);
+        let c10 = c[2].lerp(c[3], f.x);
+        let c01 = c[4].lerp(c[5], f.x);
+        let c11 = c[6].lerp(c[7], f.x);
+        let v = c00.lerp(c10, f.y).lerp(c01.lerp(c11, f.y), f.z) * (1.0 / 127.0);
+        if v.length_squared() < 0.25 * 0.25 {
+            Vec3::ZERO
+        } else {
+            v
+        }
+    }
+}
+
+/// Trilinear interpolation of per-voxel normals at voxel-space `p` (clamped): a direction
+/// whose length falls below ½ where the normals disagree or are zero.
+#[inline(always)]
+pub(crate) fn trilinear_normal(data: &[[i8; 4]], dims: [u32; 3], p: Vec3) -> Vec3 {
+    let [nx, ny, nz] = dims;
+    let x = p.x.clamp(0.0, (nx - 1) as f32);
+    let y = p.y.clamp(0.0, (ny - 1) as f32);
+    let z = p.z.clamp(0.0, (nz - 1) as f32);
+    let (ix, iy, iz) = (
+        (x as u32).min(nx.saturating_sub(2)),
+        (y as u32).min(ny.saturating_sub(2)),
+        (z as u32).min(nz.saturating_sub(2)),
+    );
+    let (fx, fy, fz) = (x - ix as f32, y - iy as f32, z - iz as f32);
+    let sx = usize::from(nx > 1);
+    let sy = if ny > 1 { nx as usize } else { 0 };
+    let sz = if nz > 1 { nx as usize * ny as usize } else { 0 };
+    let i = (iz as usize * ny as usize + iy as usize) * nx as usize + ix as usize;
+    if data.len() < nx as usize * ny as usize * nz as usize {
+        return Vec3::ZERO;
+    }
+    let g = |k: usize| {
+        // SAFETY: as in `trilinear`: the largest index i + sx + sy + sz is a voxel of the
+        // grid, and `data` holds every voxel (checked above).
+        let n = unsafe { *data.get_unchecked(k) };
+        Vec3::new(f32::from(n[0]), f32::from(n[1]), f32::from(n[2]))
+    };
+    let c00 = g(i).lerp(g(i + sx), fx);
+    let c10 = g(i + sy).lerp(g(i + sx + sy), fx);
+    let c01 = g(i + sz).lerp(g(i + sx + sz), fx);
+    let c11 = g(i + sy + sz).lerp(g(i + sx + sy + sz), fx);
+    let v = c00.lerp(c10, fy).lerp(c01.lerp(c11, fy), fz) * (1.0 / 127.0);
+    // Below half length the neighbours disagree (or are flat): no direction.
+    if v.length_squared() < 0.25 * 0.25 {
+        Vec3::ZERO
+    } else {
+        v
+    }
+}
+
+/// Per-voxel unit normals in world space ×127 (central differences through the spacing and
+/// orientation; zero where the field is flat), x fastest.
+#[must_use]
+pub fn voxel_normals(vol: &Volume) -> Vec<[i8; 4]> {
+    let d = vol.dims();
+    let (nx, ny, nz) = (d[0] as usize, d[1] as usize, d[2] as usize);
+    let data = vol.quantized();
+    let m = Mat3::from_mat4(vol.world_from_voxel().inverse()).transpose();
+    let slabs: Vec<Vec<[i8; 4]>> = (0..nz)
+        .into_par_iter()
+        .map(|z| {
+            let mut out = Vec::with_capacity(nx * ny);
+            let at = |x: usize, y: usize, z: usize| f32::from(data[(z * ny + y) * nx + x]);
+            for y in 0..ny {
+                for x in 0..nx {
+                    let diff = |lo: usize, hi: usize, f: &dyn Fn(usize) -> f32| {
+                        if hi > lo {
+                            (f(hi) - f(lo)) / (hi - lo) as f32
+                        } else {
+                            0.0
+                        }
+                    };
+                    let gx = diff(x.saturating_sub(1), (x + 1).min(nx - 1), &|i| at(i, y, z));
+                    let gy = diff(y.saturating_sub(1), (y + 1).min(ny - 1), &|j| at(x, j, z));
+                    let gz = diff(z.saturating_sub(1), (z + 1).min(nz - 1), &|k| at(x, y, k));
+                    let g = m * Vec3::new(gx, gy, gz);
+                    let len = g.length();
+                    out.push(if len > 0.0 {
+                        let n = g / len * 127.0;
+                        [n.x.round() as i8, n.y.round() as i8, n.z.round() as i8, 0]
+                    } else {
+                        [0; 4]
+                    });
+                }
+            }
+            out
+        })
+        .collect();
+    slabs.concat()
+}
+
 /// A per-pixel hash in [0, 1) (jitter): the same pixel always gets the same value.
 #[inline]
 #[must_use]
@@ -218,6 +427,11 @@ struct Ctx<'a> {
     p: &'a MarchParams,
     iso_color: Vec3,
     range: (f32, f32),
+    /// Per-voxel unit normals (world space, ×127) when shading without gradient opacity.
+    normals: Option<&'a [[i8; 4]]>,
+    /// The headlight's direction: the camera's view direction for every ray (as VTK's
+    /// shading tables, which use the centre view direction); `None` uses each ray's own.
+    headlight: Option<Vec3>,
 }
 
 /// Renders `vol` classified by `tf`, seen by `camera`, into a `width × height` frame, in
@@ -257,7 +471,8 @@ pub fn raymarch(
             )));
         }
     }
-    let ctx = Ctx::new(vol, tf, params)?;
+    let mut ctx = Ctx::new(vol, tf, params)?;
+    ctx.headlight = Some((camera.target - camera.eye).normalize());
     // Square tiles: a tile's rays stay in a narrow bundle of the volume, so their samples
     // share cache lines (rows of 512 rays sweep a whole slab).
     const TILE: usize = 16;
@@ -378,6 +593,12 @@ impl<'a> Ctx<'a> {
             p,
             iso_color,
             range,
+            normals: (p.shade
+                && p.gradient_opacity.is_empty()
+                && p.mode == Mode::Composite
+                && !p.engine_sampling)
+                .then(|| vol.normals().as_slice()),
+            headlight: None,
         })
     }
 
@@ -394,7 +615,8 @@ impl<'a> Ctx<'a> {
     /// `[r, g, b, a_step]` of a level.
     #[inline(always)]
     fn classify(&self, q: f32) -> Vec4 {
-        let i = ((q * self.q_to_index + 0.5) as usize).min(self.lut.table.len() - 1);
+        // `as u32`, not `as usize`: a float → u64 conversion is a long instruction sequence.
+        let i = ((q * self.q_to_index + 0.5) as u32 as usize).min(self.lut.table.len() - 1);
         self.lut.table[i]
     }
 
@@ -416,10 +638,23 @@ impl<'a> Ctx<'a> {
         let l = &self.p.lighting;
         let len = g.length();
         if len <= 1e-6 {
-            return c * (l.ambient + l.diffuse);
+            // A zero normal gets ambient light only (as VTK's shading tables).
+            return c * l.ambient;
         }
         let ndl = (g.dot(ray) / len).abs();
-        c * (l.ambient + l.diffuse * ndl) + Vec3::splat(l.specular * ndl.powf(l.power))
+        c * (l.ambient + l.diffuse * ndl) + Vec3::splat(l.specular * self.spec_pow(ndl))
+    }
+
+    /// `x^power`, by multiplications when the power is a small integer (powf costs more than
+    /// the rest of the shading).
+    #[inline(always)]
+    fn spec_pow(&self, x: f32) -> f32 {
+        let p = self.p.lighting.power;
+        if p == p.round() && (0.0..=64.0).contains(&p) {
+            x.powi(p as i32)
+        } else {
+            x.powf(p)
+        }
     }
 
     /// The brick holding the trilinear cell of `q` (clamped as [`trilinear`] clamps).
@@ -438,6 +673,21 @@ impl<'a> Ctx<'a> {
             ((b[2] * self.brick_counts[1] + b[1]) * self.brick_counts[0] + b[0]) as usize,
             b,
         )
+    }
+
+    /// [`Self::brick_exit`] with the reciprocal direction (no divisions).
+    #[inline]
+    fn brick_exit_inv(&self, b: [u32; 3], o: Vec3, inv_d: Vec3) -> f32 {
+        let lo = Vec3::new(b[0] as f32, b[1] as f32, b[2] as f32) * BRICK as f32;
+        let hi = lo + BRICK as f32;
+        let mut t = f32::INFINITY;
+        for a in 0..3 {
+            if inv_d[a].is_finite() {
+                let edge = if inv_d[a] > 0.0 { hi[a] } else { lo[a] };
+                t = t.min((edge - o[a]) * inv_d[a]);
+            }
+        }
+        t
     }
 
     /// Ray parameter where the ray leaves brick `b` (voxel-space ray `o + d·t`).
@@ -465,6 +715,17 @@ impl<'a> Ctx<'a> {
             return (Vec4::ZERO, 0);
         };
         match self.p.mode {
+            Mode::Composite
+                if self.p.classification == Classification::Post
+                    && self.p.gradient_opacity.is_empty()
+                    && !self.p.engine_sampling =>
+            {
+                let light = self.headlight.unwrap_or(dir);
+                match self.normals {
+                    Some(nv) => self.composite_post::<true>(o, d, light, nv, t0, t1, jitter),
+                    None => self.composite_post::<false>(o, d, light, &[], t0, t1, jitter),
+                }
+            }
             Mode::Composite => self.composite(o, d, dir, t0, t1, jitter),
             Mode::Mip | Mode::Xray => self.project(o, d, t0, t1, jitter),
             Mode::Iso => self.isosurface(o, d, dir, t0, t1, jitter),
@@ -480,8 +741,150 @@ impl<'a> Ctx<'a> {
         }
         let t_exit = self.brick_exit(b, o, d);
         let step = self.p.step;
-        let kk = ((t_exit - t0) / step - jitter).floor() + 1.0;
+        let kk = ((t_exit - t0) / step - jitter - 1e-3).floor() + 1.0;
         Some((kk.max(0.0) as u32).max(k + 1))
+    }
+
+    /// The common case, specialised: post-classification, optional shading from the voxel
+    /// normals, no gradient opacity. Same samples and arithmetic as [`Self::composite`], with
+    /// the per-sample mode tests hoisted out of the loop (measured: 10–15% of a sample).
+    #[allow(clippy::too_many_arguments)]
+    fn composite_post<const SHADE: bool>(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        light: Vec3,
+        normals: &[[i8; 4]],
+        t0: f32,
+        t1: f32,
+        jitter: f32,
+    ) -> (Vec4, u64) {
+        if SHADE {
+            return self.composite_shaded(o, d, light, normals, t0, t1, jitter);
+        }
+        let step = self.p.step;
+        let inv_step = 1.0 / step;
+        let n = (((t1 - t0) * inv_step - jitter).floor().max(-1.0) as i64 + 1).max(0) as u32;
+        let (mut rgb, mut a) = (Vec3::ZERO, 0.0f32);
+        let (mut k, mut taken) = (0u32, 0u64);
+        let stop = self.p.early_termination;
+        let skipping = self.p.empty_space_skipping;
+        let inv_d = d.recip();
+        let (data, dims) = (self.data, self.dims);
+        // Composites one classified sample; true when the ray is opaque enough to stop.
+        let mut add = |c: Vec4, q: Vec3| {
+            if c.w > 0.0 {
+                let mut col = c.truncate();
+                if SHADE {
+                    col = self.shade(col, trilinear_normal(normals, dims, q), light);
+                }
+                let w = (1.0 - a) * c.w;
+                rgb += col * w;
+                a += w;
+                return a >= stop;
+            }
+            false
+        };
+        'ray: while k < n {
+            // Samples k..end lie in one non-empty brick (or the whole ray without skipping).
+            let mut end = n;
+            if skipping {
+                let q = o + d * (t0 + (k as f32 + jitter) * step);
+                let (bi, b) = self.brick_of(q);
+                let t_exit = self.brick_exit_inv(b, o, inv_d);
+                let k_exit = ((((t_exit - t0) * inv_step - jitter - 1e-3).floor() + 1.0).max(0.0)
+                    as u32)
+                    .max(k + 1);
+                if self.empty[bi] {
+                    k = k_exit;
+                    continue;
+                }
+                end = k_exit.min(n);
+            }
+            // Four samples at a time: their reads and lookups are independent, so the CPU
+            // overlaps four load → interpolate → table chains (measured: ~25% per sample).
+            while k + 4 <= end {
+                // Each position from its own t, as in the one-at-a-time loop: a sample's
+                // value must not depend on where a batch starts.
+                let qs: [Vec3; 4] =
+                    std::array::from_fn(|j| o + d * (t0 + ((k + j as u32) as f32 + jitter) * step));
+                let v = qs.map(|q| trilinear(data, dims, q));
+                let c = v.map(|v| self.classify(v));
+                for j in 0..4 {
+                    taken += 1;
+                    if add(c[j], qs[j]) {
+                        break 'ray;
+                    }
+                }
+                k += 4;
+            }
+            while k < end {
+                let q = o + d * (t0 + (k as f32 + jitter) * step);
+                taken += 1;
+                if add(self.classify(trilinear(data, dims, q)), q) {
+                    break 'ray;
+                }
+                k += 1;
+            }
+        }
+        (rgb.extend(a), taken)
+    }
+
+    /// Shaded post-classification: one sample at a time, the cell's voxels and normals read
+    /// once per cell ([`CellCache`]).
+    #[allow(clippy::too_many_arguments)]
+    fn composite_shaded(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        light: Vec3,
+        normals: &[[i8; 4]],
+        t0: f32,
+        t1: f32,
+        jitter: f32,
+    ) -> (Vec4, u64) {
+        let step = self.p.step;
+        let inv_step = 1.0 / step;
+        let n = (((t1 - t0) * inv_step - jitter).floor().max(-1.0) as i64 + 1).max(0) as u32;
+        let (mut rgb, mut a) = (Vec3::ZERO, 0.0f32);
+        let (mut k, mut taken) = (0u32, 0u64);
+        let stop = self.p.early_termination;
+        let inv_d = d.recip();
+        let mut k_check = if self.p.empty_space_skipping {
+            0
+        } else {
+            u32::MAX
+        };
+        let mut cell = CellCache::new();
+        while k < n {
+            let t = t0 + (k as f32 + jitter) * step;
+            let q = o + d * t;
+            if k >= k_check {
+                let (bi, b) = self.brick_of(q);
+                let t_exit = self.brick_exit_inv(b, o, inv_d);
+                let k_exit = ((((t_exit - t0) * inv_step - jitter - 1e-3).floor() + 1.0).max(0.0)
+                    as u32)
+                    .max(k + 1);
+                if self.empty[bi] {
+                    k = k_exit;
+                    continue;
+                }
+                k_check = k_exit;
+            }
+            taken += 1;
+            let c = self.classify(cell.value(self.data, self.dims, q));
+            if c.w > 0.0 {
+                let col = self.shade(c.truncate(), cell.normal(normals, self.dims), light);
+                let w = (1.0 - a) * c.w;
+                rgb += col * w;
+                a += w;
+                if a >= stop {
+                    break;
+                }
+            }
+            k += 1;
+        }
+        (rgb.extend(a), taken)
     }
 
     fn composite(&self, o: Vec3, d: Vec3, dir: Vec3, t0: f32, t1: f32, jitter: f32) -> (Vec4, u64) {
@@ -495,13 +898,28 @@ impl<'a> Ctx<'a> {
         let shade = self.p.shade;
         let grad_op = !self.p.gradient_opacity.is_empty();
         let mut prev: Option<f32> = None;
+        // The brick is looked up once per brick, not per sample: samples before `k_check`
+        // lie in a brick already found non-empty.
+        let mut k_check = if self.p.empty_space_skipping {
+            0
+        } else {
+            u32::MAX
+        };
         while k < n {
             let t = t0 + (k as f32 + jitter) * step;
             let q = o + d * t;
-            if let Some(next) = self.skip(q, o, d, t0, jitter, k) {
-                k = next;
-                prev = None;
-                continue;
+            if k >= k_check {
+                let (bi, b) = self.brick_of(q);
+                let t_exit = self.brick_exit(b, o, d);
+                let k_exit = ((((t_exit - t0) / step - jitter - 1e-3).floor() + 1.0).max(0.0)
+                    as u32)
+                    .max(k + 1);
+                if self.empty[bi] {
+                    k = k_exit;
+                    prev = None;
+                    continue;
+                }
+                k_check = k_exit;
             }
             taken += 1;
             let (c, alpha) = match self.p.classification {
@@ -529,14 +947,19 @@ impl<'a> Ctx<'a> {
             if alpha > 0.0 {
                 let mut alpha = alpha;
                 let mut c = c;
-                if shade || grad_op {
+                if grad_op {
+                    // Exact gradient: its magnitude drives the opacity.
                     let g = self.gradient(q);
-                    if grad_op {
-                        alpha *= gradient_factor(&self.p.gradient_opacity, g.length());
-                    }
+                    alpha *= gradient_factor(&self.p.gradient_opacity, g.length());
                     if shade {
-                        c = self.shade(c, g, dir);
+                        c = self.shade(c, g, self.headlight.unwrap_or(dir));
                     }
+                } else if let Some(nv) = self.normals {
+                    c = self.shade(
+                        c,
+                        trilinear_normal(nv, self.dims, q),
+                        self.headlight.unwrap_or(dir),
+                    );
                 }
                 let w = (1.0 - a) * alpha;
                 rgb += c * w;

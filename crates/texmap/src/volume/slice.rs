@@ -115,7 +115,19 @@ impl FragmentShader for SliceShader<'_> {
             let cos = dir.dot(self.fwd).max(1e-3);
             let mut a = correct_opacity(c.w, self.step / cos);
             let mut rgb = c.truncate();
-            if self.shade || !self.gradient_opacity.is_empty() {
+            if self.shade && self.gradient_opacity.is_empty() {
+                // The marcher's normals (interpolated per-voxel normals), so both methods shade alike.
+                let g = super::raymarch::trilinear_normal(self.vol.normals(), self.vol.dims(), q);
+                let l = &self.lighting;
+                let len = g.length();
+                rgb = if len <= 1e-6 {
+                    rgb * l.ambient
+                } else {
+                    let ndl = (g.dot(self.fwd) / len).abs();
+                    rgb * (l.ambient + l.diffuse * ndl)
+                        + Vec3::splat(l.specular * ndl.powf(l.power))
+                };
+            } else if self.shade || !self.gradient_opacity.is_empty() {
                 let g = self.grad_to_world
                     * Vec3::new(
                         self.value(q + Vec3::X) - self.value(q - Vec3::X),
@@ -130,9 +142,9 @@ impl FragmentShader for SliceShader<'_> {
                     let l = &self.lighting;
                     let len = g.length();
                     rgb = if len <= 1e-6 {
-                        rgb * (l.ambient + l.diffuse)
+                        rgb * l.ambient
                     } else {
-                        let ndl = (g.dot(dir) / len).abs();
+                        let ndl = (g.dot(self.fwd) / len).abs();
                         rgb * (l.ambient + l.diffuse * ndl)
                             + Vec3::splat(l.specular * ndl.powf(l.power))
                     };
