@@ -95,7 +95,7 @@ pub struct RenderArgs {
     #[arg(long, short)]
     quiet: bool,
     #[command(flatten)]
-    pub volume: crate::volume::VolumeArgs,
+    pub volume: Box<crate::volume::VolumeArgs>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

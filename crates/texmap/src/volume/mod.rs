@@ -14,6 +14,7 @@ pub mod load;
 pub mod raymarch;
 pub mod slice;
 pub mod transfer;
+pub mod with_meshes;
 
 use glam::{Mat4, Vec3, Vec4};
 
@@ -25,6 +26,7 @@ pub use raymarch::{iso_hit, raymarch, Classification, Lighting, MarchParams, Mod
 pub use slice::render_slices;
 
 pub use transfer::{PreIntegrated, TransferFunction, TransferFunction2D, TransferLut};
+pub use with_meshes::{render_with_meshes, surface_distances};
 
 /// A scalar volume: a 3D texture of values, its grid and its placement in the world.
 #[derive(Clone, Debug)]
