@@ -6,6 +6,7 @@ mod info;
 mod output;
 mod progress;
 mod render;
+mod volume;
 
 use std::process::ExitCode;
 

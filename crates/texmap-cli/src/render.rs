@@ -104,6 +104,8 @@ pub struct RenderArgs {
     /// Print nothing but errors.
     #[arg(long, short)]
     quiet: bool,
+    #[command(flatten)]
+    pub volume: Box<crate::volume::VolumeArgs>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -258,6 +260,26 @@ fn load_file(
 }
 
 pub fn run(args: RenderArgs) -> Result<(), Error> {
+    if let Some(path) = args
+        .scene
+        .as_deref()
+        .filter(|s| crate::volume::is_volume_path(s))
+    {
+        let common = crate::volume::Common {
+            scene: path,
+            output: args.output.as_deref(),
+            size: args.size,
+            eye: args.eye,
+            target: args.target,
+            up: args.up,
+            fov: args.fov,
+            frames: args.frames,
+            threads: args.threads,
+            stats: args.stats,
+            quiet: args.quiet,
+        };
+        return crate::volume::run(&args.volume, &common);
+    }
     let setup_start = Instant::now();
     if args.frames == 0 {
         return Err(Error::parameter("--frames must be at least 1"));

@@ -35,5 +35,6 @@ pub mod render;
 pub mod scene;
 pub mod shading;
 pub mod texture;
+pub mod volume;
 
 pub use error::{Error, Result};

@@ -1,0 +1,255 @@
+//! Volumes and meshes in one frame: the surfaces are drawn by the pipeline, a second pass
+//! draws their distance from the eye, the rays stop there, and the volume is laid over the
+//! surfaces (a mesh inside a scan).
+//!
+//! The distance pass is a plain pipeline draw whose fragment shader writes the eye distance
+//! of the (perspective-correct) world position into the colour target, with the z-buffer on:
+//! the nearest surface per pixel wins, so no pipeline change was needed.
+
+use glam::{Vec3, Vec4};
+
+use super::raymarch::{raymarch, MarchParams};
+use super::transfer::TransferFunction;
+use super::Volume;
+use crate::pipeline::{
+    self, DrawCall, DrawState, FragmentShader, Interpolation, PostVertex, Quad, Target, Viewport,
+    MAX_VARYINGS,
+};
+use crate::render::{render, Frame, Settings};
+use crate::scene::{Camera, Scene};
+use crate::{Error, Result};
+
+struct DistanceShader {
+    eye: Vec3,
+}
+
+impl FragmentShader for DistanceShader {
+    fn shade(&self, _draw: u32, quad: &Quad, out: &mut [Vec4; 4]) -> u8 {
+        for (j, o) in out.iter_mut().enumerate() {
+            let v = &quad.varyings[j];
+            let d = (Vec3::new(v[0], v[1], v[2]) - self.eye).length();
+            *o = Vec4::new(d, 0.0, 0.0, 1.0);
+        }
+        quad.mask
+    }
+}
+
+/// Per pixel (row-major, top row first), the distance from the eye to the nearest surface of
+/// `scene` along the pixel's ray; infinite where no surface is drawn.
+///
+/// # Errors
+/// [`Error::Parameter`] for a bad camera or size.
+pub fn surface_distances(
+    scene: &Scene,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+) -> Result<Vec<f32>> {
+    camera.validate()?;
+    if width == 0 || height == 0 || width > 16384 || height > 16384 {
+        return Err(Error::parameter(format!(
+            "image size {width}x{height} is out of range"
+        )));
+    }
+    let clip_from_world =
+        camera.clip_from_view(width as f32 / height as f32) * camera.view_from_world();
+    let viewport = Viewport::new(width, height);
+    let vertices: Vec<Vec<PostVertex>> = scene
+        .meshes
+        .iter()
+        .map(|m| {
+            m.positions
+                .iter()
+                .map(|p| {
+                    let w = m.world_from_object.transform_point3(*p);
+                    let mut v = [0.0f32; MAX_VARYINGS];
+                    v[..3].copy_from_slice(&w.to_array());
+                    PostVertex::new(clip_from_world * w.extend(1.0), v, &viewport)
+                })
+                .collect()
+        })
+        .collect();
+    let calls: Vec<DrawCall> = scene
+        .meshes
+        .iter()
+        .zip(&vertices)
+        .map(|(m, v)| DrawCall {
+            vertices: v,
+            indices: &m.indices,
+            state: DrawState {
+                varyings: 3,
+                ..DrawState::default()
+            },
+        })
+        .collect();
+    let target = Target {
+        width,
+        height,
+        samples: 1,
+        clear_color: Vec4::new(f32::INFINITY, 0.0, 0.0, 1.0),
+        interpolation: Interpolation::Perspective,
+        depth_sort: false,
+    };
+    let (color, _) = pipeline::draw(&calls, &DistanceShader { eye: camera.eye }, &target);
+    Ok(color.into_iter().map(|c| c.x).collect())
+}
+
+/// Renders `scene`'s surfaces with `settings`, then `vol` with rays stopped at those
+/// surfaces, composited over them ("over", in the frame's linear colour).
+///
+/// # Errors
+/// As [`render`] and [`raymarch`].
+pub fn render_with_meshes(
+    scene: &Scene,
+    vol: &Volume,
+    tf: &TransferFunction,
+    camera: &Camera,
+    settings: &Settings,
+    params: &MarchParams,
+) -> Result<Frame> {
+    let surfaces = render(scene, camera, settings)?;
+    let depth = surface_distances(scene, camera, settings.width, settings.height)?;
+    let volume = raymarch(
+        vol,
+        tf,
+        camera,
+        settings.width,
+        settings.height,
+        params,
+        Some(&depth),
+    )?;
+    let color = volume
+        .color
+        .iter()
+        .zip(&surfaces.color)
+        .map(|(v, s)| *v + *s * (1.0 - v.w))
+        .collect();
+    Ok(Frame {
+        color,
+        stats: surfaces.stats,
+        ..surfaces
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Material, Mesh};
+    use glam::Mat4;
+
+    /// A square at y = `y` facing −y, covering x, z ∈ [lo, hi].
+    fn square(y: f32, lo: f32, hi: f32) -> Mesh {
+        Mesh {
+            positions: vec![
+                Vec3::new(lo, y, lo),
+                Vec3::new(hi, y, lo),
+                Vec3::new(hi, y, hi),
+                Vec3::new(lo, y, hi),
+            ],
+            indices: vec![0, 1, 2, 0, 2, 3],
+            world_from_object: Mat4::IDENTITY,
+            ..Mesh::default()
+        }
+    }
+
+    #[test]
+    fn rays_stop_at_a_mesh_inside_the_scan() {
+        // A uniform, semi-transparent 32³ volume; a square through its middle plane y = 15.5
+        // covering the left half of x.
+        let n = 32;
+        let vol =
+            Volume::from_scalars([n; 3], Mat4::IDENTITY, vec![1.0; (n * n * n) as usize]).unwrap();
+        let tf = TransferFunction::parse("0:1,1,1,0.05;2:1,1,1,0.05").unwrap();
+        let cam = vol.vtk_camera(1.6, 0.0);
+        let scene = Scene {
+            meshes: vec![square(15.5, -5.0, 15.5)],
+            materials: vec![Material::default()],
+            ambient_light: Vec3::ONE,
+            ..Scene::default()
+        };
+        let (w, h) = (48, 48);
+        let depth = surface_distances(&scene, &cam, w, h).unwrap();
+        let p = MarchParams {
+            jitter: false,
+            ..MarchParams::default()
+        };
+        let alone = raymarch(&vol, &tf, &cam, w, h, &p, None).unwrap();
+        let stopped = raymarch(&vol, &tf, &cam, w, h, &p, Some(&depth)).unwrap();
+        let (mut covered, mut open) = (0, 0);
+        for (i, &di) in depth.iter().enumerate() {
+            if di.is_finite() {
+                // The surface is at the eye distance of the plane y = 15.5 along this ray.
+                let (o, d) = super::super::raymarch::camera_ray(
+                    &cam,
+                    w,
+                    h,
+                    (i % w as usize) as f32 + 0.5,
+                    (i / w as usize) as f32 + 0.5,
+                );
+                let expected = (15.5 - o.y) / d.y;
+                assert!(
+                    (depth[i] - expected).abs() < 1e-2 * expected,
+                    "pixel {i}: {} vs {expected}",
+                    depth[i]
+                );
+                // Part of the path through the volume: never more opacity than the whole path,
+                // clearly less where the ray goes on through the volume behind the plane.
+                assert!(stopped.color[i].w <= alone.color[i].w + 1e-6, "pixel {i}");
+                if stopped.color[i].w < alone.color[i].w * 0.8 {
+                    covered += 1;
+                }
+            } else {
+                assert_eq!(stopped.color[i], alone.color[i]);
+                open += 1;
+            }
+        }
+        assert!(
+            covered > 100 && open > 100,
+            "{covered} covered, {open} open"
+        );
+        // And the composite shows the surface (lit white) where it is.
+        let s = Settings {
+            width: w,
+            height: h,
+            ..Settings::default()
+        };
+        let f = render_with_meshes(&scene, &vol, &tf, &cam, &s, &p).unwrap();
+        let i = depth.iter().position(|d| d.is_finite()).unwrap();
+        assert!(f.color[i].w > 0.99, "{}", f.color[i]);
+    }
+}
+
+#[cfg(test)]
+mod depth_tests {
+    use super::super::raymarch::{camera_ray, ray_distances_from_depth};
+    use crate::scene::Camera;
+    use glam::Vec3;
+
+    #[test]
+    fn window_depth_converts_back_to_the_ray_distance() {
+        let cam = Camera {
+            eye: Vec3::new(1.0, 2.0, 30.0),
+            target: Vec3::new(0.0, 0.0, 0.0),
+            up: Vec3::Y,
+            fov_y_deg: 40.0,
+            near: 0.5,
+            far: 200.0,
+        };
+        let (w, h) = (8u32, 6u32);
+        let clip_from_world = cam.clip_from_view(w as f32 / h as f32) * cam.view_from_world();
+        let mut window = Vec::new();
+        let mut expected = Vec::new();
+        for i in 0..(w * h) {
+            let (o, d) = camera_ray(&cam, w, h, (i % w) as f32 + 0.5, (i / w) as f32 + 0.5);
+            let t = 10.0 + i as f32;
+            let c = clip_from_world * (o + d * t).extend(1.0);
+            window.push(c.z / c.w * 0.5 + 0.5);
+            expected.push(t);
+        }
+        let got = ray_distances_from_depth(&cam, w, h, &window);
+        for (g, e) in got.iter().zip(&expected) {
+            assert!((g - e).abs() < 1e-2 * e, "{g} vs {e}");
+        }
+        assert!(ray_distances_from_depth(&cam, 1, 1, &[1.0])[0].is_infinite());
+    }
+}
