@@ -182,6 +182,29 @@ mod tests {
     }
 
     #[test]
+    fn tga_bmp_jpeg_and_exr_load() {
+        let rgb =
+            image::RgbImage::from_fn(5, 3, |x, y| image::Rgb([x as u8 * 50, y as u8 * 80, 200]));
+        for name in ["a.tga", "a.bmp", "a.jpg"] {
+            let p = tmp(name);
+            rgb.save(&p).unwrap();
+            let t = load_texture(&p, ColorSpace::Srgb, &Limits::default()).unwrap();
+            assert_eq!((t.width(), t.height()), (5, 3), "{name}");
+            assert_eq!(t.format(), Format::Rgb8, "{name}");
+        }
+        // OpenEXR: float, linear whatever the declared colour space, values above 1 kept.
+        let hdr = image::Rgb32FImage::from_fn(4, 2, |x, _| image::Rgb([x as f32 * 2.5, 0.5, 0.0]));
+        let p = tmp("a.exr");
+        image::DynamicImage::ImageRgb32F(hdr).save(&p).unwrap();
+        let t = load_texture(&p, ColorSpace::Srgb, &Limits::default()).unwrap();
+        assert_eq!(
+            (t.format(), t.color_space()),
+            (Format::Rgba32F, ColorSpace::Linear)
+        );
+        assert!((t.texel(0, 3, 0).x - 7.5).abs() < 1e-6);
+    }
+
+    #[test]
     fn corrupt_file_names_the_file() {
         let p = tmp("corrupt.png");
         std::fs::write(&p, b"\x89PNG\r\n\x1a\nthis is not a png").unwrap();
