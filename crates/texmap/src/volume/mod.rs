@@ -279,32 +279,59 @@ impl Volume {
     }
 }
 
-/// Trilinear interpolation of `data` (x fastest, `dims`) at voxel-space `p`, clamped to the box.
+/// The trilinear cell of voxel-space `p`, clamped to the box: the index of its lowest corner,
+/// the strides to the next voxel along x, y and z (0 on a one-voxel axis, so every corner read
+/// stays inside the grid), and the position inside the cell. `None` when `len`, the data's
+/// length, is short of the grid's voxel count.
 #[inline(always)]
-pub(crate) fn trilinear(data: &[u16], dims: [u32; 3], p: Vec3) -> f32 {
+pub(crate) fn trilinear_cell(
+    dims: [u32; 3],
+    p: Vec3,
+    len: usize,
+) -> Option<(usize, [usize; 3], Vec3)> {
     let [nx, ny, nz] = dims;
-    let mx = (nx - 1) as f32;
-    let my = (ny - 1) as f32;
-    let mz = (nz - 1) as f32;
-    let x = p.x.clamp(0.0, mx);
-    let y = p.y.clamp(0.0, my);
-    let z = p.z.clamp(0.0, mz);
+    if nx == 0 || ny == 0 || nz == 0 || len < nx as usize * ny as usize * nz as usize {
+        return None;
+    }
+    let x = p.x.clamp(0.0, (nx - 1) as f32);
+    let y = p.y.clamp(0.0, (ny - 1) as f32);
+    let z = p.z.clamp(0.0, (nz - 1) as f32);
     let (ix, iy, iz) = (
         (x as u32).min(nx.saturating_sub(2)),
         (y as u32).min(ny.saturating_sub(2)),
         (z as u32).min(nz.saturating_sub(2)),
     );
-    let (fx, fy, fz) = (x - ix as f32, y - iy as f32, z - iz as f32);
-    let sx = usize::from(nx > 1);
-    let sy = if ny > 1 { nx as usize } else { 0 };
-    let sz = if nz > 1 { nx as usize * ny as usize } else { 0 };
+    let strides = [
+        usize::from(nx > 1),
+        if ny > 1 { nx as usize } else { 0 },
+        if nz > 1 { nx as usize * ny as usize } else { 0 },
+    ];
     let i = (iz as usize * ny as usize + iy as usize) * nx as usize + ix as usize;
-    if data.len() < nx as usize * ny as usize * nz as usize {
+    Some((
+        i,
+        strides,
+        Vec3::new(x - ix as f32, y - iy as f32, z - iz as f32),
+    ))
+}
+
+/// Trilinear interpolation of `data` (x fastest, `dims`) at voxel-space `p`, clamped to the box.
+#[inline(always)]
+pub(crate) fn trilinear(data: &[u16], dims: [u32; 3], p: Vec3) -> f32 {
+    let Some((
+        i,
+        [sx, sy, sz],
+        Vec3 {
+            x: fx,
+            y: fy,
+            z: fz,
+        },
+    )) = trilinear_cell(dims, p, data.len())
+    else {
         return 0.0;
-    }
-    // SAFETY: ix ≤ nx − 2 when sx = 1 (else ix = 0, sx = 0), likewise y and z, so the largest
-    // index, i + sx + sy + sz, is voxel (ix + sx, iy + sy/nx, …) inside the grid, whose
-    // nx·ny·nz values `data` holds (checked above). Unchecked reads: the bounds checks cost
+    };
+    // SAFETY: `trilinear_cell` keeps ix ≤ nx − 2 when sx = 1 (else sx = 0), likewise y and z,
+    // so the largest index, i + sx + sy + sz, is a voxel of the grid, whose nx·ny·nz values
+    // `data` holds (it checked the length). Unchecked reads: the bounds checks cost
     // 8 compares and branches per sample in the marcher's inner loop.
     let g = |k: usize| f32::from(unsafe { *data.get_unchecked(k) });
     let c000 = g(i);

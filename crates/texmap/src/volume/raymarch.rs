@@ -308,26 +308,21 @@ impl CellCache {
 /// whose length falls below ½ where the normals disagree or are zero.
 #[inline(always)]
 pub(crate) fn trilinear_normal(data: &[[i8; 4]], dims: [u32; 3], p: Vec3) -> Vec3 {
-    let [nx, ny, nz] = dims;
-    let x = p.x.clamp(0.0, (nx - 1) as f32);
-    let y = p.y.clamp(0.0, (ny - 1) as f32);
-    let z = p.z.clamp(0.0, (nz - 1) as f32);
-    let (ix, iy, iz) = (
-        (x as u32).min(nx.saturating_sub(2)),
-        (y as u32).min(ny.saturating_sub(2)),
-        (z as u32).min(nz.saturating_sub(2)),
-    );
-    let (fx, fy, fz) = (x - ix as f32, y - iy as f32, z - iz as f32);
-    let sx = usize::from(nx > 1);
-    let sy = if ny > 1 { nx as usize } else { 0 };
-    let sz = if nz > 1 { nx as usize * ny as usize } else { 0 };
-    let i = (iz as usize * ny as usize + iy as usize) * nx as usize + ix as usize;
-    if data.len() < nx as usize * ny as usize * nz as usize {
+    let Some((
+        i,
+        [sx, sy, sz],
+        Vec3 {
+            x: fx,
+            y: fy,
+            z: fz,
+        },
+    )) = super::trilinear_cell(dims, p, data.len())
+    else {
         return Vec3::ZERO;
-    }
+    };
     let g = |k: usize| {
-        // SAFETY: as in `trilinear`: the largest index i + sx + sy + sz is a voxel of the
-        // grid, and `data` holds every voxel (checked above).
+        // SAFETY: as in `trilinear`: `trilinear_cell` makes the largest index i + sx + sy + sz a
+        // voxel of the grid and checked that `data` holds every voxel.
         let n = unsafe { *data.get_unchecked(k) };
         Vec3::new(f32::from(n[0]), f32::from(n[1]), f32::from(n[2]))
     };
