@@ -728,8 +728,8 @@ impl FragmentShader for SceneShader<'_> {
                 df -= self.lighting.ambient * m.ambient * (1.0 - o);
             }
             if let Some(texel) = &emission {
-                // (illuminate leaves the emissive factor out when a map modulates it.)
-                sp += m.emissive * texel[j].truncate();
+                // The factors carry I_E; the map scales it: I_E·texel = I_E + I_E·(texel − 1).
+                sp += m.emissive * (texel[j].truncate() - Vec3::ONE);
             }
             match combine(m.alpha_mode, c, df, sp) {
                 Some(color) => out[j] = color,

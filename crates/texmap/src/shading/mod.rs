@@ -341,13 +341,8 @@ impl Lighting<'_> {
 #[must_use]
 pub fn illuminate(m: &Material, lighting: &Lighting, p: Vec3, n: Vec3, eye: Vec3) -> (Vec3, Vec3) {
     let mut d = lighting.ambient * m.ambient;
-    // Until emissive maps are sampled, a textured emission is left out rather than drawn as
-    // a uniform glow of its factor.
-    let mut s = if m.map(MapChannel::Emissive).is_some() {
-        Vec3::ZERO
-    } else {
-        m.emissive
-    };
+    // I_E; an emissive map scales it per pixel in the fragment stage.
+    let mut s = m.emissive;
     let specular = m.specular > 0.0;
     let v = if specular {
         (eye - p).normalize_or_zero()
