@@ -17,7 +17,7 @@
 // Hot loops index several parallel arrays with one counter.
 #![allow(clippy::needless_range_loop)]
 
-use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+use glam::{Mat2, Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use crate::geometry::Projection;
@@ -29,7 +29,7 @@ use crate::scene::{Camera, Mesh, Scene};
 use crate::shading::{
     combine, illuminate, AlphaMode, Light, Lighting, MapChannel, Material, Procedural, TextureSlot,
 };
-use crate::texture::{sample, sample_quad, Filter, Sampler, Texture2D, TextureTransform, Wrap};
+use crate::texture::{sample, sample_quad, Filter, Footprint, Sampler, Texture2D, Wrap};
 use crate::{Error, Result};
 
 /// Where lighting is evaluated.
@@ -309,14 +309,15 @@ enum Mode {
 }
 
 /// A texture the fragment stage reads: image, sampler (command-line overrides applied), the
-/// slot's uv transform and scale, its uv set, and the map's scale (normal scale, occlusion
-/// strength).
+/// slot's uv transform and scale folded into one affine map (computed once per draw, not per
+/// quad), its uv set, and the map's scale (normal scale, occlusion strength).
 #[derive(Clone, Copy)]
 struct MapRead<'a> {
     tex: &'a Texture2D,
     sampler: Sampler,
-    transform: TextureTransform,
-    uv_scale: f32,
+    /// `uv' = linear·uv + offset` = `transform.apply(uv) · uv_scale`.
+    linear: Mat2,
+    offset: Vec2,
     /// Offset of the raw uv set in the varyings (0 for set 0).
     uv_at: usize,
     scale: f32,
@@ -327,8 +328,7 @@ impl MapRead<'_> {
     /// interpolated uv (and its linear part to the derivatives) equals applying it per vertex.
     fn quad(&self, quad: &Quad) -> [Vec4; 4] {
         let k = self.uv_at;
-        let m = self.transform.matrix() * self.uv_scale;
-        let offset = self.transform.offset * self.uv_scale;
+        let (m, offset) = (self.linear, self.offset);
         let uvs = std::array::from_fn(|j| {
             m * Vec2::new(quad.varyings[j][k], quad.varyings[j][k + 1]) + offset
         });
@@ -362,7 +362,7 @@ struct DrawInfo<'a> {
     /// Offset of the object-space position and normal (6 floats) for procedural colour.
     object_at: Option<usize>,
     /// The projected texture's sampler, with the command line's overrides applied.
-    projected_sampler: Option<Sampler>,
+    projected: Option<MapRead<'a>>,
     /// The projection, with an unset bounding-sphere centre resolved to the mesh's box centre.
     projection: Option<Projection>,
     varyings: usize,
@@ -430,8 +430,8 @@ impl<'a> DrawInfo<'a> {
         let read = |slot: &'a TextureSlot, scale: f32| MapRead {
             tex: &slot.texture,
             sampler: overridden(slot.sampler),
-            transform: slot.transform,
-            uv_scale: slot.uv_scale,
+            linear: slot.transform.matrix() * slot.uv_scale,
+            offset: slot.transform.offset * slot.uv_scale,
             // A texture on set 1 of a mesh without it reads set 0 (the peers read (0, 0)).
             uv_at: if slot.tex_coord == 1 {
                 uv1_at.unwrap_or(0)
@@ -456,7 +456,7 @@ impl<'a> DrawInfo<'a> {
         } else {
             map(MapChannel::Emissive)
         };
-        let (projected_sampler, projection) = match &material.procedural {
+        let (projected, projection) = match &material.procedural {
             Some(Procedural::Projected { slot, projection }) => {
                 let projection = match *projection {
                     Projection::BoundingSphere { center } if !center.is_finite() => {
@@ -474,7 +474,7 @@ impl<'a> DrawInfo<'a> {
                     }
                     p => p,
                 };
-                (Some(overridden(slot.sampler)), Some(projection))
+                (Some(read(slot, 1.0)), Some(projection))
             }
             _ => (None, None),
         };
@@ -493,7 +493,7 @@ impl<'a> DrawInfo<'a> {
             color_at,
             needs_position,
             object_at,
-            projected_sampler,
+            projected,
             projection,
             varyings,
             mirrored: Mat3::from_mat4(mesh.world_from_object).determinant() < 0.0,
@@ -518,7 +518,7 @@ impl<'a> DrawInfo<'a> {
                 + u32::from(self.normal_map.is_some())
                 + u32::from(self.occlusion_map.is_some())
                 + u32::from(self.emissive_map.is_some())
-                + u32::from(self.projected_sampler.is_some()),
+                + u32::from(self.projected.is_some()),
         }
     }
 }
@@ -760,19 +760,19 @@ fn procedural_color(proc: &Procedural, d: &DrawInfo, quad: &Quad, j: usize, k: u
             };
             solid.color(p.as_dvec3(), extent, *colors).extend(1.0)
         }
-        Procedural::Projected { slot, projection } => {
+        // The slot's image, sampler and affine transform, resolved once per draw.
+        Procedural::Projected { .. } => {
+            let (Some(map), Some(projection)) = (&d.projected, &d.projection) else {
+                return Vec4::ONE;
+            };
             let n = Vec3::new(v[k + 3], v[k + 4], v[k + 5]);
-            let projection = d.projection.as_ref().unwrap_or(projection);
             let fp = projection.map_footprint(p, dp_dx, dp_dy, n);
-            let mut fp = slot.transform.apply_footprint(&fp);
-            fp.uv *= slot.uv_scale;
-            fp.duv_dx *= slot.uv_scale;
-            fp.duv_dy *= slot.uv_scale;
-            sample(
-                &slot.texture,
-                d.projected_sampler.as_ref().unwrap_or(&slot.sampler),
-                &fp,
-            )
+            let fp = Footprint::new(
+                map.linear * fp.uv + map.offset,
+                map.linear * fp.duv_dx,
+                map.linear * fp.duv_dy,
+            );
+            sample(map.tex, &map.sampler, &fp)
         }
     }
 }

@@ -821,33 +821,25 @@ impl Loader<'_> {
         let uvs1 = attr(self, Semantic::TexCoords(1), "TEXCOORD_1")?
             .map(vec2s)
             .unwrap_or_default();
+        // VEC3 or VEC4; a missing fourth component is 1 (colour alpha, tangent handedness).
+        let vec4s = |(v, n): (Vec<f64>, usize)| -> Vec<Vec4> {
+            v.chunks_exact(n.max(1))
+                .map(|c| {
+                    let at = |i: usize, d: f64| c.get(i).copied().unwrap_or(d) as f32;
+                    Vec4::new(
+                        at(0, 0.0),
+                        at(1, 0.0),
+                        at(2, 0.0),
+                        if n == 4 { at(3, 1.0) } else { 1.0 },
+                    )
+                })
+                .collect()
+        };
         let colors: Vec<Vec4> = attr(self, Semantic::Colors(0), "COLOR_0")?
-            .map(|(v, n)| {
-                v.chunks_exact(n.max(1))
-                    .map(|c| {
-                        Vec4::new(
-                            c[0] as f32,
-                            c[1] as f32,
-                            c[2] as f32,
-                            if n == 4 { c[3] as f32 } else { 1.0 },
-                        )
-                    })
-                    .collect()
-            })
+            .map(vec4s)
             .unwrap_or_default();
         let mut tangents: Vec<Vec4> = attr(self, Semantic::Tangents, "TANGENT")?
-            .map(|(v, n)| {
-                v.chunks_exact(n.max(1))
-                    .map(|c| {
-                        Vec4::new(
-                            c[0] as f32,
-                            c[1] as f32,
-                            c[2] as f32,
-                            if n == 4 { c[3] as f32 } else { 1.0 },
-                        )
-                    })
-                    .collect()
-            })
+            .map(vec4s)
             .unwrap_or_default();
 
         // Morph targets at their default weights.

@@ -201,26 +201,8 @@ impl CellCache {
     /// The cell of `p` (clamped as [`trilinear`]): base index, strides, fractions.
     #[inline(always)]
     fn locate(dims: [u32; 3], p: Vec3) -> (usize, [usize; 3], Vec3) {
-        let [nx, ny, nz] = dims;
-        let x = p.x.clamp(0.0, (nx - 1) as f32);
-        let y = p.y.clamp(0.0, (ny - 1) as f32);
-        let z = p.z.clamp(0.0, (nz - 1) as f32);
-        let (ix, iy, iz) = (
-            (x as u32).min(nx.saturating_sub(2)),
-            (y as u32).min(ny.saturating_sub(2)),
-            (z as u32).min(nz.saturating_sub(2)),
-        );
-        let f = Vec3::new(x - ix as f32, y - iy as f32, z - iz as f32);
-        let st = [
-            usize::from(nx > 1),
-            if ny > 1 { nx as usize } else { 0 },
-            if nz > 1 { nx as usize * ny as usize } else { 0 },
-        ];
-        (
-            (iz as usize * ny as usize + iy as usize) * nx as usize + ix as usize,
-            st,
-            f,
-        )
+        // The length check is `value`'s, done once per new cell.
+        super::trilinear_cell(dims, p, usize::MAX).unwrap_or((0, [0; 3], Vec3::ZERO))
     }
 
     /// Trilinear value at `p`, equal to [`trilinear`].
@@ -437,6 +419,22 @@ struct Ctx<'a> {
     headlight: Option<Vec3>,
 }
 
+/// The checks both methods make: an image size in 1..=16384 and a positive, finite step.
+pub(crate) fn check_frame(width: u32, height: u32, params: &MarchParams) -> Result<()> {
+    if width == 0 || height == 0 || width > 16384 || height > 16384 {
+        return Err(Error::parameter(format!(
+            "image size {width}x{height} is out of range"
+        )));
+    }
+    if !(params.step.is_finite() && params.step > 0.0) {
+        return Err(Error::parameter(format!(
+            "--step {} must be > 0",
+            params.step
+        )));
+    }
+    Ok(())
+}
+
 /// Renders `vol` classified by `tf`, seen by `camera`, into a `width × height` frame, in
 /// rayon's current pool. `depth`, when given, holds per pixel (row-major, top row first) the
 /// distance along the ray from the eye where the ray stops (a surface in front).
@@ -455,17 +453,7 @@ pub fn raymarch(
     depth: Option<&[f32]>,
 ) -> Result<Frame> {
     camera.validate()?;
-    if width == 0 || height == 0 || width > 16384 || height > 16384 {
-        return Err(Error::parameter(format!(
-            "image size {width}x{height} is out of range"
-        )));
-    }
-    if !(params.step.is_finite() && params.step > 0.0) {
-        return Err(Error::parameter(format!(
-            "--step {} must be > 0",
-            params.step
-        )));
-    }
+    check_frame(width, height, params)?;
     if let Some(d) = depth {
         if d.len() != (width * height) as usize {
             return Err(Error::parameter(format!(

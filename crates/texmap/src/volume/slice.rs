@@ -178,17 +178,7 @@ pub fn render_slices(
             "--method slices renders composite mode with post-classification only".into(),
         ));
     }
-    if width == 0 || height == 0 || width > 16384 || height > 16384 {
-        return Err(Error::parameter(format!(
-            "image size {width}x{height} is out of range"
-        )));
-    }
-    if !(params.step.is_finite() && params.step > 0.0) {
-        return Err(Error::parameter(format!(
-            "--step {} must be > 0",
-            params.step
-        )));
-    }
+    super::raymarch::check_frame(width, height, params)?;
     let fwd = (camera.target - camera.eye).normalize();
     let corners = vol.world_corners();
     let depths: Vec<f32> = corners.iter().map(|c| (*c - camera.eye).dot(fwd)).collect();

@@ -147,21 +147,7 @@ impl TransferFunction {
     /// Straight-alpha RGBA at `v` (piecewise linear, clamped at the ends).
     #[must_use]
     pub fn eval(&self, v: f32) -> Vec4 {
-        let p = &self.points;
-        let i = p.partition_point(|q| q.0 <= v);
-        if i == 0 {
-            return p[0].1;
-        }
-        if i == p.len() {
-            return p[p.len() - 1].1;
-        }
-        let (a, b) = (p[i - 1], p[i]);
-        let t = if b.0 > a.0 {
-            (v - a.0) / (b.0 - a.0)
-        } else {
-            1.0
-        };
-        a.1.lerp(b.1, t)
+        piecewise_linear(&self.points, v, Vec4::lerp).unwrap_or(Vec4::ZERO)
     }
 
     /// The lowest value with non-zero opacity (for iso-values and windows), if any.
@@ -229,23 +215,27 @@ impl TransferFunction2D {
 }
 
 pub(crate) fn gradient_factor(p: &[(f32, f32)], g: f32) -> f32 {
-    if p.is_empty() {
-        return 1.0;
+    piecewise_linear(p, g, |a, b, t| a + (b - a) * t).unwrap_or(1.0)
+}
+
+/// The piecewise-linear function through `points` (sorted by x) at `x`, clamped at the ends;
+/// `None` when there are no points.
+fn piecewise_linear<T: Copy>(
+    points: &[(f32, T)],
+    x: f32,
+    lerp: impl Fn(T, T, f32) -> T,
+) -> Option<T> {
+    let i = points.partition_point(|q| q.0 <= x);
+    if i == 0 || i == points.len() {
+        return points.get(i.saturating_sub(1)).map(|q| q.1);
     }
-    let i = p.partition_point(|q| q.0 <= g);
-    if i == 0 {
-        return p[0].1;
-    }
-    if i == p.len() {
-        return p[p.len() - 1].1;
-    }
-    let (a, b) = (p[i - 1], p[i]);
+    let (a, b) = (points[i - 1], points[i]);
     let t = if b.0 > a.0 {
-        (g - a.0) / (b.0 - a.0)
+        (x - a.0) / (b.0 - a.0)
     } else {
         1.0
     };
-    a.1 + (b.1 - a.1) * t
+    Some(lerp(a.1, b.1, t))
 }
 
 /// Number of entries of a [`TransferLut`].
