@@ -6,7 +6,9 @@ use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 use glam::Vec3;
-use texmap::render::{render, CullMode, Interpolation, Settings, ShadingMode, Visibility};
+use texmap::render::{
+    render_into, CullMode, Frame, FrameStats, Interpolation, Settings, ShadingMode, Visibility,
+};
 use texmap::scene::{builtin, Camera, LoadOptions, Scene, TextureSlot};
 use texmap::texture::load::{load_texture, Limits};
 use texmap::texture::{ColorSpace, Filter, LodRule, Sampler, Texture2D, Wrap};
@@ -374,7 +376,13 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
     let setup_ms = setup_start.elapsed().as_secs_f64() * 1e3;
 
     let mut times = Vec::with_capacity(args.frames as usize);
-    let mut last = None;
+    // One frame buffer for the whole sequence.
+    let mut frame = Frame {
+        width: 0,
+        height: 0,
+        color: Vec::new(),
+        stats: FrameStats::default(),
+    };
     progress.message("rendering");
     for k in 1..=args.frames {
         let angle = std::f32::consts::TAU * k as f32 / args.frames as f32;
@@ -384,7 +392,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             camera.orbit(angle)
         };
         let start = Instant::now();
-        let frame = pool.install(|| render(&scene, &cam, &settings))?;
+        pool.install(|| render_into(&scene, &cam, &settings, &mut frame))?;
         times.push(start.elapsed().as_secs_f64() * 1e3);
         if per_frame {
             let path = PathBuf::from(
@@ -394,11 +402,12 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             );
             crate::output::write_png_rgb8(&path, frame.width, frame.height, &frame.to_srgb8())?;
         }
-        last = Some(frame);
         progress.tick();
     }
     progress.finish();
-    let frame = last.ok_or_else(|| Error::parameter("no frame rendered"))?;
+    if times.is_empty() {
+        return Err(Error::parameter("no frame rendered"));
+    }
     if !per_frame {
         crate::output::write_png_rgb8(&output, frame.width, frame.height, &frame.to_srgb8())?;
     }

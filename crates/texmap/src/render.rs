@@ -198,6 +198,27 @@ impl Frame {
 /// [`Error::Parameter`] for invalid settings or camera (zero or absurd size, non-finite
 /// camera, `near ≤ 0`, `far ≤ near`) or a mesh naming a material that does not exist.
 pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Frame> {
+    let mut frame = Frame {
+        width: 0,
+        height: 0,
+        color: Vec::new(),
+        stats: FrameStats::default(),
+    };
+    render_into(scene, camera, settings, &mut frame)?;
+    Ok(frame)
+}
+
+/// [`render`] into `frame`, reusing its colour buffer: a sequence of frames (a turntable)
+/// does not pay for a fresh image each time. On error `frame` is left unchanged.
+///
+/// # Errors
+/// As [`render`].
+pub fn render_into(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &Settings,
+    frame: &mut Frame,
+) -> Result<()> {
     settings.validate()?;
     camera.validate()?;
     for (i, m) in scene.meshes.iter().enumerate() {
@@ -268,24 +289,27 @@ pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Fra
         interpolation: settings.interpolation,
         depth_sort: settings.visibility == Visibility::DepthSort,
     };
-    let (color, st) = pipeline::draw(&calls, &shader, &target);
-    let color = pipeline::downsample_box(
-        color,
-        settings.width as usize,
-        settings.height as usize,
-        n as usize,
-    );
-    Ok(Frame {
-        width: settings.width,
-        height: settings.height,
-        color,
-        stats: FrameStats {
-            triangles_submitted: st.triangles_submitted,
-            triangles_after_clip: st.triangles_after_clip,
-            pixels_shaded: st.pixels_shaded,
-            texture_samples: st.texture_samples,
-        },
-    })
+    let st = if n == 1 {
+        pipeline::draw_into(&calls, &shader, &target, &mut frame.color)
+    } else {
+        let (big, st) = pipeline::draw(&calls, &shader, &target);
+        frame.color = pipeline::downsample_box(
+            big,
+            settings.width as usize,
+            settings.height as usize,
+            n as usize,
+        );
+        st
+    };
+    frame.width = settings.width;
+    frame.height = settings.height;
+    frame.stats = FrameStats {
+        triangles_submitted: st.triangles_submitted,
+        triangles_after_clip: st.triangles_after_clip,
+        pixels_shaded: st.pixels_shaded,
+        texture_samples: st.texture_samples,
+    };
+    Ok(())
 }
 
 fn normal_matrix(m: Mat4) -> Mat3 {
