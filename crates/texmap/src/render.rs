@@ -157,22 +157,47 @@ impl Frame {
     /// RGB8 rows, sRGB-encoded (the premultiplied colour, i.e. composited over black).
     #[must_use]
     pub fn to_srgb8(&self) -> Vec<u8> {
-        // Code k is chosen for c in [lin((k − ½)/255), lin((k + ½)/255)): exact rounding,
-        // without a powf per channel.
-        static THRESHOLDS: std::sync::OnceLock<Vec<f32>> = std::sync::OnceLock::new();
-        let t = THRESHOLDS.get_or_init(|| {
-            (0..255)
-                .map(|k| crate::color::srgb_to_linear((k as f32 + 0.5) / 255.0))
-                .collect()
-        });
         let mut out = Vec::with_capacity(self.color.len() * 3);
         for c in &self.color {
-            for v in [c.x, c.y, c.z] {
-                out.push(t.partition_point(|&x| x <= v) as u8);
-            }
+            out.extend([c.x, c.y, c.z].map(linear_to_srgb8_exact));
         }
         out
     }
+}
+
+/// The 8-bit sRGB code of linear `v`, exactly rounded: code k for v in
+/// [lin((k − ½)/255), lin((k + ½)/255)), without a powf. A 4096-bucket table gives the code at
+/// the bucket's start; at most two thresholds fall inside a bucket, so a short walk finishes.
+#[inline]
+fn linear_to_srgb8_exact(v: f32) -> u8 {
+    const BUCKETS: usize = 4096;
+    struct Table {
+        thresholds: [f32; 255],
+        start: Vec<u8>,
+    }
+    static TABLE: std::sync::OnceLock<Table> = std::sync::OnceLock::new();
+    let t = TABLE.get_or_init(|| {
+        let thresholds =
+            std::array::from_fn(|k| crate::color::srgb_to_linear((k as f32 + 0.5) / 255.0));
+        let start = (0..BUCKETS)
+            .map(|i| {
+                let v = i as f32 / BUCKETS as f32;
+                thresholds.partition_point(|&x| x <= v) as u8
+            })
+            .collect();
+        Table { thresholds, start }
+    });
+    if !(v > 0.0) {
+        return 0;
+    }
+    if v >= 1.0 {
+        return 255;
+    }
+    let mut k = t.start[((v * BUCKETS as f32) as usize).min(BUCKETS - 1)] as usize;
+    while k < 255 && t.thresholds[k] <= v {
+        k += 1;
+    }
+    k as u8
 }
 
 /// Renders `scene` seen by `camera`, in rayon's current thread pool.
@@ -797,6 +822,34 @@ fn procedural_color(proc: &Procedural, d: &DrawInfo, quad: &Quad, j: usize, k: u
                 map.linear * fp.duv_dy,
             );
             sample(map.tex, &map.sampler, &fp)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb8_encoding_rounds_exactly_at_every_threshold() {
+        let lin = |c: f32| crate::color::srgb_to_linear(c / 255.0);
+        let code = |v: f32| {
+            // The definition: the number of thresholds lin((k + ½)/255) at or below v.
+            (0..255).filter(|&k| lin(k as f32 + 0.5) <= v).count() as u8
+        };
+        let mut values = vec![f32::NAN, -1.0, 0.0, 1.0, 2.0, f32::INFINITY];
+        for k in 0..255 {
+            let t = lin(k as f32 + 0.5);
+            let (below, above) = (
+                f32::from_bits(t.to_bits() - 1),
+                f32::from_bits(t.to_bits() + 1),
+            );
+            values.extend([t, below, above, lin(k as f32)]);
+        }
+        values.extend((0..10_000).map(|i| i as f32 / 10_000.0));
+        for v in values {
+            let want = if v.is_nan() { 0 } else { code(v) };
+            assert_eq!(linear_to_srgb8_exact(v), want, "v = {v:e}");
         }
     }
 }
