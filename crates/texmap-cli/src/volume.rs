@@ -158,11 +158,7 @@ pub fn run(v: &VolumeArgs, c: &Common) -> Result<(), Error> {
         .build()
         .map_err(|e| Error::parameter(format!("--threads: {e}")))?;
     let path = Path::new(c.scene);
-    let raw = v.dims.map(|dims| RawDesc {
-        dims,
-        scalar: v.dtype,
-        spacing: v.spacing,
-    });
+    let raw = v.dims.map(|dims| RawDesc::new(dims, v.dtype, v.spacing));
     let mut vol = pool.install(|| load_volume(path, raw.as_ref()))?;
     if v.ignore_orientation {
         vol.set_world_from_voxel(Mat4::from_scale(vol.spacing()))?;

@@ -45,6 +45,8 @@ pub struct Volume {
     bricks: std::sync::OnceLock<raymarch::Bricks>,
     /// Per-voxel world-space normals for shading, built on first use.
     normals: std::sync::OnceLock<Vec<[i8; 4]>>,
+    /// The file's voxel type, when a loader made the volume.
+    scalar_type: Option<ScalarType>,
 }
 
 impl Volume {
@@ -120,6 +122,7 @@ impl Volume {
             quant,
             bricks: std::sync::OnceLock::new(),
             normals: std::sync::OnceLock::new(),
+            scalar_type: None,
         })
     }
 
@@ -142,6 +145,15 @@ impl Volume {
     #[must_use]
     pub fn range(&self) -> (f32, f32) {
         self.range
+    }
+    /// The voxel type of the file the volume was read from (`None` when built from values).
+    #[must_use]
+    pub fn scalar_type(&self) -> Option<ScalarType> {
+        self.scalar_type
+    }
+    /// Records the voxel type of the source data (for listings; the values are unchanged).
+    pub fn set_scalar_type(&mut self, ty: ScalarType) {
+        self.scalar_type = Some(ty);
     }
     /// The values as a 3D texture (`R16`, linear: level/65535; texel centres at the voxels).
     #[must_use]
