@@ -12,6 +12,7 @@
 
 pub mod load;
 pub mod raymarch;
+mod shade;
 pub mod slice;
 pub mod transfer;
 pub mod with_meshes;
@@ -23,7 +24,7 @@ use crate::{Error, Result};
 
 pub use load::{load_volume, RawDesc, ScalarType};
 pub use raymarch::{iso_hit, raymarch, Classification, Lighting, MarchParams, Mode};
-pub use slice::render_slices;
+pub use slice::{render_slices, render_slices_until};
 
 pub use transfer::{PreIntegrated, TransferFunction, TransferFunction2D, TransferLut};
 pub use with_meshes::{render_with_meshes, surface_distances};
