@@ -155,3 +155,310 @@ fn a_light_from_plus_x_brightens_the_plus_x_side() {
         assert!((pr - ml).abs() < 0.02 * pr, "{what}: {pr} vs {ml}");
     }
 }
+
+// ---- Volumes in TOML scenes ------------------------------------------------------------------
+
+use texmap::scene::{load, LoadOptions};
+use texmap::volume::{render_with_volumes, Classification, Method, Mode, ScalarType, SceneVolume};
+
+fn tmp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("texmap-vscene-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// An 8×6×5 big-endian u16 raw file after a 7-byte header: value x + 10y + 100z.
+fn write_raw_u16_be(path: &Path) {
+    let mut b = b"HEADER!".to_vec();
+    for z in 0..5u16 {
+        for y in 0..6u16 {
+            for x in 0..8u16 {
+                b.extend_from_slice(&(x + 10 * y + 100 * z).to_be_bytes());
+            }
+        }
+    }
+    std::fs::write(path, b).unwrap();
+}
+
+fn load_scene(dir: &Path, body: &str) -> texmap::Result<texmap::scene::Loaded> {
+    let p = dir.join("s.toml");
+    std::fs::write(&p, body).unwrap();
+    load(&p, &LoadOptions::default())
+}
+
+#[test]
+fn a_volume_table_reads_every_key() {
+    let d = tmp_dir("keys");
+    std::fs::create_dir_all(d.join("data")).unwrap();
+    write_raw_u16_be(&d.join("data/v.raw"));
+    std::fs::write(
+        d.join("data/tf.txt"),
+        "# points\n0:0,0,0,0\n400:1,0.5,0.25,0.5\n",
+    )
+    .unwrap();
+    let l = load_scene(
+        &d,
+        r#"
+[[lights]]
+type = "point"
+position = [0, 0, 50]
+intensity = 100
+[[volumes]]
+file = "data/v.raw"
+dims = [8, 6, 5]
+dtype = "u16"
+spacing = [1, 2, 3]
+endian = "big"
+header_bytes = 7
+translate = [10, 20, 30]
+rotate = [0, 0, 90]
+scale = 2
+tf = "data/tf.txt"
+mode = "iso"
+iso = 250
+step = 0.25
+shade = true
+method = "raymarch"
+classification = "pre"
+gradient_opacity = "0:0;5:1"
+jitter = false
+empty_space_skipping = false
+"#,
+    )
+    .unwrap();
+    assert_eq!(l.volumes.len(), 1);
+    assert_eq!(l.info.volumes.len(), 1);
+    assert!(!l.info.default_light);
+    let v = &l.volumes[0];
+    let vol = &v.volume;
+    assert_eq!(vol.dims(), [8, 6, 5]);
+    assert_eq!(vol.scalar_type(), Some(ScalarType::U16));
+    assert_eq!(vol.range(), (0.0, 457.0));
+    assert!(
+        (vol.voxel(3, 2, 1) - 123.0).abs() < 0.01,
+        "{}",
+        vol.voxel(3, 2, 1)
+    );
+    // Spacing (1, 2, 3), then scale 2, rotate 90° about z, translate.
+    let m = vol.world_from_voxel();
+    let close = |a: Vec3, b: Vec3| (a - b).length() < 1e-4;
+    assert!(close(
+        m.transform_point3(Vec3::ZERO),
+        Vec3::new(10.0, 20.0, 30.0)
+    ));
+    assert!(close(
+        m.transform_point3(Vec3::X),
+        Vec3::new(10.0, 22.0, 30.0)
+    ));
+    assert!(close(
+        m.transform_point3(Vec3::Y),
+        Vec3::new(6.0, 20.0, 30.0)
+    ));
+    assert!(close(
+        m.transform_point3(Vec3::Z),
+        Vec3::new(10.0, 20.0, 36.0)
+    ));
+    // The transfer function file resolves from the scene's folder.
+    assert_eq!(v.transfer.points().len(), 2);
+    assert_eq!(v.transfer.points()[1].0, 400.0);
+    let p = &v.params;
+    assert_eq!(
+        (p.mode, p.iso, p.step, p.shade, p.classification),
+        (Mode::Iso, Some(250.0), 0.25, true, Classification::Pre)
+    );
+    assert_eq!(p.gradient_opacity, vec![(0.0, 0.0), (5.0, 1.0)]);
+    assert!(!p.jitter && !p.empty_space_skipping);
+    assert_eq!(v.method, Method::Raymarch);
+    // The scene's own light shades the volume.
+    assert_eq!(p.lights, l.scene.lights);
+    assert_eq!(p.lights.len(), 1);
+}
+
+#[test]
+fn defaults_headlight_and_matrix_placement() {
+    let d = tmp_dir("defaults");
+    write_raw_u16_be(&d.join("v.raw"));
+    let raw = r#"file = "v.raw"
+dims = [8, 6, 5]
+dtype = "u16"
+endian = "big"
+header_bytes = 7"#;
+    // Without lights: the loader's default light is for surfaces; volumes get the headlight.
+    let a = load_scene(
+        &d,
+        &format!("[[volumes]]\n{raw}\ntranslate = [1, 2, 3]\nscale = [1, 2, 4]\n"),
+    )
+    .unwrap();
+    assert!(a.info.default_light);
+    let v = &a.volumes[0];
+    assert!(v.params.lights.is_empty());
+    assert_eq!(v.transfer_name, "synth");
+    assert_eq!(
+        (v.method, v.params.mode, v.params.step),
+        (Method::Raymarch, Mode::Composite, 0.5)
+    );
+    assert!(!v.params.shade && v.params.jitter && v.params.empty_space_skipping);
+    // The same placement as a column-major matrix.
+    let m = Mat4::from_scale_rotation_translation(
+        Vec3::new(1.0, 2.0, 4.0),
+        glam::Quat::IDENTITY,
+        Vec3::new(1.0, 2.0, 3.0),
+    );
+    let numbers: Vec<String> = m.to_cols_array().iter().map(|x| format!("{x}")).collect();
+    let b = load_scene(
+        &d,
+        &format!("[[volumes]]\n{raw}\nmatrix = [{}]\n", numbers.join(", ")),
+    )
+    .unwrap();
+    assert_eq!(
+        b.volumes[0].volume.world_from_voxel(),
+        v.volume.world_from_voxel()
+    );
+}
+
+#[test]
+fn bad_volume_tables_are_errors_naming_the_problem() {
+    let d = tmp_dir("bad");
+    write_raw_u16_be(&d.join("v.raw"));
+    let raw = "file = \"v.raw\"\ndims = [8, 6, 5]\ndtype = \"u16\"\nheader_bytes = 7\n";
+    let cases: &[(&str, &[&str])] = &[
+        (
+            "file = \"v.raw\"\ncolour = 1\n",
+            &["s.toml", "line 3", "colour"],
+        ),
+        ("file = \"v.raw\"\n", &["v.raw", "--dims"]),
+        (
+            "file = \"v.raw\"\ndtype = \"u16\"\n",
+            &["volumes[0]", "need dims"],
+        ),
+        (
+            "file = \"x.nrrd\"\ndims = [1, 1, 1]\n",
+            &["volumes[0]", "own header"],
+        ),
+        ("file = \"missing.nii\"\n", &["missing.nii"]),
+        (
+            "file = \"v.raw\"\ndims = [8, 6, 6]\ndtype = \"u16\"\n",
+            &["v.raw", "bytes"],
+        ),
+        (&format!("{raw}mode = \"dvr\"\n"), &["volumes[0]", "dvr"]),
+        (
+            &format!("{raw}method = \"splat\"\n"),
+            &["volumes[0]", "splat"],
+        ),
+        (
+            &format!("{raw}classification = \"x\"\n"),
+            &["volumes[0]", "\"x\""],
+        ),
+        (&format!("{raw}dtype = \"u12\"\n"), &["duplicate key"]),
+        (
+            &format!("{raw}endian = \"middle\"\n"),
+            &["volumes[0]", "middle"],
+        ),
+        (&format!("{raw}step = 0\n"), &["volumes[0]", "step"]),
+        (&format!("{raw}tf = \"nope\"\n"), &["nope", "preset"]),
+        (&format!("{raw}tf = \"0:1,1,1\"\n"), &["0:1,1,1"]),
+        (
+            &format!("{raw}method = \"slices\"\nmode = \"mip\"\n"),
+            &["volumes[0]", "slices"],
+        ),
+        (
+            &format!("{raw}matrix = [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]\nscale = 2\n"),
+            &["volumes[0]", "matrix"],
+        ),
+        (&format!("{raw}scale = 0\n"), &["volumes[0]", "singular"]),
+    ];
+    for (body, needles) in cases {
+        let e = match load_scene(&d, &format!("[[volumes]]\n{body}")) {
+            Ok(_) => panic!("loaded: {body}"),
+            Err(e) => e.to_string(),
+        };
+        for n in *needles {
+            assert!(e.contains(n), "{n:?} not in {e:?} ({body})");
+        }
+    }
+}
+
+#[test]
+fn placed_volumes_and_meshes_render_together() {
+    // A ball of 48³ voxels at the origin and one moved +60 along x; a mesh square in front of
+    // the left half of the first. The camera looks along +y, so +x is to the right.
+    let vol = ball();
+    let sv = |x: f32| {
+        let mut v = SceneVolume::new(vol.clone(), Path::new("ball"));
+        v.transfer = ball_tf();
+        v.params.jitter = false;
+        v.place(
+            Mat4::from_translation(Vec3::new(x - 23.5, -23.5, -23.5)),
+            false,
+        )
+        .unwrap();
+        v
+    };
+    let volumes = vec![sv(0.0), sv(60.0)];
+    let cam = texmap::volume::vtk_camera_for_bounds(
+        Vec3::new(-30.0, -30.0, -30.0),
+        Vec3::new(90.0, 30.0, 30.0),
+        1.0,
+        0.0,
+    );
+    let settings = texmap::render::Settings {
+        width: 96,
+        height: 48,
+        ..Default::default()
+    };
+    let empty = texmap::scene::Scene::default();
+    let f = render_with_volumes(&empty, &volumes, &cam, &settings).unwrap();
+    // Two balls, centred where their placements put them.
+    let centre_x = |f: &Frame, x0: u32, x1: u32| {
+        let (mut s, mut n) = (0.0f64, 0.0f64);
+        for (i, c) in f.color.iter().enumerate() {
+            let x = i as u32 % f.width;
+            if (x0..x1).contains(&x) && c.w > 0.5 {
+                s += f64::from(x) + 0.5;
+                n += 1.0;
+            }
+        }
+        s / n
+    };
+    let project = |p: Vec3| {
+        let clip = cam.clip_from_view(2.0) * cam.view_from_world() * p.extend(1.0);
+        (clip.x / clip.w * 0.5 + 0.5) * 96.0
+    };
+    for (lo, hi, x) in [(0, 48, 0.0), (48, 96, 60.0)] {
+        let got = centre_x(&f, lo, hi);
+        let want = f64::from(project(Vec3::new(x, 0.0, 0.0)));
+        assert!(
+            (got - want).abs() < 1.0,
+            "ball at x = {x}: {got} px, expected {want}"
+        );
+    }
+    // An opaque red square in front of the first ball hides it: the rays stop there.
+    let mut scene = texmap::scene::Scene {
+        materials: vec![texmap::scene::Material {
+            base_color: glam::Vec4::new(1.0, 0.0, 0.0, 1.0),
+            unlit: true,
+            ..Default::default()
+        }],
+        ..Default::default()
+    };
+    scene.meshes.push(texmap::scene::Mesh {
+        positions: vec![
+            Vec3::new(-15.0, -20.0, -15.0),
+            Vec3::new(15.0, -20.0, -15.0),
+            Vec3::new(15.0, -20.0, 15.0),
+            Vec3::new(-15.0, -20.0, 15.0),
+        ],
+        indices: vec![0, 1, 2, 0, 2, 3],
+        world_from_object: Mat4::IDENTITY,
+        ..Default::default()
+    });
+    let g = render_with_volumes(&scene, &volumes, &cam, &settings).unwrap();
+    let x = project(Vec3::ZERO) as u32;
+    let c = g.color[(24 * 96 + x) as usize];
+    assert!(c.x > 0.99 && c.y < 0.01 && c.w > 0.99, "{c}");
+    // The second ball is unchanged by the square.
+    let x2 = project(Vec3::new(60.0, 0.0, 0.0)) as u32;
+    let i = (24 * 96 + x2) as usize;
+    assert!((g.color[i] - f.color[i]).abs().max_element() < 1e-6);
+}

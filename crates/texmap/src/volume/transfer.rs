@@ -118,15 +118,25 @@ impl TransferFunction {
     /// [`Error::Io`] for an unreadable file; [`Error::Parameter`] or [`Error::Decode`] for
     /// bad points.
     pub fn from_arg(s: &str) -> Result<Self> {
+        Self::from_arg_in(s, Path::new(""))
+    }
+
+    /// [`Self::from_arg`] with a relative file name resolved from `dir` (a scene file's
+    /// folder).
+    ///
+    /// # Errors
+    /// As [`Self::from_arg`].
+    pub fn from_arg_in(s: &str, dir: &Path) -> Result<Self> {
         if let Some(tf) = Self::preset(s) {
             return Ok(tf);
         }
-        let p = Path::new(s);
+        let joined = dir.join(s);
+        let p = joined.as_path();
         if !s.contains(':') || p.is_file() {
             let text = std::fs::read_to_string(p).map_err(|e| {
                 if e.kind() == std::io::ErrorKind::NotFound {
                     Error::parameter(format!(
-                        "--tf \"{s}\" is not a preset ({}), a file, or value:r,g,b,a points",
+                        "transfer function \"{s}\" is not a preset ({}), a file, or value:r,g,b,a points",
                         PRESETS.iter().map(|p| p.0).collect::<Vec<_>>().join(", ")
                     ))
                 } else {
