@@ -69,7 +69,6 @@ fn presets_use_the_points_of_vtk_volume_py() {
     }
 }
 
-#[allow(dead_code)]
 fn repo_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
@@ -461,4 +460,26 @@ fn placed_volumes_and_meshes_render_together() {
     let x2 = project(Vec3::new(60.0, 0.0, 0.0)) as u32;
     let i = (24 * 96 + x2) as usize;
     assert!((g.color[i] - f.color[i]).abs().max_element() < 1e-6);
+}
+
+// ---- The example scene ---------------------------------------------------------------------
+
+#[test]
+fn example_scene_matches_its_golden_image() {
+    let l = load(
+        &repo_root().join("scenes/volume.toml"),
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!((l.scene.meshes.len(), l.volumes.len()), (1, 1));
+    assert_eq!(l.volumes[0].volume.dims(), [48, 48, 40]);
+    assert_eq!(l.volumes[0].params.lights.len(), 1, "the scene's light");
+    let cam = l.scene.camera.expect("the scene's camera");
+    let settings = texmap::render::Settings {
+        width: 320,
+        height: 240,
+        ..Default::default()
+    };
+    let f = render_with_volumes(&l.scene, &l.volumes, &cam, &settings).unwrap();
+    common::assert_golden("scene_volume", 320, 240, &f.to_srgb8(), 40.0);
 }
