@@ -13,8 +13,14 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
+use glam::{Mat4, Vec3};
+use texmap::render::Frame;
+use texmap::scene::{load, Light, LoadOptions};
 use texmap::volume::transfer::PRESETS;
-use texmap::volume::TransferFunction;
+use texmap::volume::{
+    raymarch, render_slices, render_with_volumes, Classification, MarchParams, Method, Mode,
+    ScalarType, SceneVolume, TransferFunction, Volume,
+};
 
 /// The string literals of `vtk_volume.py`'s `PRESETS = { "name": "…" "…", … }` (adjacent
 /// literals concatenated, `#` comments skipped).
@@ -77,11 +83,6 @@ fn repo_root() -> PathBuf {
 }
 
 // ---- Scene lights ----------------------------------------------------------------------------
-
-use glam::{Mat4, Vec3};
-use texmap::render::Frame;
-use texmap::scene::Light;
-use texmap::volume::{raymarch, render_slices, MarchParams, Volume};
 
 /// A ball: 200 at the centre of a 48³ grid falling linearly to 0 at radius 24 voxels.
 fn ball() -> Volume {
@@ -159,9 +160,6 @@ fn a_light_from_plus_x_brightens_the_plus_x_side() {
 }
 
 // ---- Volumes in TOML scenes ------------------------------------------------------------------
-
-use texmap::scene::{load, LoadOptions};
-use texmap::volume::{render_with_volumes, Classification, Method, Mode, ScalarType, SceneVolume};
 
 fn tmp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("texmap-vscene-{}-{name}", std::process::id()));
