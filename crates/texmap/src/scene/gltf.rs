@@ -381,6 +381,7 @@ fn mat4(m: [[f32; 4]; 4]) -> Mat4 {
 impl Loader<'_> {
     fn finish(mut self) -> Loaded {
         if self.scene.lights.is_empty() {
+            self.info.default_light = true;
             self.scene.lights.push(Light::Directional {
                 direction: Vec3::new(0.3, 0.8, 0.5).normalize(),
                 color: Vec3::ONE,
@@ -408,6 +409,7 @@ impl Loader<'_> {
             scene: self.scene,
             cameras,
             info: self.info,
+            volumes: Vec::new(),
             warnings: self.warnings,
         }
     }

@@ -15,6 +15,7 @@ pub mod obj;
 pub mod primitives;
 pub mod tangents;
 pub mod toml;
+mod toml_volume;
 
 pub use load::{load, AssetInfo, LoadOptions, Loaded, TextureInfo};
 

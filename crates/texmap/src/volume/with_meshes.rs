@@ -5,10 +5,17 @@
 //! The distance pass is a plain pipeline draw whose fragment shader writes the eye distance
 //! of the (perspective-correct) world position into the colour target, with the z-buffer on:
 //! the nearest surface per pixel wins, so no pipeline change was needed.
+//!
+//! Several volumes ([`render_with_volumes`]) are drawn one at a time, each stopped at the
+//! surfaces, and laid over the frame from the farthest box centre to the nearest: right for
+//! volumes one behind the other, approximate where boxes overlap along a ray (their samples
+//! are not interleaved).
 
 use glam::{Vec3, Vec4};
 
 use super::raymarch::{raymarch, MarchParams};
+use super::scene_volume::{Method, SceneVolume};
+use super::slice::render_slices_until;
 use super::transfer::TransferFunction;
 use super::Volume;
 use crate::pipeline::{
@@ -129,6 +136,81 @@ pub fn render_with_meshes(
         stats: surfaces.stats,
         ..surfaces
     })
+}
+
+/// Renders `scene`'s surfaces with `settings` and every volume of `volumes` over them, each
+/// with its own transfer function, options and method, rays (or slices) stopped at the
+/// surfaces; farthest volume first. Without meshes the volumes are laid over the scene's
+/// background, and no surface pass is drawn.
+///
+/// # Errors
+/// As [`render`], [`raymarch`] and [`super::render_slices`].
+pub fn render_with_volumes(
+    scene: &Scene,
+    volumes: &[SceneVolume],
+    camera: &Camera,
+    settings: &Settings,
+) -> Result<Frame> {
+    let (w, h) = (settings.width, settings.height);
+    let depth = if scene.meshes.is_empty() {
+        None
+    } else {
+        Some(surface_distances(scene, camera, w, h)?)
+    };
+    let mut order: Vec<&SceneVolume> = volumes.iter().collect();
+    let eye = camera.eye;
+    order.sort_by(|a, b| {
+        b.centre()
+            .distance_squared(eye)
+            .total_cmp(&a.centre().distance_squared(eye))
+    });
+    let mut frame: Option<Frame> = if scene.meshes.is_empty() && !volumes.is_empty() {
+        None
+    } else {
+        Some(render(scene, camera, settings)?)
+    };
+    for v in order {
+        let f = match v.method {
+            Method::Raymarch => raymarch(
+                &v.volume,
+                &v.transfer,
+                camera,
+                w,
+                h,
+                &v.params,
+                depth.as_deref(),
+            )?,
+            Method::Slices => render_slices_until(
+                &v.volume,
+                &v.transfer,
+                camera,
+                w,
+                h,
+                &v.params,
+                depth.as_deref(),
+            )?,
+        };
+        frame = Some(match frame {
+            None => {
+                // The farthest volume over the background.
+                let bg = scene.background;
+                let bg = (bg.truncate() * bg.w).extend(bg.w);
+                let mut f = f;
+                for c in &mut f.color {
+                    *c += bg * (1.0 - c.w);
+                }
+                f
+            }
+            Some(mut under) => {
+                for (c, s) in under.color.iter_mut().zip(&f.color) {
+                    *c = *s + *c * (1.0 - s.w);
+                }
+                under.stats.texture_samples += f.stats.texture_samples;
+                under
+            }
+        });
+    }
+    frame.ok_or_else(|| Error::parameter("nothing to render"))
 }
 
 #[cfg(test)]
