@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use texmap::scene::{LoadOptions, Loaded};
-use texmap::shading::AlphaMode;
+use texmap::shading::{AlphaMode, ShadingModel, SolidChannel};
 use texmap::texture::load::{load_texture, Limits};
 use texmap::texture::ColorSpace;
 use texmap::volume::{load_volume, SceneVolume, Volume};
@@ -142,10 +142,30 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
                 map.slot.tex_coord
             ));
         }
+        for solid in &m.solid_maps {
+            maps.push(match solid.channel {
+                SolidChannel::Roughness { range } => {
+                    format!("roughness solid {:?} {range:?}", solid.solid)
+                }
+                SolidChannel::Bump { scale } => {
+                    format!("bump solid {:?} scale {scale}", solid.solid)
+                }
+            });
+        }
         let b = m.base_color;
+        let model = match m.model {
+            ShadingModel::Phong => format!(
+                "Phong (K_A {}, K_D {}, K_S {}, n {})",
+                m.ambient, m.diffuse, m.specular, m.shininess
+            ),
+            ShadingModel::MetallicRoughness => format!(
+                "metallic-roughness (metallic {}, roughness {})",
+                m.metallic, m.roughness
+            ),
+        };
         outln!(
             out,
-            "  [{i}] {name}: base colour ({:.3}, {:.3}, {:.3}, {:.3}), {alpha}{}{}; maps: {}",
+            "  [{i}] {name}: {model}, base colour ({:.3}, {:.3}, {:.3}, {:.3}), {alpha}{}{}; maps: {}",
             b.x,
             b.y,
             b.z,
@@ -184,7 +204,12 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
             c.far
         );
     }
-    outln!(out, "lights: {}", s.lights.len());
+    outln!(
+        out,
+        "lights: {} (ambient I_AL {:.3?})",
+        s.lights.len(),
+        s.ambient_light.to_array()
+    );
     outln!(out, "volumes: {}", l.volumes.len());
     for (i, v) in l.volumes.iter().enumerate() {
         outln!(out, "  [{i}] {}", describe_scene_volume(v));

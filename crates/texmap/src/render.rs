@@ -3,8 +3,20 @@
 //! Wires the stages: the vertex shader here (object → world → clip, uv transform, per-vertex
 //! or per-face lighting for Gouraud and flat shading), the [`pipeline`](crate::pipeline)
 //! (clip, setup, bin, raster in parallel tiles, MSAA resolve), the fragment shader here
-//! (texture through [`sample`] with the quad's derivatives, Phong illumination from
+//! (texture through [`sample`] with the quad's derivatives, a per-pixel [`Surface`] from the
+//! material's maps, Phong or metallic-roughness illumination from
 //! [`shading`](crate::shading)), and the SSAA box filter.
+//!
+//! Where each material channel is read:
+//!
+//! | channel | Phong shading (per pixel) | Gouraud, flat |
+//! |---|---|---|
+//! | base colour, vertex colour, solid/projected colour, alpha | per pixel | per pixel |
+//! | lighting (either model) | per pixel | per vertex / per face, material factors only |
+//! | normal map, bump map, solid bump | per pixel | not read |
+//! | metallic-roughness map, solid roughness | per pixel | not read |
+//! | occlusion | per pixel, in the ambient term | per pixel, scales the ambient part of D |
+//! | emissive map | per pixel | per pixel |
 //!
 //! Culling: `Settings::cull` applies to single-sided materials; double-sided ones are never
 //! culled, and their back faces are lit with the flipped normal (per pixel in Phong shading,
@@ -27,7 +39,8 @@ use crate::pipeline::{
 pub use crate::pipeline::{CullMode, Interpolation};
 use crate::scene::{Camera, Mesh, Scene};
 use crate::shading::{
-    combine, illuminate, AlphaMode, Light, Lighting, MapChannel, Material, Procedural, TextureSlot,
+    bump, combine, illuminate, phong, shininess_from_roughness, AlphaMode, Light, Lighting,
+    MapChannel, Material, Procedural, ShadingModel, SolidMap, Surface, TextureSlot,
 };
 use crate::texture::{sample, sample_quad, Filter, Footprint, Sampler, Texture2D, Wrap};
 use crate::{Error, Result};
@@ -351,7 +364,7 @@ fn normal_matrix(m: Mat4) -> Mat3 {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Mode {
     Unlit,
-    /// Varyings: normal at 2, position at 5 (when lights need it).
+    /// Varyings: normal at 2, position at 5 (when lights, specular terms or bumps need it).
     Phong,
     /// Varyings: diffuse factor D at 2, additive S at 5 (Gouraud, or flat per face).
     Interpolated,
@@ -376,6 +389,13 @@ impl MapRead<'_> {
     /// The quad's four reads. The transform is affine, so applying it per pixel to the raw,
     /// interpolated uv (and its linear part to the derivatives) equals applying it per vertex.
     fn quad(&self, quad: &Quad) -> [Vec4; 4] {
+        let (uvs, dx, dy) = self.coords(quad);
+        sample_quad(self.tex, &self.sampler, &uvs, dx, dy, quad.mask)
+    }
+
+    /// The quad's transformed uvs and their screen derivatives.
+    #[inline]
+    fn coords(&self, quad: &Quad) -> ([Vec2; 4], Vec2, Vec2) {
         let k = self.uv_at;
         let (m, offset) = (self.linear, self.offset);
         let uvs = std::array::from_fn(|j| {
@@ -383,14 +403,48 @@ impl MapRead<'_> {
         });
         let dx = m * Vec2::new(quad.ddx(k), quad.ddx(k + 1));
         let dy = m * Vec2::new(quad.ddy(k), quad.ddy(k + 1));
-        sample_quad(self.tex, &self.sampler, &uvs, dx, dy, quad.mask)
+        (uvs, dx, dy)
     }
+
+    /// A height map's screen derivatives `(∂h/∂x, ∂h/∂y)` per pixel, times `scale`: the red
+    /// channel read at uv, one pixel footprint further along x (uv + ∂uv/∂x) and along y,
+    /// each with the pixel's own footprint (three quad reads).
+    fn height_slopes(&self, quad: &Quad) -> [Vec2; 4] {
+        let (uvs, dx, dy) = self.coords(quad);
+        let read = |uvs: &[Vec2; 4]| sample_quad(self.tex, &self.sampler, uvs, dx, dy, quad.mask);
+        let h = read(&uvs);
+        let hx = read(&uvs.map(|uv| uv + dx));
+        let hy = read(&uvs.map(|uv| uv + dy));
+        std::array::from_fn(|j| Vec2::new(hx[j].x - h[j].x, hy[j].x - h[j].x) * self.scale)
+    }
+}
+
+/// A solid texture on the roughness or bump channel, resolved for a draw.
+#[derive(Clone, Copy)]
+struct SolidRead<'a> {
+    map: &'a SolidMap,
+    /// Roughness: value 0 and value 1.
+    range: [f32; 2],
+    /// Bump: object-space gradient of the value → world-space gradient of the height
+    /// (normal matrix × the transform's mean scale × the bump scale).
+    world_from_gradient: Mat3,
 }
 
 /// Per-draw shading data.
 struct DrawInfo<'a> {
     material: &'a Material,
     mode: Mode,
+    model: ShadingModel,
+    /// The material's parameters without maps; each lit pixel starts from a copy.
+    surface: Surface,
+    /// Some map, solid texture or the metallic-roughness model changes the surface per pixel
+    /// (or, in Gouraud and flat shading, an occlusion or emissive map adjusts the factors);
+    /// false keeps the plain Lambert/Phong pixel free of their checks.
+    surface_maps: bool,
+    /// What occlusion removes from D in Gouraud and flat shading (per unit of 1 − O): the
+    /// ambient part of D, K_A·I_AL (times 1 − metallic for metallic-roughness, whose Fresnel
+    /// share of a few percent is left in).
+    ambient_d: Vec3,
     flat: bool,
     /// Straight-alpha base colour, premultiplied.
     base: Vec4,
@@ -401,6 +455,15 @@ struct DrawInfo<'a> {
     occlusion_map: Option<MapRead<'a>>,
     /// Emissive colour map: multiplies the material's emissive factor.
     emissive_map: Option<MapRead<'a>>,
+    /// Metallic (B) and roughness (G), multiplying the factors (metallic-roughness materials,
+    /// Phong shading).
+    metal_rough_map: Option<MapRead<'a>>,
+    /// Height map (Phong shading); its scale includes the transform's mean scale, so heights
+    /// are in object units.
+    bump_map: Option<MapRead<'a>>,
+    /// Solid textures on the roughness and bump channels (Phong shading).
+    solid_roughness: Option<SolidRead<'a>>,
+    solid_bump: Option<SolidRead<'a>>,
     /// Offset of the raw second uv set, when some texture reads it.
     uv1_at: Option<usize>,
     /// Offset of the world-space tangent and handedness (4 floats), for normal mapping.
@@ -408,7 +471,8 @@ struct DrawInfo<'a> {
     /// Offset of the vertex colour in the varyings.
     color_at: Option<usize>,
     needs_position: bool,
-    /// Offset of the object-space position and normal (6 floats) for procedural colour.
+    /// Offset of the object-space position and normal (6 floats) for solid textures and
+    /// projections.
     object_at: Option<usize>,
     /// The projected texture's sampler, with the command line's overrides applied.
     projected: Option<MapRead<'a>>,
@@ -430,8 +494,12 @@ impl<'a> DrawInfo<'a> {
         };
         let flat =
             mode == Mode::Interpolated && (settings.shading == ShadingMode::Flat || !has_normals);
+        let model = material.model;
+        let pbr = model == ShadingModel::MetallicRoughness;
+        let per_pixel = mode == Mode::Phong;
+        let has_bump = material.map(MapChannel::Bump).is_some();
         let needs_position =
-            mode == Mode::Phong && (material.specular > 0.0 || lighting.needs_position());
+            per_pixel && (material.specular > 0.0 || pbr || has_bump || lighting.needs_position());
         let mut varyings = 2;
         match mode {
             Mode::Unlit => {}
@@ -443,7 +511,8 @@ impl<'a> DrawInfo<'a> {
                 varyings += 4;
                 varyings - 4
             });
-        let object_at = material.procedural.is_some().then(|| {
+        let solid_maps = per_pixel && !material.solid_maps.is_empty();
+        let object_at = (material.procedural.is_some() || solid_maps).then(|| {
             varyings += 6;
             varyings - 6
         });
@@ -505,6 +574,43 @@ impl<'a> DrawInfo<'a> {
         } else {
             map(MapChannel::Emissive)
         };
+        let world_from_object = Mat3::from_mat4(mesh.world_from_object);
+        // Heights are in object units: scaled by the transform's mean scale (exact for
+        // similarity transforms).
+        let mean_scale = world_from_object.determinant().abs().cbrt();
+        let mean_scale = if mean_scale.is_finite() && mean_scale > 0.0 {
+            mean_scale
+        } else {
+            1.0
+        };
+        let metal_rough_map = (per_pixel && pbr)
+            .then(|| map(MapChannel::MetallicRoughness))
+            .flatten();
+        let bump_map = if per_pixel {
+            material
+                .map(MapChannel::Bump)
+                .map(|m| read(&m.slot, m.scale * mean_scale))
+        } else {
+            None
+        };
+        let normal_from_object = normal_matrix(mesh.world_from_object);
+        let solid_roughness =
+            material
+                .solid_roughness()
+                .filter(|_| per_pixel)
+                .map(|(map, range)| SolidRead {
+                    map,
+                    range,
+                    world_from_gradient: Mat3::IDENTITY,
+                });
+        let solid_bump = material
+            .solid_bump()
+            .filter(|_| per_pixel)
+            .map(|(map, scale)| SolidRead {
+                map,
+                range: [0.0, 1.0],
+                world_from_gradient: normal_from_object * (mean_scale * scale),
+            });
         let (projected, projection) = match &material.procedural {
             Some(Procedural::Projected { slot, projection }) => {
                 let projection = match *projection {
@@ -528,15 +634,38 @@ impl<'a> DrawInfo<'a> {
             _ => (None, None),
         };
         let b = material.base_color;
+        let ambient_d = lighting.ambient
+            * material.ambient
+            * if pbr {
+                1.0 - material.metallic.clamp(0.0, 1.0)
+            } else {
+                1.0
+            };
+        let surface_maps = occlusion_map.is_some()
+            || emissive_map.is_some()
+            || (per_pixel
+                && (pbr
+                    || normal_map.is_some()
+                    || bump_map.is_some()
+                    || solid_roughness.is_some()
+                    || solid_bump.is_some()));
         DrawInfo {
             material,
             mode,
+            model,
+            surface: Surface::new(material, Vec3::ZERO, Vec3::ZERO),
+            surface_maps,
+            ambient_d,
             flat,
             base: (b.truncate() * b.w).extend(b.w),
             texture,
             normal_map,
             occlusion_map,
             emissive_map,
+            metal_rough_map,
+            bump_map,
+            solid_roughness,
+            solid_bump,
             uv1_at,
             tangent_at,
             color_at,
@@ -567,6 +696,8 @@ impl<'a> DrawInfo<'a> {
                 + u32::from(self.normal_map.is_some())
                 + u32::from(self.occlusion_map.is_some())
                 + u32::from(self.emissive_map.is_some())
+                + u32::from(self.metal_rough_map.is_some())
+                + 3 * u32::from(self.bump_map.is_some())
                 + u32::from(self.projected.is_some()),
         }
     }
@@ -614,7 +745,9 @@ impl VertexShader<'_> {
                     }
                     Mode::Interpolated => {
                         let n = self.world_normal(i);
-                        let (d, s) = illuminate(self.material, self.lighting, p, n, self.eye);
+                        let surface = Surface::new(self.material, p, n);
+                        let (d, s) =
+                            illuminate(self.material.model, &surface, self.lighting, self.eye);
                         var[2..5].copy_from_slice(&d.to_array());
                         var[5..8].copy_from_slice(&s.to_array());
                     }
@@ -694,7 +827,8 @@ impl VertexShader<'_> {
         if self.material.double_sided && n.dot(self.eye - centroid) < 0.0 {
             n = -n;
         }
-        let (d, s) = illuminate(self.material, self.lighting, centroid, n, self.eye);
+        let surface = Surface::new(self.material, centroid, n);
+        let (d, s) = illuminate(self.material.model, &surface, self.lighting, self.eye);
         [0, 1, 2].map(|k| {
             let mut var = if valid {
                 self.common_varyings(ids[k])
@@ -721,9 +855,18 @@ impl FragmentShader for SceneShader<'_> {
         let mut kept = quad.mask;
         // The quad's texels in one call: one level of detail and format dispatch per quad.
         let texels = d.texture.as_ref().map(|t| t.quad(quad));
-        let normals = d.normal_map.as_ref().map(|t| t.quad(quad));
-        let occlusion = d.occlusion_map.as_ref().map(|t| t.quad(quad));
-        let emission = d.emissive_map.as_ref().map(|t| t.quad(quad));
+        // Read only for draws with such maps: a plain draw pays one test per quad.
+        let maps = if d.surface_maps {
+            Some(QuadMaps {
+                normals: d.normal_map.as_ref().map(|t| t.quad(quad)),
+                occlusion: d.occlusion_map.as_ref().map(|t| t.quad(quad)),
+                emission: d.emissive_map.as_ref().map(|t| t.quad(quad)),
+                metal_rough: d.metal_rough_map.as_ref().map(|t| t.quad(quad)),
+                bumps: d.bump_map.as_ref().map(|t| t.height_slopes(quad)),
+            })
+        } else {
+            None
+        };
         for j in 0..4 {
             if quad.mask & (1 << j) == 0 {
                 continue;
@@ -743,43 +886,60 @@ impl FragmentShader for SceneShader<'_> {
             let (df, sp) = match d.mode {
                 Mode::Unlit => (Vec3::ONE, Vec3::ZERO),
                 Mode::Phong => {
-                    let mut n = Vec3::new(v[2], v[3], v[4]).normalize_or_zero();
-                    if let (Some(k), Some(texel), Some(map)) =
-                        (d.tangent_at, &normals, &d.normal_map)
-                    {
-                        // Tangent space → world: T, B = (N × T)·w, N; the map's x and y scaled.
-                        let t = Vec3::new(v[k], v[k + 1], v[k + 2]);
-                        let t = (t - n * n.dot(t)).normalize_or_zero();
-                        let b = n.cross(t) * v[k + 3].signum();
-                        let ts = texel[j].truncate() * 2.0 - Vec3::ONE;
-                        let ts = Vec3::new(ts.x * map.scale, ts.y * map.scale, ts.z);
-                        let mapped = (t * ts.x + b * ts.y + n * ts.z).normalize_or_zero();
-                        if mapped != Vec3::ZERO && t != Vec3::ZERO {
-                            n = mapped;
-                        }
-                    }
-                    if m.double_sided && !quad.front_facing {
-                        n = -n;
-                    }
-                    let p = if d.needs_position {
+                    let mut normal = Vec3::new(v[2], v[3], v[4]).normalize_or_zero();
+                    let position = if d.needs_position {
                         Vec3::new(v[5], v[6], v[7])
                     } else {
                         Vec3::ZERO
                     };
-                    illuminate(m, &self.lighting, p, n, self.eye)
+                    // Double-sided back faces are lit from their side, after any tilt.
+                    let back = m.double_sided && !quad.front_facing;
+                    match &maps {
+                        // A Phong material without maps (the model is known): only the normal
+                        // and position vary, and this surface stays in registers.
+                        None => {
+                            if back {
+                                normal = -normal;
+                            }
+                            let s = Surface {
+                                position,
+                                normal,
+                                ..d.surface
+                            };
+                            phong(&s, &self.lighting, self.eye)
+                        }
+                        Some(maps) => {
+                            let mut s = Surface {
+                                position,
+                                normal,
+                                ..d.surface
+                            };
+                            d.apply_maps(maps, quad, j, c, &mut s);
+                            if back {
+                                s.normal = -s.normal;
+                            }
+                            illuminate(d.model, &s, &self.lighting, self.eye)
+                        }
+                    }
                 }
-                Mode::Interpolated => (Vec3::new(v[2], v[3], v[4]), Vec3::new(v[5], v[6], v[7])),
+                Mode::Interpolated => {
+                    let mut df = Vec3::new(v[2], v[3], v[4]);
+                    let mut sp = Vec3::new(v[5], v[6], v[7]);
+                    let maps = maps.as_ref();
+                    if let (Some(texel), Some(map)) =
+                        (maps.and_then(|m| m.occlusion.as_ref()), &d.occlusion_map)
+                    {
+                        // The factors carry the full ambient term; take (1 − O) of it away.
+                        let o = 1.0 + map.scale * (texel[j].x - 1.0);
+                        df -= d.ambient_d * (1.0 - o);
+                    }
+                    if let Some(texel) = maps.and_then(|m| m.emission.as_ref()) {
+                        // The factors carry I_E; the map scales it: I_E·texel = I_E + I_E·(texel − 1).
+                        sp += m.emissive * (texel[j].truncate() - Vec3::ONE);
+                    }
+                    (df, sp)
+                }
             };
-            let (mut df, mut sp) = (df, sp);
-            if let (Some(texel), Some(map)) = (&occlusion, &d.occlusion_map) {
-                // Occlusion darkens the ambient term only: 1 + strength·(R − 1).
-                let o = 1.0 + map.scale * (texel[j].x - 1.0);
-                df -= self.lighting.ambient * m.ambient * (1.0 - o);
-            }
-            if let Some(texel) = &emission {
-                // The factors carry I_E; the map scales it: I_E·texel = I_E + I_E·(texel − 1).
-                sp += m.emissive * (texel[j].truncate() - Vec3::ONE);
-            }
             match combine(m.alpha_mode, c, df, sp) {
                 Some(color) => out[j] = color,
                 None => kept &= !(1 << j),
@@ -789,31 +949,132 @@ impl FragmentShader for SceneShader<'_> {
     }
 }
 
+/// A quad's reads of the maps that feed the [`Surface`] (each `None` when the draw has none).
+struct QuadMaps {
+    normals: Option<[Vec4; 4]>,
+    occlusion: Option<[Vec4; 4]>,
+    emission: Option<[Vec4; 4]>,
+    metal_rough: Option<[Vec4; 4]>,
+    /// Height slopes `(∂h/∂x, ∂h/∂y)`.
+    bumps: Option<[Vec2; 4]>,
+}
+
+impl DrawInfo<'_> {
+    /// Pixel `j`'s surface parameters from its maps: the normal map and bumps tilt the normal
+    /// (world space, before any back-face flip), occlusion, emission, metallic-roughness and
+    /// solid textures set the parameters, and metallic-roughness materials take the colour `c`.
+    fn apply_maps(&self, maps: &QuadMaps, quad: &Quad, j: usize, c: Vec4, s: &mut Surface) {
+        let v = &quad.varyings[j];
+        let n = &mut s.normal;
+        if let (Some(k), Some(texel), Some(map)) =
+            (self.tangent_at, &maps.normals, &self.normal_map)
+        {
+            // Tangent space → world: T, B = (N × T)·w, N; the map's x and y scaled.
+            let t = Vec3::new(v[k], v[k + 1], v[k + 2]);
+            let t = (t - *n * n.dot(t)).normalize_or_zero();
+            let b = n.cross(t) * v[k + 3].signum();
+            let ts = texel[j].truncate() * 2.0 - Vec3::ONE;
+            let ts = Vec3::new(ts.x * map.scale, ts.y * map.scale, ts.z);
+            let mapped = (t * ts.x + b * ts.y + *n * ts.z).normalize_or_zero();
+            if mapped != Vec3::ZERO && t != Vec3::ZERO {
+                *n = mapped;
+            }
+        }
+        if let Some(slopes) = &maps.bumps {
+            let dp_dx = Vec3::new(quad.ddx(5), quad.ddx(6), quad.ddx(7));
+            let dp_dy = Vec3::new(quad.ddy(5), quad.ddy(6), quad.ddy(7));
+            *n = bump::tilt_screen_space(*n, dp_dx, dp_dy, slopes[j]);
+        }
+        if self.solid_roughness.is_some() || self.solid_bump.is_some() {
+            solid_channels(self, quad, j, s);
+        }
+        if let (Some(texel), Some(map)) = (&maps.occlusion, &self.occlusion_map) {
+            // 1 + strength·(R − 1).
+            s.occlusion = 1.0 + map.scale * (texel[j].x - 1.0);
+        }
+        if let Some(texel) = &maps.emission {
+            s.emissive *= texel[j].truncate();
+        }
+        if let Some(texel) = &maps.metal_rough {
+            s.roughness *= texel[j].y;
+            s.metallic *= texel[j].z;
+        }
+        if self.model == ShadingModel::MetallicRoughness {
+            s.base_color = straight(c);
+        }
+    }
+}
+
+/// The straight-alpha colour of premultiplied `c`.
+#[inline]
+fn straight(c: Vec4) -> Vec3 {
+    if c.w > 0.0 && c.w != 1.0 {
+        c.truncate() / c.w
+    } else {
+        c.truncate()
+    }
+}
+
+/// The object-space position of pixel `j` at varyings `k..k + 3` and, when `antialias`, the
+/// footprint extent |∂P/∂x| + |∂P/∂y| of the quad (zero otherwise).
+#[inline]
+fn object_point(quad: &Quad, j: usize, k: usize, antialias: bool) -> (glam::DVec3, glam::DVec3) {
+    let v = &quad.varyings[j];
+    let p = Vec3::new(v[k], v[k + 1], v[k + 2]);
+    let extent = if antialias {
+        let dp_dx = Vec3::new(quad.ddx(k), quad.ddx(k + 1), quad.ddx(k + 2));
+        let dp_dy = Vec3::new(quad.ddy(k), quad.ddy(k + 1), quad.ddy(k + 2));
+        (dp_dx.abs() + dp_dy.abs()).as_dvec3()
+    } else {
+        glam::DVec3::ZERO
+    };
+    (p.as_dvec3(), extent)
+}
+
+/// Solid textures on the roughness and bump channels at pixel `j`: the roughness (or, for
+/// Phong materials, the exponent it stands for) and the bump's tilt of the normal, into `s`.
+fn solid_channels(d: &DrawInfo, quad: &Quad, j: usize, s: &mut Surface) {
+    let Some(k) = d.object_at else {
+        return;
+    };
+    if let Some(r) = &d.solid_roughness {
+        let (p, extent) = object_point(quad, j, k, r.map.antialias);
+        let value = r.map.solid.value(p, extent) as f32;
+        let roughness = r.range[0] + (r.range[1] - r.range[0]) * value;
+        match d.model {
+            ShadingModel::MetallicRoughness => s.roughness = roughness,
+            ShadingModel::Phong => s.shininess = shininess_from_roughness(roughness),
+        }
+    }
+    if let Some(b) = &d.solid_bump {
+        let (p, extent) = object_point(quad, j, k, b.map.antialias);
+        let (_, gradient) = b.map.solid.value_and_gradient(p, extent);
+        let grad = b.world_from_gradient * gradient.as_vec3();
+        s.normal = bump::tilt_by_gradient(s.normal, grad);
+    }
+}
+
 /// The procedural colour of pixel `j` of a quad, from the object-space position and normal at
 /// varyings `k..k + 6` and the position's screen derivatives.
 fn procedural_color(proc: &Procedural, d: &DrawInfo, quad: &Quad, j: usize, k: usize) -> Vec4 {
-    let v = &quad.varyings[j];
-    let p = Vec3::new(v[k], v[k + 1], v[k + 2]);
-    let dp_dx = Vec3::new(quad.ddx(k), quad.ddx(k + 1), quad.ddx(k + 2));
-    let dp_dy = Vec3::new(quad.ddy(k), quad.ddy(k + 1), quad.ddy(k + 2));
     match proc {
         Procedural::Solid {
             solid,
             colors,
             antialias,
         } => {
-            let extent = if *antialias {
-                (dp_dx.abs() + dp_dy.abs()).as_dvec3()
-            } else {
-                glam::DVec3::ZERO
-            };
-            solid.color(p.as_dvec3(), extent, *colors).extend(1.0)
+            let (p, extent) = object_point(quad, j, k, *antialias);
+            solid.color(p, extent, *colors).extend(1.0)
         }
         // The slot's image, sampler and affine transform, resolved once per draw.
         Procedural::Projected { .. } => {
             let (Some(map), Some(projection)) = (&d.projected, &d.projection) else {
                 return Vec4::ONE;
             };
+            let v = &quad.varyings[j];
+            let p = Vec3::new(v[k], v[k + 1], v[k + 2]);
+            let dp_dx = Vec3::new(quad.ddx(k), quad.ddx(k + 1), quad.ddx(k + 2));
+            let dp_dy = Vec3::new(quad.ddy(k), quad.ddy(k + 1), quad.ddy(k + 2));
             let n = Vec3::new(v[k + 3], v[k + 4], v[k + 5]);
             let fp = projection.map_footprint(p, dp_dx, dp_dy, n);
             let fp = Footprint::new(

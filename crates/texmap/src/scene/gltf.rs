@@ -12,8 +12,23 @@
 //! morph targets at their default weights, base colour = factor × texture × COLOR_0, base
 //! colour and emissive textures sRGB and the others linear, samplers straight to our GL
 //! filters and wraps (undefined = trilinear, repeat), `KHR_texture_transform` as
-//! [`TextureTransform`]. Without lights in the file, the peer's light is used:
-//! directional from (0.3, 0.8, 0.5), ambient 0.2, diffuse 0.8.
+//! [`TextureTransform`].
+//!
+//! Lighting: glTF has no ambient light, and its models are shown in image-based light, which
+//! texmap does not have; a uniform environment stands in for it. `I_AL` is 1.5, so with
+//! every loader's K_A = 0.2 the environment is 0.3: enough for metals, which reflect nothing
+//! else but their highlights, to show their colour, little enough for the light to model
+//! the shapes. Without lights in the file, the peer's direction (0.3, 0.8, 0.5) is used with
+//! colour 0.7, so a rough white dielectric facing it reflects 0.3 + 0.7·(1 − F) ≈ 0.97, as
+//! the peer's 0.2 + 0.8 reaches 1 (chosen by eye against the models' screenshots among
+//! environment/light splits 0.2/1, 0.3/0.7, 0.5/0.5 and 0.8/0.5).
+//!
+//! Materials use the metallic-roughness model (`ShadingModel::MetallicRoughness`) unless
+//! `KHR_materials_unlit`; the default material (for primitives without one) is glTF's:
+//! white, metallic 1, roughness 1. `KHR_lights_punctual` intensities (lux for directional
+//! lights, candela for point and spot lights) are divided by π: texmap's light units are
+//! those of the Phong model (see `shading::pbr`), so a file's lights give the image the
+//! glTF sample viewer gives without exposure or tone mapping.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -27,7 +42,7 @@ use super::load::{
     decode_data_uri, percent_decode, read_bounded, resolve_reference, AssetInfo, ImageSource,
     LoadOptions, Loaded, TextureCache,
 };
-use super::{tangents, AlphaMode, Camera, Light, Material, Mesh, Scene, TextureSlot};
+use super::{tangents, AlphaMode, Camera, Light, Material, Mesh, Scene, ShadingModel, TextureSlot};
 use crate::shading::{MapChannel, MaterialMap};
 use crate::texture::{Filter, MagFilter, MinFilter, Sampler, Texture2D, TextureTransform, Wrap};
 use crate::{Error, Result};
@@ -88,7 +103,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
         max_bytes: options.max_buffer_bytes,
         warnings,
         scene: Scene {
-            ambient_light: Vec3::ONE,
+            ambient_light: Vec3::splat(AMBIENT_LIGHT),
             background: Vec4::new(0.0, 0.0, 0.0, 1.0),
             ..Default::default()
         },
@@ -374,6 +389,12 @@ struct Loader<'a> {
     visits: usize,
 }
 
+/// `I_AL` of glTF scenes (module docs).
+const AMBIENT_LIGHT: f32 = 1.5;
+
+/// The colour of the default directional light of glTF scenes without lights.
+const DEFAULT_SUN: f32 = 0.7;
+
 fn mat4(m: [[f32; 4]; 4]) -> Mat4 {
     Mat4::from_cols_array_2d(&m)
 }
@@ -384,7 +405,7 @@ impl Loader<'_> {
             self.info.default_light = true;
             self.scene.lights.push(Light::Directional {
                 direction: Vec3::new(0.3, 0.8, 0.5).normalize(),
-                color: Vec3::ONE,
+                color: Vec3::splat(DEFAULT_SUN),
             });
         }
         // Cameras without a far plane: enclose the scene.
@@ -425,8 +446,13 @@ impl Loader<'_> {
                     .unwrap_or_else(|| format!("material {}", m.index().unwrap_or(0))),
             );
         }
-        // glTF's default material, for primitives without one.
-        self.scene.materials.push(Material::default());
+        // glTF's default material, for primitives without one: every property at its default.
+        self.scene.materials.push(Material {
+            model: ShadingModel::MetallicRoughness,
+            metallic: 1.0,
+            roughness: 1.0,
+            ..Default::default()
+        });
         self.info.material_names.push("(default)".into());
         Ok(())
     }
@@ -439,6 +465,11 @@ impl Loader<'_> {
             roughness: pbr.roughness_factor(),
             double_sided: m.double_sided(),
             unlit: m.unlit(),
+            model: if m.unlit() {
+                ShadingModel::Phong
+            } else {
+                ShadingModel::MetallicRoughness
+            },
             alpha_mode: match m.alpha_mode() {
                 gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
                 gltf::material::AlphaMode::Mask => AlphaMode::Mask(m.alpha_cutoff().unwrap_or(0.5)),
@@ -727,7 +758,8 @@ impl Loader<'_> {
             }
         }
         if let Some(light) = node.light() {
-            let color = Vec3::from(light.color()) * light.intensity();
+            // Lux and candela to texmap's units (module docs).
+            let color = Vec3::from(light.color()) * (light.intensity() / std::f32::consts::PI);
             let position = world.transform_point3(Vec3::ZERO);
             let dir = world.transform_vector3(-Vec3::Z).normalize_or(-Vec3::Z);
             self.scene.lights.push(match light.kind() {
@@ -1214,6 +1246,45 @@ mod tests {
         assert_eq!(occlusion.slot.tex_coord, 1);
         // One image, decoded twice: as sRGB colour and as linear data.
         assert_eq!(l.info.textures.len(), 2);
+        // glTF materials are metallic-roughness, the default one a white rough metal.
+        let (mat, default) = (&l.scene.materials[0], l.scene.materials.last().unwrap());
+        assert_eq!(mat.model, ShadingModel::MetallicRoughness);
+        assert_eq!((mat.metallic, mat.roughness), (1.0, 1.0));
+        assert_eq!(default.model, ShadingModel::MetallicRoughness);
+        assert_eq!((default.metallic, default.roughness), (1.0, 1.0));
+    }
+
+    #[test]
+    fn punctual_light_intensities_are_divided_by_pi() {
+        let json = r#"{"asset": {"version": "2.0"},
+  "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_unlit"],
+  "extensions": {"KHR_lights_punctual": {"lights": [
+    {"type": "directional", "color": [1, 0.5, 0.25], "intensity": 6.283185307179586},
+    {"type": "point", "intensity": 31.41592653589793}]}},
+  "materials": [{"extensions": {"KHR_materials_unlit": {}}}],
+  "nodes": [{"extensions": {"KHR_lights_punctual": {"light": 0}}},
+            {"translation": [0, 2, 0], "extensions": {"KHR_lights_punctual": {"light": 1}}}]}"#;
+        let dir = std::env::temp_dir().join(format!("texmap-gltf-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("lights.gltf");
+        std::fs::write(&p, json).unwrap();
+        let l = load(&p, &LoadOptions::default()).unwrap();
+        match l.scene.lights[..] {
+            [Light::Directional { direction, color }, Light::Point {
+                position,
+                color: point,
+                ..
+            }] => {
+                assert!((color - Vec3::new(2.0, 1.0, 0.5)).abs().max_element() < 1e-6);
+                assert!((direction - Vec3::Z).length() < 1e-6, "{direction}");
+                assert!((point - Vec3::splat(10.0)).abs().max_element() < 1e-5);
+                assert_eq!(position, Vec3::new(0.0, 2.0, 0.0));
+            }
+            ref other => panic!("{other:?}"),
+        }
+        // KHR_materials_unlit keeps the Phong model (and ignores lights).
+        assert!(l.scene.materials[0].unlit);
+        assert_eq!(l.scene.materials[0].model, ShadingModel::Phong);
     }
 
     #[test]

@@ -21,7 +21,9 @@ pub use load::{load, AssetInfo, LoadOptions, Loaded, TextureInfo};
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-pub use crate::shading::{AlphaMode, Light, Material, Procedural, TextureSlot};
+pub use crate::shading::{
+    AlphaMode, Light, Material, Procedural, ShadingModel, SolidChannel, SolidMap, TextureSlot,
+};
 use crate::{Error, Result};
 
 /// A perspective camera.

@@ -4,7 +4,7 @@
 //!
 //! Every table refuses unknown keys (a typo is an error naming the line), and relative paths
 //! resolve from the scene file's folder. Meshes and volumes are placed alike: scale, rotate,
-//! translate, or a matrix.
+//! translate, or a matrix. Room for later features: a mesh may gain `texgen`.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -14,7 +14,10 @@ use serde::Deserialize;
 
 use super::load::{read_bounded, AssetInfo, ImageSource, LoadOptions, Loaded, TextureCache};
 use super::primitives::Primitive;
-use super::{AlphaMode, Camera, Light, Material, Procedural, Scene, TextureSlot};
+use super::{
+    AlphaMode, Camera, Light, Material, Procedural, Scene, ShadingModel, SolidChannel, SolidMap,
+    TextureSlot,
+};
 use crate::geometry::Projection;
 use crate::shading::{MapChannel, MaterialMap};
 use crate::texture::procedural::Solid;
@@ -118,6 +121,8 @@ fn outer() -> f32 {
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct MaterialSpec {
+    /// "phong" (default) or "pbr" (glTF metallic-roughness).
+    model: Option<String>,
     base_color: Option<[f32; 4]>,
     ambient: Option<f32>,
     diffuse: Option<f32>,
@@ -140,6 +145,40 @@ struct MaterialSpec {
     procedural: Option<ProceduralSpec>,
     /// An image whose coordinates a projection generates per pixel, multiplying the base colour.
     projected: Option<ProjectedSpec>,
+    /// A solid texture on the roughness channel.
+    roughness_procedural: Option<RoughnessProceduralSpec>,
+    /// A solid texture on the bump (height) channel.
+    bump_procedural: Option<BumpProceduralSpec>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RoughnessProceduralSpec {
+    pattern: String,
+    /// Roughness at pattern values 0 and 1 (default [0.2, 0.8]).
+    #[serde(default = "roughness_range")]
+    range: [f32; 2],
+    #[serde(default = "yes")]
+    antialias: bool,
+}
+
+fn roughness_range() -> [f32; 2] {
+    [0.2, 0.8]
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BumpProceduralSpec {
+    pattern: String,
+    /// Height of pattern value 1, in object units (default 0.01).
+    #[serde(default = "bump_scale")]
+    scale: f32,
+    #[serde(default = "yes")]
+    antialias: bool,
+}
+
+fn bump_scale() -> f32 {
+    0.01
 }
 
 #[derive(Deserialize)]
@@ -562,7 +601,17 @@ fn material(
             )))
         }
     };
+    let model = match m.model.as_deref() {
+        None | Some("phong") => ShadingModel::Phong,
+        Some("pbr") => ShadingModel::MetallicRoughness,
+        Some(other) => {
+            return Err(Error::parameter(format!(
+                "model {other:?} is not phong or pbr"
+            )))
+        }
+    };
     let mut mat = Material {
+        model,
         base_color: m.base_color.map_or(d.base_color, Vec4::from),
         ambient: m.ambient.unwrap_or(d.ambient),
         diffuse: m.diffuse.unwrap_or(d.diffuse),
@@ -586,12 +635,7 @@ fn material(
             ))
         }
         (Some(p), None) => {
-            let solid = Solid::named(&p.pattern).ok_or_else(|| {
-                Error::parameter(format!(
-                    "pattern {:?}: expected marble, wood, granite, clouds, checker3d or bricks",
-                    p.pattern
-                ))
-            })?;
+            let solid = pattern(&p.pattern)?;
             Some(Procedural::Solid {
                 colors: p
                     .colors
@@ -616,6 +660,29 @@ fn material(
         }
         (None, None) => None,
     };
+    if let Some(r) = &m.roughness_procedural {
+        if !r.range.iter().all(|v| (0.0..=1.0).contains(v)) {
+            return Err(Error::parameter(format!(
+                "roughness_procedural: range {:?} is not within [0, 1]",
+                r.range
+            )));
+        }
+        mat.solid_maps.push(SolidMap {
+            solid: pattern(&r.pattern)?,
+            channel: SolidChannel::Roughness { range: r.range },
+            antialias: r.antialias,
+        });
+    }
+    if let Some(b) = &m.bump_procedural {
+        if !b.scale.is_finite() {
+            return Err(Error::parameter("bump_procedural: scale must be a number"));
+        }
+        mat.solid_maps.push(SolidMap {
+            solid: pattern(&b.pattern)?,
+            channel: SolidChannel::Bump { scale: b.scale },
+            antialias: b.antialias,
+        });
+    }
     let maps = &m.maps;
     for (channel, spec) in [
         (MapChannel::MetallicRoughness, &maps.metallic_roughness),
@@ -639,6 +706,14 @@ fn material(
         }
     }
     Ok(mat)
+}
+
+fn pattern(name: &str) -> Result<Solid> {
+    Solid::named(name).ok_or_else(|| {
+        Error::parameter(format!(
+            "pattern {name:?}: expected marble, wood, granite, clouds, checker3d or bricks"
+        ))
+    })
 }
 
 fn slot(
@@ -752,6 +827,61 @@ size = 10
         assert_eq!(l.scene.lights.len(), 1);
         assert!(l.scene.camera.is_some());
         assert_eq!(l.scene.meshes[0].world_from_object.w_axis.x, 1.0);
+    }
+
+    #[test]
+    fn pbr_model_and_solid_roughness_and_bump_channels() {
+        let p = write(
+            "pbr.toml",
+            r#"
+[materials.stone]
+model = "pbr"
+metallic = 0.25
+roughness_procedural = { pattern = "granite", range = [0.3, 0.9] }
+bump_procedural = { pattern = "marble", scale = 0.05, antialias = false }
+[materials.plain]
+roughness = 0.5
+"#,
+        );
+        let l = load(&p, &LoadOptions::default()).unwrap();
+        let (plain, stone) = (&l.scene.materials[0], &l.scene.materials[1]);
+        assert_eq!(plain.model, ShadingModel::Phong);
+        assert!(plain.solid_maps.is_empty());
+        assert_eq!(stone.model, ShadingModel::MetallicRoughness);
+        assert_eq!(stone.metallic, 0.25);
+        let (r, range) = stone.solid_roughness().unwrap();
+        assert_eq!(range, [0.3, 0.9]);
+        assert_eq!(r.solid, Solid::named("granite").unwrap());
+        assert!(r.antialias);
+        let (b, scale) = stone.solid_bump().unwrap();
+        assert_eq!(scale, 0.05);
+        assert!(!b.antialias);
+    }
+
+    #[test]
+    fn bad_model_and_solid_channel_keys_are_errors() {
+        for (name, body, needle) in [
+            ("m.toml", "[materials.a]\nmodel = \"blinn\"\n", "blinn"),
+            (
+                "r.toml",
+                "[materials.a]\nroughness_procedural = { pattern = \"granite\", colors = [[0,0,0],[1,1,1]] }\n",
+                "colors",
+            ),
+            (
+                "b.toml",
+                "[materials.a]\nbump_procedural = { pattern = \"lava\" }\n",
+                "lava",
+            ),
+            (
+                "r2.toml",
+                "[materials.a]\nroughness_procedural = { pattern = \"wood\", range = [0, 2] }\n",
+                "range",
+            ),
+        ] {
+            let p = write(name, body);
+            let e = load(&p, &LoadOptions::default()).unwrap_err().to_string();
+            assert!(e.contains(needle), "{name}: {e}");
+        }
     }
 
     #[test]

@@ -1,6 +1,12 @@
-//! Shading: materials, lights and the Phong illumination model.
+//! Shading: materials, lights and the illumination models — Phong (here) and glTF's
+//! metallic-roughness BRDF ([`pbr`]), chosen per material by [`ShadingModel`].
 //!
-//! The rule, for a surface point with unit normal `N`, unit direction to the viewer `V`, and
+//! The fragment stage builds a [`Surface`] per pixel — the material's parameters after its
+//! maps (normal, bump, metallic-roughness, occlusion, emissive, solid textures) — and hands
+//! it to [`illuminate`]; Gouraud and flat shading build it per vertex or per face from the
+//! material alone.
+//!
+//! The Phong rule, for a surface point with unit normal `N`, unit direction to the viewer `V`, and
 //! for each light `i` the unit direction `L_i` towards it and the reflection
 //! `R_i = 2(N·L_i)N − L_i`:
 //!
@@ -16,9 +22,13 @@
 //!
 //! [`illuminate`] returns the two factors `(D, S)` such that `I = C·D + S`, so Gouraud and flat
 //! shading can compute them per vertex or per face and the texture is still applied per pixel.
+//! Occlusion `O` scales the ambient term: `K_A·O·C·I_AL`.
 
 // `!(x > y)` is deliberate: it is true for NaN, which must be rejected too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod bump;
+pub mod pbr;
 
 use std::sync::Arc;
 
@@ -90,9 +100,43 @@ pub enum AlphaMode {
     Blend,
 }
 
+/// Which reflection model lights a material.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ShadingModel {
+    /// The Phong model of the module docs: K_A, K_D, K_S and the exponent n.
+    #[default]
+    Phong,
+    /// glTF's metallic-roughness BRDF ([`pbr`]): base colour, metallic and roughness (K_A
+    /// still scales the ambient term; K_D, K_S and n are not used).
+    MetallicRoughness,
+}
+
+/// A solid texture feeding a material channel other than the colour, evaluated at the
+/// object-space position like [`Procedural::Solid`], with the same footprint filtering.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolidMap {
+    pub solid: Solid,
+    pub channel: SolidChannel,
+    /// Filter the pattern (and its gradient) over the pixel's footprint.
+    pub antialias: bool,
+}
+
+/// What a [`SolidMap`] feeds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SolidChannel {
+    /// Roughness = `range[0] + (range[1] − range[0])·value`, replacing the factor. Phong
+    /// materials take it as the exponent `n = 2/α² − 2` (α = roughness², at least 1).
+    Roughness { range: [f32; 2] },
+    /// A height field `scale·value` in object units: the normal is tilted by the pattern's
+    /// analytic gradient projected onto the surface.
+    Bump { scale: f32 },
+}
+
 /// A surface's appearance: Phong coefficients, base colour and its texture.
 #[derive(Clone, Debug)]
 pub struct Material {
+    /// The reflection model (Phong by default; glTF materials are metallic-roughness).
+    pub model: ShadingModel,
     /// Linear RGBA, straight (not premultiplied) alpha.
     pub base_color: Vec4,
     pub base_color_texture: Option<TextureSlot>,
@@ -114,13 +158,15 @@ pub struct Material {
     pub alpha_mode: AlphaMode,
     /// A procedural colour (solid texture or projected image), multiplying the base colour.
     pub procedural: Option<Procedural>,
-    /// glTF's metallic factor (0 = dielectric), kept for metallic-roughness shading.
+    /// glTF's metallic factor (0 = dielectric), for metallic-roughness shading.
     pub metallic: f32,
-    /// glTF's roughness factor.
+    /// glTF's roughness factor (α = roughness²).
     pub roughness: f32,
     /// Texture maps other than the base colour (normal, occlusion, emissive, …), each with
     /// its channel and scale. The renderer reads the channels it implements.
     pub maps: Vec<MaterialMap>,
+    /// Solid textures on channels other than the colour (roughness, bump height).
+    pub solid_maps: Vec<SolidMap>,
 }
 
 /// What a [`MaterialMap`] feeds.
@@ -188,6 +234,83 @@ impl Material {
     pub fn map(&self, channel: MapChannel) -> Option<&MaterialMap> {
         self.maps.iter().find(|m| m.channel == channel)
     }
+
+    /// The first solid texture on the roughness channel and its range, if any.
+    #[must_use]
+    pub fn solid_roughness(&self) -> Option<(&SolidMap, [f32; 2])> {
+        self.solid_maps.iter().find_map(|m| match m.channel {
+            SolidChannel::Roughness { range } => Some((m, range)),
+            SolidChannel::Bump { .. } => None,
+        })
+    }
+
+    /// The first solid texture on the bump channel and its scale, if any.
+    #[must_use]
+    pub fn solid_bump(&self) -> Option<(&SolidMap, f32)> {
+        self.solid_maps.iter().find_map(|m| match m.channel {
+            SolidChannel::Bump { scale } => Some((m, scale)),
+            SolidChannel::Roughness { .. } => None,
+        })
+    }
+}
+
+/// What the illumination models read at one surface point: the material's parameters after
+/// its maps, the position and the normal. The fragment stage makes one per pixel from a
+/// per-draw copy of [`Surface::new`] (no allocation, no material clone).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Surface {
+    /// World position (read by point and spot lights and by specular terms).
+    pub position: Vec3,
+    /// Unit world normal (after normal and bump maps; towards the viewer on double-sided
+    /// back faces).
+    pub normal: Vec3,
+    /// Linear RGB, straight alpha: the colour `C` (which [`combine`] applies through
+    /// `I = C·D + S`), read by the metallic-roughness model for the `f0` of metals.
+    pub base_color: Vec3,
+    /// K_A.
+    pub ambient: f32,
+    /// K_D.
+    pub diffuse: f32,
+    /// K_S.
+    pub specular: f32,
+    /// The Phong exponent n.
+    pub shininess: f32,
+    pub metallic: f32,
+    pub roughness: f32,
+    /// Ambient occlusion: 1 = none, 0 = no ambient light reaches the point.
+    pub occlusion: f32,
+    /// I_E.
+    pub emissive: Vec3,
+}
+
+impl Surface {
+    /// The material's own parameters (no maps) at `position` with unit `normal`; the base
+    /// colour is the material's factor.
+    #[must_use]
+    pub fn new(m: &Material, position: Vec3, normal: Vec3) -> Self {
+        Surface {
+            position,
+            normal,
+            base_color: m.base_color.truncate(),
+            ambient: m.ambient,
+            diffuse: m.diffuse,
+            specular: m.specular,
+            shininess: m.shininess,
+            metallic: m.metallic,
+            roughness: m.roughness,
+            occlusion: 1.0,
+            emissive: m.emissive,
+        }
+    }
+}
+
+/// The Phong exponent equivalent to a roughness: `n = 2/α² − 2` with α = roughness² (the
+/// usual Beckmann–Blinn correspondence), at least 1.
+#[inline]
+#[must_use]
+pub fn shininess_from_roughness(roughness: f32) -> f32 {
+    let a = pbr::alpha(roughness);
+    (2.0 / (a * a) - 2.0).max(1.0)
 }
 
 impl Default for Material {
@@ -208,6 +331,8 @@ impl Default for Material {
             metallic: 0.0,
             roughness: 1.0,
             maps: Vec::new(),
+            solid_maps: Vec::new(),
+            model: ShadingModel::Phong,
         }
     }
 }
@@ -335,15 +460,30 @@ impl Lighting<'_> {
     }
 }
 
-/// The Phong factors `(D, S)` at world point `p` with unit normal `n`, seen from `eye`:
-/// the lit colour is `C·D + S` (see the module docs).
+/// The factors `(D, S)` of `model` at surface point `s`, seen from `eye`: the lit colour is
+/// `C·D + S` (see the module docs and [`pbr`]).
 #[inline(always)]
 #[must_use]
-pub fn illuminate(m: &Material, lighting: &Lighting, p: Vec3, n: Vec3, eye: Vec3) -> (Vec3, Vec3) {
-    let mut d = lighting.ambient * m.ambient;
-    // I_E; an emissive map scales it per pixel in the fragment stage.
-    let mut s = m.emissive;
-    let specular = m.specular > 0.0;
+pub fn illuminate(
+    model: ShadingModel,
+    s: &Surface,
+    lighting: &Lighting,
+    eye: Vec3,
+) -> (Vec3, Vec3) {
+    match model {
+        ShadingModel::Phong => phong(s, lighting, eye),
+        ShadingModel::MetallicRoughness => pbr::metallic_roughness(s, lighting, eye),
+    }
+}
+
+/// The Phong factors `(D, S)` (the module docs' rule).
+#[inline(always)]
+#[must_use]
+pub fn phong(s: &Surface, lighting: &Lighting, eye: Vec3) -> (Vec3, Vec3) {
+    let (p, n) = (s.position, s.normal);
+    let mut d = lighting.ambient * (s.ambient * s.occlusion);
+    let mut sp = s.emissive;
+    let specular = s.specular > 0.0;
     let v = if specular {
         (eye - p).normalize_or_zero()
     } else {
@@ -357,16 +497,16 @@ pub fn illuminate(m: &Material, lighting: &Lighting, p: Vec3, n: Vec3, eye: Vec3
         if n_dot_l <= 0.0 {
             continue;
         }
-        d += intensity * (m.diffuse * n_dot_l);
+        d += intensity * (s.diffuse * n_dot_l);
         if specular {
             let r = n * (2.0 * n_dot_l) - l;
             let r_dot_v = r.dot(v);
             if r_dot_v > 0.0 {
-                s += intensity * (m.specular * r_dot_v.powf(m.shininess));
+                sp += intensity * (s.specular * r_dot_v.powf(s.shininess));
             }
         }
     }
-    (d, s)
+    (d, sp)
 }
 
 /// Combines a premultiplied surface colour `c` with the Phong factors and the material's
@@ -414,13 +554,8 @@ mod tests {
             direction: Vec3::new(0.3, 0.8, 0.5),
             color: Vec3::ONE,
         }];
-        let (d, s) = illuminate(
-            &Material::default(),
-            &lighting(&light),
-            Vec3::ZERO,
-            Vec3::Y,
-            Vec3::Y,
-        );
+        let surface = Surface::new(&Material::default(), Vec3::ZERO, Vec3::Y);
+        let (d, s) = illuminate(ShadingModel::Phong, &surface, &lighting(&light), Vec3::Y);
         assert!((d - Vec3::splat(0.84650)).abs().max_element() < 1e-5, "{d}");
         assert_eq!(s, Vec3::ZERO);
     }
@@ -437,8 +572,9 @@ mod tests {
             color: Vec3::ONE,
         }];
         let l = lighting(&light);
-        let (_, on) = illuminate(&m, &l, Vec3::ZERO, Vec3::Y, Vec3::new(-1.0, 1.0, 0.0));
-        let (_, off) = illuminate(&m, &l, Vec3::ZERO, Vec3::Y, Vec3::new(1.0, 1.0, 0.0));
+        let s = Surface::new(&m, Vec3::ZERO, Vec3::Y);
+        let (_, on) = illuminate(ShadingModel::Phong, &s, &l, Vec3::new(-1.0, 1.0, 0.0));
+        let (_, off) = illuminate(ShadingModel::Phong, &s, &l, Vec3::new(1.0, 1.0, 0.0));
         assert!((on.x - 1.0).abs() < 1e-5 && off.x < 1e-3, "{on} {off}");
     }
 

@@ -227,6 +227,65 @@ fn sum_octaves(
     sum
 }
 
+/// [`fbm`] and its analytic gradient, with the same octaves (the last, fractional one faded in
+/// the same way), so a bump from the pattern follows the footprint as its colour does.
+#[must_use]
+pub fn fbm_with_gradient(p: DVec3, octaves: f64, lacunarity: f64, gain: f64) -> (f64, DVec3) {
+    sum_octaves_with_gradient(p, octaves, lacunarity, gain, false)
+}
+
+/// [`turbulence`] and its gradient (where an octave's noise is exactly zero, the kink of |n|,
+/// that octave's gradient is taken as zero).
+#[must_use]
+pub fn turbulence_with_gradient(
+    p: DVec3,
+    octaves: f64,
+    lacunarity: f64,
+    gain: f64,
+) -> (f64, DVec3) {
+    sum_octaves_with_gradient(p, octaves, lacunarity, gain, true)
+}
+
+fn sum_octaves_with_gradient(
+    p: DVec3,
+    octaves: f64,
+    lacunarity: f64,
+    gain: f64,
+    absolute: bool,
+) -> (f64, DVec3) {
+    let octaves = octaves.clamp(0.0, 32.0);
+    let whole = octaves.floor() as u32;
+    let partial = octaves - whole as f64;
+    let (mut sum, mut grad) = (0.0, DVec3::ZERO);
+    let (mut amp, mut freq) = (1.0, 1.0);
+    for i in 0..=whole {
+        let weight = if i < whole { amp } else { partial * amp };
+        if weight == 0.0 {
+            break;
+        }
+        let q = p * freq;
+        let (mut n, mut g) = noise3_with_gradient(q.x, q.y, q.z);
+        if absolute {
+            // d|n| = sign(n)·dn; at n = 0 the kink's gradient is taken as zero.
+            let s = if n > 0.0 {
+                1.0
+            } else if n < 0.0 {
+                -1.0
+            } else {
+                0.0
+            };
+            n = n.abs();
+            g *= s;
+        }
+        sum += weight * n;
+        // The chain rule through q = freq·p.
+        grad += g * (weight * freq);
+        amp *= gain;
+        freq *= lacunarity;
+    }
+    (sum, grad)
+}
+
 /// Perlin's bias: `t^(ln b / ln ½)` — bias(b, ½) = b; b = ½ is the identity.
 #[must_use]
 pub fn bias(b: f64, t: f64) -> f64 {
@@ -358,6 +417,41 @@ mod tests {
         let b = fbm(p, 3.0 + 1e-9, 2.0, 0.5);
         assert!((a - b).abs() < 1e-8);
         assert!((turbulence(p, 1.0, 2.0, 0.5) - noise3(0.3, 1.7, -2.2).abs()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn octave_sums_with_gradient_match_the_plain_sums_and_finite_differences() {
+        let h = 1e-6;
+        for i in 0..60 {
+            let t = i as f64;
+            let p = DVec3::new(t * 0.37 - 9.0, t * 0.113 + 0.2, -t * 0.291);
+            for (octaves, absolute) in [(1.0, false), (3.6, false), (5.0, true), (2.25, true)] {
+                type Plain = fn(DVec3, f64, f64, f64) -> f64;
+                type With = fn(DVec3, f64, f64, f64) -> (f64, DVec3);
+                let (plain, with): (Plain, With) = if absolute {
+                    (turbulence, turbulence_with_gradient)
+                } else {
+                    (fbm, fbm_with_gradient)
+                };
+                let (v, g) = with(p, octaves, 2.0, 0.5);
+                assert!(
+                    (v - plain(p, octaves, 2.0, 0.5)).abs() < 1e-12,
+                    "{p} {octaves}"
+                );
+                let fd = DVec3::new(
+                    plain(p + DVec3::X * h, octaves, 2.0, 0.5)
+                        - plain(p - DVec3::X * h, octaves, 2.0, 0.5),
+                    plain(p + DVec3::Y * h, octaves, 2.0, 0.5)
+                        - plain(p - DVec3::Y * h, octaves, 2.0, 0.5),
+                    plain(p + DVec3::Z * h, octaves, 2.0, 0.5)
+                        - plain(p - DVec3::Z * h, octaves, 2.0, 0.5),
+                ) / (2.0 * h);
+                assert!(
+                    (g - fd).abs().max_element() < 1e-4 * (1.0 + fd.abs().max_element()),
+                    "{p} {octaves} {absolute}: {g} vs {fd}"
+                );
+            }
+        }
     }
 
     proptest! {

@@ -10,7 +10,9 @@
 
 use glam::{DVec3, Vec3};
 
-use super::perlin::{fbm, octaves_for_width, turbulence};
+use super::perlin::{
+    fbm, fbm_with_gradient, octaves_for_width, turbulence, turbulence_with_gradient,
+};
 
 /// A solid (3D) or 2D procedural pattern, evaluated to a value in [0, 1] and a colour ramp.
 #[derive(Clone, Debug, PartialEq)]
@@ -165,6 +167,124 @@ impl Solid {
         v.clamp(0.0, 1.0)
     }
 
+    /// [`value`](Self::value) and its gradient ∂value/∂p (object space), with the same
+    /// footprint filtering: noise patterns sum the same octaves, periodic ones differentiate
+    /// their box-filtered forms. A step (checker and brick edges) has no gradient unfiltered
+    /// and a ramp one footprint wide filtered, so a bump from it is a groove about a pixel
+    /// wide at any distance. Used for bump mapping from a solid texture.
+    #[must_use]
+    pub fn value_and_gradient(&self, p: DVec3, extent: DVec3) -> (f64, DVec3) {
+        let extent = if extent.is_finite() {
+            extent.abs()
+        } else {
+            DVec3::ZERO
+        };
+        let width = extent.max_element();
+        let (v, g) = match *self {
+            Solid::Marble {
+                scale,
+                frequency,
+                amplitude,
+                octaves,
+            } => {
+                let q = p * scale;
+                let oct = octaves_for_width(width * scale, octaves, 2.0);
+                let (t, dt) = turbulence_with_gradient(q, oct, 2.0, 0.5);
+                let phase = frequency * (q.x + amplitude * t);
+                let dphase = (DVec3::X + dt * amplitude) * frequency;
+                let (s, ds) = filtered_sin_with_derivative(phase, frequency * width * scale);
+                let a = 1.0 - s.abs();
+                let v = 1.0 - a.powi(3);
+                // d/ds of 1 − (1 − |s|)³ = 3(1 − |s|)²·sign(s).
+                let dv = 3.0 * a * a * s.signum() * ds;
+                (v, dphase * (dv * scale))
+            }
+            Solid::Wood {
+                scale,
+                rings,
+                noise,
+            } => {
+                let q = p * scale;
+                let oct = octaves_for_width(width * scale * 4.0, 3.0, 2.0);
+                let (n, dn) = fbm_with_gradient(q * 4.0, oct, 2.0, 0.5);
+                let rho = (q.x * q.x + q.z * q.z).sqrt();
+                let drho = if rho > 0.0 {
+                    DVec3::new(q.x / rho, 0.0, q.z / rho)
+                } else {
+                    DVec3::ZERO
+                };
+                // r = ρ + noise·fbm(4q)/4, so ∂r/∂q = ∂ρ/∂q + noise·∇fbm.
+                let r = rho + noise * n / 4.0;
+                let dr = drho + dn * noise;
+                let k = std::f64::consts::TAU * rings;
+                let (s, ds) = filtered_sin_with_derivative(k * r, k * width * scale);
+                let ring = 0.5 + 0.5 * s;
+                (ring * ring, dr * (ring * ds * k * scale))
+            }
+            Solid::Granite { scale } => {
+                let q = p * scale;
+                let oct = octaves_for_width(width * scale, 8.0, 2.0);
+                let (v, dv) = fbm_with_gradient(q, oct, 2.0, 0.5);
+                let spread = 0.05 + 0.5 * (8.0 - oct) / 8.0;
+                let (s, ds) = smoothstep_with_derivative(-spread, spread, v);
+                (s, dv * (ds * scale))
+            }
+            Solid::Clouds { scale, octaves } => {
+                let q = p * scale;
+                let oct = octaves_for_width(width * scale, octaves, 2.0);
+                let (n, dn) = fbm_with_gradient(q, oct, 2.0, 0.5);
+                let v = 0.5 + 0.6 * n;
+                let g = if (0.0..=1.0).contains(&v) {
+                    dn * (0.6 * scale)
+                } else {
+                    DVec3::ZERO
+                };
+                (v, g)
+            }
+            Solid::Checker3D { size } => {
+                let w = extent / size;
+                let t = p / size;
+                let (sx, dx) = (
+                    filtered_square(t.x, w.x),
+                    filtered_square_derivative(t.x, w.x),
+                );
+                let (sy, dy) = (
+                    filtered_square(t.y, w.y),
+                    filtered_square_derivative(t.y, w.y),
+                );
+                let (sz, dz) = (
+                    filtered_square(t.z, w.z),
+                    filtered_square_derivative(t.z, w.z),
+                );
+                let g = DVec3::new(dx * sy * sz, sx * dy * sz, sx * sy * dz) * (0.5 / size);
+                (0.5 + 0.5 * sx * sy * sz, g)
+            }
+            Solid::Bricks {
+                width: bw,
+                height: bh,
+                mortar,
+            } => {
+                let row = (p.y / bh).floor();
+                let x = p.x / bw + if row.rem_euclid(2.0) == 1.0 { 0.5 } else { 0.0 };
+                let y = p.y / bh;
+                let (mx, my) = (mortar * bh / bw, mortar);
+                let (wx, wy) = (extent.x / bw, extent.y / bh);
+                let (px, py) = (filtered_pulse(x, wx, mx), filtered_pulse(y, wy, my));
+                let (dpx, dpy) = (
+                    filtered_pulse_derivative(x, wx, mx),
+                    filtered_pulse_derivative(y, wy, my),
+                );
+                (px * py, DVec3::new(dpx * py / bw, px * dpy / bh, 0.0))
+            }
+        };
+        // As `value`: the clamp only removes rounding; outside it the value is flat.
+        if (0.0..=1.0).contains(&v) {
+            (v, g)
+        } else {
+            (v.clamp(0.0, 1.0), DVec3::ZERO)
+        }
+    }
+
     /// Linear RGB at `p` with the two-colour ramp `colors`.
     #[must_use]
     pub fn color(&self, p: DVec3, extent: DVec3, colors: [Vec3; 2]) -> Vec3 {
@@ -175,6 +295,44 @@ impl Solid {
 fn smoothstep(a: f64, b: f64, x: f64) -> f64 {
     let t = ((x - a) / (b - a)).clamp(0.0, 1.0);
     t * t * (3.0 - 2.0 * t)
+}
+
+/// [`smoothstep`] and its derivative in `x`.
+fn smoothstep_with_derivative(a: f64, b: f64, x: f64) -> (f64, f64) {
+    let t = (x - a) / (b - a);
+    if !(0.0..=1.0).contains(&t) {
+        return (t.clamp(0.0, 1.0), 0.0);
+    }
+    (t * t * (3.0 - 2.0 * t), 6.0 * t * (1.0 - t) / (b - a))
+}
+
+/// [`filtered_sin`] and its derivative in `phase` (the sinc factor is constant in it).
+fn filtered_sin_with_derivative(phase: f64, a: f64) -> (f64, f64) {
+    let h = 0.5 * a;
+    let sinc = if h < 1e-6 { 1.0 } else { h.sin() / h };
+    (phase.sin() * sinc, phase.cos() * sinc)
+}
+
+/// d/dt of [`filtered_square`]: the difference of the square wave at the box's ends over its
+/// width; zero unfiltered (a step has no derivative to draw).
+fn filtered_square_derivative(t: f64, w: f64) -> f64 {
+    if w < 1e-9 {
+        return 0.0;
+    }
+    let square = |t: f64| if t.rem_euclid(2.0) < 1.0 { 1.0 } else { -1.0 };
+    (square(t + 0.5 * w) - square(t - 0.5 * w)) / w
+}
+
+/// d/dt of [`filtered_pulse`], likewise.
+fn filtered_pulse_derivative(t: f64, w: f64, m: f64) -> f64 {
+    if w < 1e-9 {
+        return 0.0;
+    }
+    let inside = |t: f64| {
+        let f = t - t.floor();
+        (f >= 0.5 * m && f < 1.0 - 0.5 * m) as u8 as f64
+    };
+    (inside(t + 0.5 * w) - inside(t - 0.5 * w)) / w
 }
 
 /// sin averaged over a phase interval `a` wide centred on `phase`: sin(φ)·sin(a/2)/(a/2).
@@ -303,6 +461,65 @@ mod tests {
             s.value(p, DVec3::ZERO),
             s.value(p + DVec3::X * 0.05, DVec3::ZERO)
         );
+    }
+
+    #[test]
+    fn gradient_matches_the_value_and_its_finite_differences() {
+        let h = 1e-6;
+        for name in ALL {
+            let s = Solid::named(name).unwrap();
+            // Unfiltered and two footprints (the steps of checker and bricks only have a
+            // gradient when filtered).
+            for extent in [DVec3::ZERO, DVec3::new(0.02, 0.03, 0.01), DVec3::splat(0.2)] {
+                let mut checked = 0;
+                for i in 0..200 {
+                    let t = i as f64;
+                    let p = DVec3::new(
+                        (t * 0.6180339) % 3.0 - 1.5,
+                        (t * 0.41421) % 2.0 - 1.0,
+                        (t * 0.7320508) % 2.5 - 1.2,
+                    );
+                    let (v, g) = s.value_and_gradient(p, extent);
+                    assert!((v - s.value(p, extent)).abs() < 1e-12, "{name} at {p}");
+                    let fd = DVec3::new(
+                        s.value(p + DVec3::X * h, extent) - s.value(p - DVec3::X * h, extent),
+                        s.value(p + DVec3::Y * h, extent) - s.value(p - DVec3::Y * h, extent),
+                        s.value(p + DVec3::Z * h, extent) - s.value(p - DVec3::Z * h, extent),
+                    ) / (2.0 * h);
+                    // Skip the few points within h of a kink or step (|n|, |sin|, edges),
+                    // where the central difference jumps.
+                    let fd_fwd = DVec3::new(
+                        s.value(p + DVec3::X * h, extent) - v,
+                        s.value(p + DVec3::Y * h, extent) - v,
+                        s.value(p + DVec3::Z * h, extent) - v,
+                    ) / h;
+                    if (fd - fd_fwd).abs().max_element() > 1e-3 * (1.0 + fd.abs().max_element()) {
+                        continue;
+                    }
+                    checked += 1;
+                    assert!(
+                        (g - fd).abs().max_element() < 1e-4 * (1.0 + fd.abs().max_element()),
+                        "{name} at {p} extent {extent}: {g} vs {fd}"
+                    );
+                }
+                assert!(checked > 150, "{name}: only {checked} smooth points");
+            }
+        }
+        // The gradient is not trivially zero: noise slopes almost everywhere, a filtered
+        // checker across its edges.
+        let s = Solid::named("clouds").unwrap();
+        let slopes = (0..50)
+            .filter(|&i| {
+                let p = DVec3::new(i as f64 * 0.013, 0.2, 0.1);
+                s.value_and_gradient(p, DVec3::ZERO).1.length() > 0.5
+            })
+            .count();
+        assert!(slopes > 40, "{slopes}");
+        let s = Solid::named("checker3d").unwrap();
+        let across = s.value_and_gradient(DVec3::new(0.25, 0.1, 0.1), DVec3::splat(0.02));
+        // On the face x = 0.25 (size 0.25), a box 0.02 wide: the ±1 wave falls by 2 over
+        // 0.08 periods, so ∂value/∂x = ½·(−2/0.08)/0.25 = −50.
+        assert!((across.1.x + 50.0).abs() < 1e-6, "{across:?}");
     }
 
     #[test]
