@@ -7,7 +7,7 @@ use std::time::Instant;
 use clap::{Args, ValueEnum};
 use glam::Vec3;
 use texmap::render::{render, CullMode, Interpolation, Settings, ShadingMode, Visibility};
-use texmap::scene::{builtin, Camera, LoadOptions, Scene, TextureSlot};
+use texmap::scene::{builtin, Camera, CameraProjection, LoadOptions, Scene, TextureSlot};
 use texmap::texture::load::{load_texture, Limits};
 use texmap::texture::{ColorSpace, Filter, LodRule, Sampler, Texture2D, Wrap};
 use texmap::Error;
@@ -44,6 +44,16 @@ pub struct RenderArgs {
     /// Vertical field of view in degrees.
     #[arg(long)]
     fov: Option<f32>,
+    /// Orthographic projection showing HEIGHT world units vertically (the width follows the
+    /// image's aspect); without a value, the height that frames the scene's bounding sphere.
+    #[arg(
+        long,
+        value_name = "HEIGHT",
+        num_args = 0..=1,
+        allow_negative_numbers = true,
+        conflicts_with = "fov"
+    )]
+    ortho: Option<Option<f32>>,
     /// nearest | bilinear | trilinear | aniso2 | aniso4 | aniso8 | aniso16 | ewa | sat.
     #[arg(long, value_parser = parse_filter)]
     filter: Option<Filter>,
@@ -273,6 +283,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             target: args.target,
             up: args.up,
             fov: args.fov,
+            ortho: args.ortho,
             frames: args.frames,
             threads: args.threads,
             stats: args.stats,
@@ -314,16 +325,25 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
     let (scene, short, from_file) = build_scene(&args, sampler)?;
     let fov = args.fov.unwrap_or(60.0);
     let base = scene.camera.unwrap_or_else(|| scene.framing_camera(fov));
-    // A file's camera keeps its own field of view unless --fov is given.
-    let fov = match (from_file, scene.camera) {
-        (true, Some(c)) => args.fov.unwrap_or(c.fov_y_deg),
-        _ => fov,
+    // --ortho, else --fov, else a file's camera keeps its own projection.
+    let projection = match (args.ortho, from_file, scene.camera) {
+        (Some(Some(height)), ..) => CameraProjection::Orthographic {
+            half_height: 0.5 * height,
+        },
+        (Some(None), ..) => scene.framing_camera_orthographic().projection,
+        (None, true, Some(c)) => {
+            args.fov
+                .map_or(c.projection, |fov_y_deg| CameraProjection::Perspective {
+                    fov_y_deg,
+                })
+        }
+        _ => CameraProjection::Perspective { fov_y_deg: fov },
     };
     let camera = Camera {
         eye: args.eye.unwrap_or(base.eye),
         target: args.target.unwrap_or(base.target),
         up: args.up.unwrap_or(base.up),
-        fov_y_deg: fov,
+        projection,
         ..base
     };
     camera.validate()?;

@@ -7,7 +7,7 @@ use std::time::Instant;
 use clap::{Args, ValueEnum};
 use glam::{Mat4, Vec3};
 use texmap::render::Frame;
-use texmap::scene::Camera;
+use texmap::scene::{Camera, CameraProjection};
 use texmap::volume::{
     load_volume, raymarch, render_slices, Classification, MarchParams, Mode, RawDesc, ScalarType,
     TransferFunction, TransferFunction2D,
@@ -138,6 +138,8 @@ pub struct Common<'a> {
     pub target: Option<Vec3>,
     pub up: Option<Vec3>,
     pub fov: Option<f32>,
+    /// `--ortho [HEIGHT]`.
+    pub ortho: Option<Option<f32>>,
     pub frames: u32,
     pub threads: Option<usize>,
     pub stats: bool,
@@ -193,18 +195,29 @@ pub fn run(v: &VolumeArgs, c: &Common) -> Result<(), Error> {
         ..MarchParams::default()
     };
     let base = vol.vtk_camera(v.dolly, v.azimuth);
+    let (lo, hi) = vol.world_bounds();
+    let centre = (lo + hi) * 0.5;
+    let radius = ((hi - lo) * 0.5).length().max(1e-3);
+    let projection = match (c.ortho, c.fov) {
+        (Some(Some(height)), _) => CameraProjection::Orthographic {
+            half_height: 0.5 * height,
+        },
+        // VTK's parallel scale after ResetCamera is the bounding radius; Dolly divides it.
+        (Some(None), _) => CameraProjection::Orthographic {
+            half_height: radius / v.dolly,
+        },
+        (None, Some(fov_y_deg)) => CameraProjection::Perspective { fov_y_deg },
+        (None, None) => base.projection,
+    };
     let camera = Camera {
         eye: c.eye.unwrap_or(base.eye),
         target: c.target.unwrap_or(base.target),
         up: c.up.unwrap_or(base.up),
-        fov_y_deg: c.fov.unwrap_or(base.fov_y_deg),
+        projection,
         ..base
     };
     camera.validate()?;
     // Near and far around the box whatever the eye.
-    let (lo, hi) = vol.world_bounds();
-    let centre = (lo + hi) * 0.5;
-    let radius = ((hi - lo) * 0.5).length().max(1e-3);
     let dist = (camera.eye - centre).length();
     let camera = Camera {
         near: (dist - radius).max(dist * 1e-3).max(1e-4),
@@ -287,7 +300,11 @@ pub fn run(v: &VolumeArgs, c: &Common) -> Result<(), Error> {
             "shade": v.shade,
             "step": v.step,
             "camera": {"eye": camera.eye.to_array(), "target": camera.target.to_array(),
-                       "up": camera.up.to_array(), "fov_y_deg": camera.fov_y_deg},
+                       "up": camera.up.to_array(), "fov_y_deg": camera.projection.fov_y_deg(),
+                       "ortho_height": match camera.projection {
+                           CameraProjection::Orthographic { half_height } => Some(2.0 * half_height),
+                           CameraProjection::Perspective { .. } => None,
+                       }},
             "frames": c.frames,
             "setup_ms": r2(setup_ms),
             "frame_ms": {"min": r2(sorted[0]), "median": r2(median), "max": r2(sorted[n - 1])},

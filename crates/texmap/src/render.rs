@@ -28,6 +28,7 @@ pub use crate::pipeline::{CullMode, Interpolation};
 use crate::scene::{Camera, Mesh, Scene};
 use crate::shading::{
     combine, illuminate, AlphaMode, Light, Lighting, MapChannel, Material, Procedural, TextureSlot,
+    Viewer,
 };
 use crate::texture::{sample, sample_quad, Filter, Footprint, Sampler, Texture2D, Wrap};
 use crate::{Error, Result};
@@ -238,7 +239,7 @@ pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Fra
             draw: &draw,
             clip_from_world,
             normal_from_object: normal_matrix(mesh.world_from_object),
-            eye: camera.eye,
+            viewer: camera.viewer(),
             lighting: &lighting,
             viewport: &viewport,
         };
@@ -257,7 +258,7 @@ pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Fra
     let shader = SceneShader {
         draws: &draws,
         lighting,
-        eye: camera.eye,
+        viewer: camera.viewer(),
     };
     let bg = scene.background;
     let target = Target {
@@ -529,7 +530,7 @@ struct VertexShader<'a> {
     draw: &'a DrawInfo<'a>,
     clip_from_world: Mat4,
     normal_from_object: Mat3,
-    eye: Vec3,
+    viewer: Viewer,
     lighting: &'a Lighting<'a>,
     viewport: &'a Viewport,
 }
@@ -565,7 +566,7 @@ impl VertexShader<'_> {
                     }
                     Mode::Interpolated => {
                         let n = self.world_normal(i);
-                        let (d, s) = illuminate(self.material, self.lighting, p, n, self.eye);
+                        let (d, s) = illuminate(self.material, self.lighting, p, n, self.viewer);
                         var[2..5].copy_from_slice(&d.to_array());
                         var[5..8].copy_from_slice(&s.to_array());
                     }
@@ -642,10 +643,10 @@ impl VertexShader<'_> {
             }
         }
         let centroid = (p[0] + p[1] + p[2]) / 3.0;
-        if self.material.double_sided && n.dot(self.eye - centroid) < 0.0 {
+        if self.material.double_sided && n.dot(self.viewer.towards(centroid)) < 0.0 {
             n = -n;
         }
-        let (d, s) = illuminate(self.material, self.lighting, centroid, n, self.eye);
+        let (d, s) = illuminate(self.material, self.lighting, centroid, n, self.viewer);
         [0, 1, 2].map(|k| {
             let mut var = if valid {
                 self.common_varyings(ids[k])
@@ -662,7 +663,7 @@ impl VertexShader<'_> {
 struct SceneShader<'a> {
     draws: &'a [DrawInfo<'a>],
     lighting: Lighting<'a>,
-    eye: Vec3,
+    viewer: Viewer,
 }
 
 impl FragmentShader for SceneShader<'_> {
@@ -717,7 +718,7 @@ impl FragmentShader for SceneShader<'_> {
                     } else {
                         Vec3::ZERO
                     };
-                    illuminate(m, &self.lighting, p, n, self.eye)
+                    illuminate(m, &self.lighting, p, n, self.viewer)
                 }
                 Mode::Interpolated => (Vec3::new(v[2], v[3], v[4]), Vec3::new(v[5], v[6], v[7])),
             };

@@ -9,7 +9,9 @@ use std::sync::Arc;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use texmap::geometry::Projection;
 use texmap::render::{render, Settings};
-use texmap::scene::{builtin, Camera, Light, Material, Mesh, Procedural, Scene, TextureSlot};
+use texmap::scene::{
+    builtin, Camera, CameraProjection, Light, Material, Mesh, Procedural, Scene, TextureSlot,
+};
 use texmap::texture::procedural::Solid;
 use texmap::texture::{ColorSpace, Filter, Sampler, Texture2D, TextureOptions, Wrap};
 
@@ -36,7 +38,7 @@ fn lit_scene(
         eye,
         target,
         up: Vec3::Y,
-        fov_y_deg: 40.0,
+        projection: CameraProjection::Perspective { fov_y_deg: 40.0 },
         near: 0.05,
         far: 100.0,
     };
@@ -218,7 +220,7 @@ fn marble_floor(antialias: bool) -> (Scene, Camera) {
         Vec3::new(0.0, 0.0, -20.0),
     );
     scene.ambient_light = Vec3::ONE;
-    camera.fov_y_deg = 60.0;
+    camera.projection = CameraProjection::Perspective { fov_y_deg: 60.0 };
     (scene, camera)
 }
 

@@ -20,6 +20,8 @@
 // `!(x > y)` is deliberate: it is true for NaN, which must be rejected too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod viewer;
+
 use std::sync::Arc;
 
 use glam::{Vec3, Vec4};
@@ -27,6 +29,8 @@ use glam::{Vec3, Vec4};
 use crate::geometry::Projection;
 use crate::texture::procedural::Solid;
 use crate::texture::{Sampler, Texture2D, TextureTransform};
+
+pub use viewer::Viewer;
 
 /// A texture bound to a material: the image, how it is read, and the uv transform.
 ///
@@ -335,17 +339,23 @@ impl Lighting<'_> {
     }
 }
 
-/// The Phong factors `(D, S)` at world point `p` with unit normal `n`, seen from `eye`:
+/// The Phong factors `(D, S)` at world point `p` with unit normal `n`, seen by `viewer`:
 /// the lit colour is `C·D + S` (see the module docs).
 #[inline(always)]
 #[must_use]
-pub fn illuminate(m: &Material, lighting: &Lighting, p: Vec3, n: Vec3, eye: Vec3) -> (Vec3, Vec3) {
+pub fn illuminate(
+    m: &Material,
+    lighting: &Lighting,
+    p: Vec3,
+    n: Vec3,
+    viewer: Viewer,
+) -> (Vec3, Vec3) {
     let mut d = lighting.ambient * m.ambient;
     // I_E; an emissive map scales it per pixel in the fragment stage.
     let mut s = m.emissive;
     let specular = m.specular > 0.0;
     let v = if specular {
-        (eye - p).normalize_or_zero()
+        viewer.towards(p)
     } else {
         Vec3::ZERO
     };
@@ -419,7 +429,7 @@ mod tests {
             &lighting(&light),
             Vec3::ZERO,
             Vec3::Y,
-            Vec3::Y,
+            Viewer::Point(Vec3::Y),
         );
         assert!((d - Vec3::splat(0.84650)).abs().max_element() < 1e-5, "{d}");
         assert_eq!(s, Vec3::ZERO);
@@ -437,9 +447,16 @@ mod tests {
             color: Vec3::ONE,
         }];
         let l = lighting(&light);
-        let (_, on) = illuminate(&m, &l, Vec3::ZERO, Vec3::Y, Vec3::new(-1.0, 1.0, 0.0));
-        let (_, off) = illuminate(&m, &l, Vec3::ZERO, Vec3::Y, Vec3::new(1.0, 1.0, 0.0));
+        let eye = |x: f32| Viewer::Point(Vec3::new(x, 1.0, 0.0));
+        let (_, on) = illuminate(&m, &l, Vec3::ZERO, Vec3::Y, eye(-1.0));
+        let (_, off) = illuminate(&m, &l, Vec3::ZERO, Vec3::Y, eye(1.0));
         assert!((on.x - 1.0).abs() < 1e-5 && off.x < 1e-3, "{on} {off}");
+        // An orthographic viewer along the mirror direction sees the peak at every point.
+        let ortho = Viewer::Direction(Vec3::new(-1.0, 1.0, 0.0).normalize());
+        for p in [Vec3::ZERO, Vec3::new(5.0, 0.0, -3.0)] {
+            let (_, s) = illuminate(&m, &l, p, Vec3::Y, ortho);
+            assert!((s.x - 1.0).abs() < 1e-5, "{p} {s}");
+        }
     }
 
     #[test]

@@ -23,7 +23,7 @@ use crate::pipeline::{
     MAX_VARYINGS,
 };
 use crate::render::{Frame, FrameStats};
-use crate::scene::Camera;
+use crate::scene::{Camera, Viewer};
 use crate::texture::{sample_3d, Filter, Footprint3, Sampler, Wrap};
 use crate::{Error, Result};
 
@@ -77,7 +77,7 @@ struct SliceShader<'a> {
     sampler: Sampler,
     inv_n: Vec3,
     step: f32,
-    eye: Vec3,
+    viewer: Viewer,
     fwd: Vec3,
     shade: bool,
     lighting: Lighting,
@@ -111,7 +111,7 @@ impl FragmentShader for SliceShader<'_> {
             if c.w <= 0.0 {
                 continue;
             }
-            let dir = (world - self.eye).normalize_or_zero();
+            let dir = -self.viewer.towards(world);
             let cos = dir.dot(self.fwd).max(1e-3);
             let mut a = correct_opacity(c.w, self.step / cos);
             let mut rgb = c.truncate();
@@ -233,7 +233,7 @@ pub fn render_slices(
         sampler: Sampler::new(Filter::BILINEAR, Wrap::ClampToEdge),
         inv_n: Vec3::from_array(vol.dims().map(|n| 1.0 / n as f32)),
         step: params.step,
-        eye: camera.eye,
+        viewer: camera.viewer(),
         fwd,
         shade: params.shade,
         lighting: params.lighting,

@@ -21,21 +21,26 @@ use crate::{Error, Result};
 
 struct DistanceShader {
     eye: Vec3,
+    /// Orthographic cameras: the view direction. Rays start on the eye's plane, so the
+    /// distance along a ray is measured along this direction.
+    parallel: Option<Vec3>,
 }
 
 impl FragmentShader for DistanceShader {
     fn shade(&self, _draw: u32, quad: &Quad, out: &mut [Vec4; 4]) -> u8 {
         for (j, o) in out.iter_mut().enumerate() {
             let v = &quad.varyings[j];
-            let d = (Vec3::new(v[0], v[1], v[2]) - self.eye).length();
+            let to_p = Vec3::new(v[0], v[1], v[2]) - self.eye;
+            let d = self.parallel.map_or_else(|| to_p.length(), |f| to_p.dot(f));
             *o = Vec4::new(d, 0.0, 0.0, 1.0);
         }
         quad.mask
     }
 }
 
-/// Per pixel (row-major, top row first), the distance from the eye to the nearest surface of
-/// `scene` along the pixel's ray; infinite where no surface is drawn.
+/// Per pixel (row-major, top row first), the distance along the pixel's ray (from the eye, or
+/// for an orthographic camera from the eye's plane) to the nearest surface of `scene`;
+/// infinite where no surface is drawn.
 ///
 /// # Errors
 /// [`Error::Parameter`] for a bad camera or size.
@@ -90,7 +95,14 @@ pub fn surface_distances(
         interpolation: Interpolation::Perspective,
         depth_sort: false,
     };
-    let (color, _) = pipeline::draw(&calls, &DistanceShader { eye: camera.eye }, &target);
+    let shader = DistanceShader {
+        eye: camera.eye,
+        parallel: camera
+            .projection
+            .is_orthographic()
+            .then(|| camera.forward()),
+    };
+    let (color, _) = pipeline::draw(&calls, &shader, &target);
     Ok(color.into_iter().map(|c| c.x).collect())
 }
 
@@ -222,7 +234,7 @@ mod tests {
 #[cfg(test)]
 mod depth_tests {
     use super::super::raymarch::{camera_ray, ray_distances_from_depth};
-    use crate::scene::Camera;
+    use crate::scene::{Camera, CameraProjection};
     use glam::Vec3;
 
     #[test]
@@ -231,7 +243,7 @@ mod depth_tests {
             eye: Vec3::new(1.0, 2.0, 30.0),
             target: Vec3::new(0.0, 0.0, 0.0),
             up: Vec3::Y,
-            fov_y_deg: 40.0,
+            projection: CameraProjection::Perspective { fov_y_deg: 40.0 },
             near: 0.5,
             far: 200.0,
         };
