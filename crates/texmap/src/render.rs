@@ -7,8 +7,9 @@
 //! [`shading`](crate::shading)), and the SSAA box filter.
 //!
 //! Culling: `Settings::cull` applies to single-sided materials; double-sided ones are never
-//! culled, and their back faces are lit with the flipped normal (per pixel in Phong shading,
-//! per face in flat shading; Gouraud lights the vertices with their own normals only).
+//! culled, and their back faces are lit with the flipped normal: per pixel in Phong shading,
+//! per face in flat shading, and in Gouraud shading per vertex for both sides (six more
+//! varyings), the fragment stage taking the side the rasterizer says is facing.
 //! A mesh without (or with a wrong number of) normals is shaded flat; Phong and Gouraud
 //! need vertex normals.
 
@@ -305,7 +306,8 @@ enum Mode {
     Unlit,
     /// Varyings: normal at 2, position at 5 (when lights need it).
     Phong,
-    /// Varyings: diffuse factor D at 2, additive S at 5 (Gouraud, or flat per face).
+    /// Varyings: diffuse factor D at 2, additive S at 5 (Gouraud, or flat per face); for
+    /// the back faces of double-sided Gouraud draws, the same at `DrawInfo::back_at`.
     Interpolated,
 }
 
@@ -359,6 +361,9 @@ struct DrawInfo<'a> {
     tangent_at: Option<usize>,
     /// Offset of the vertex colour in the varyings.
     color_at: Option<usize>,
+    /// Offset of D and S lit with the flipped normal (double-sided Gouraud draws), read on
+    /// back-facing triangles.
+    back_at: Option<usize>,
     needs_position: bool,
     /// Offset of the object-space position and normal (6 floats) for procedural colour.
     object_at: Option<usize>,
@@ -395,6 +400,10 @@ impl<'a> DrawInfo<'a> {
                 varyings += 4;
                 varyings - 4
             });
+        let back_at = (mode == Mode::Interpolated && !flat && material.double_sided).then(|| {
+            varyings += 6;
+            varyings - 6
+        });
         let object_at = material.procedural.is_some().then(|| {
             varyings += 6;
             varyings - 6
@@ -492,6 +501,7 @@ impl<'a> DrawInfo<'a> {
             uv1_at,
             tangent_at,
             color_at,
+            back_at,
             needs_position,
             object_at,
             projected,
@@ -569,6 +579,12 @@ impl VertexShader<'_> {
                         let (d, s) = illuminate(self.material, self.lighting, p, n, self.viewer);
                         var[2..5].copy_from_slice(&d.to_array());
                         var[5..8].copy_from_slice(&s.to_array());
+                        if let Some(k) = self.draw.back_at {
+                            let (d, s) =
+                                illuminate(self.material, self.lighting, p, -n, self.viewer);
+                            var[k..k + 3].copy_from_slice(&d.to_array());
+                            var[k + 3..k + 6].copy_from_slice(&s.to_array());
+                        }
                     }
                 }
                 PostVertex::new(self.clip_from_world * p.extend(1.0), var, self.viewport)
@@ -720,7 +736,11 @@ impl FragmentShader for SceneShader<'_> {
                     };
                     illuminate(m, &self.lighting, p, n, self.viewer)
                 }
-                Mode::Interpolated => (Vec3::new(v[2], v[3], v[4]), Vec3::new(v[5], v[6], v[7])),
+                Mode::Interpolated => {
+                    let k = d.back_at.filter(|_| !quad.front_facing).unwrap_or(2);
+                    let f = |i: usize| Vec3::new(v[i], v[i + 1], v[i + 2]);
+                    (f(k), f(k + 3))
+                }
             };
             let (mut df, mut sp) = (df, sp);
             if let (Some(texel), Some(map)) = (&occlusion, &d.occlusion_map) {

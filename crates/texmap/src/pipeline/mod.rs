@@ -50,8 +50,11 @@ pub use raster::{rasterize_tile_row, TileStats};
 pub use setup::{assemble_triangle, Prim};
 pub use transform::{PostVertex, Viewport};
 
-/// The number of floats a vertex can carry to the fragment shader.
-pub const MAX_VARYINGS: usize = 24;
+/// The number of floats a vertex can carry to the fragment shader: the largest draw `render`
+/// makes, a double-sided Gouraud draw (uv, D and S for each side, vertex colour, a projected
+/// texture's object position and normal, a second uv set). Raising it from 24 changed the
+/// instruction count of `builtin:sphere` and `builtin:demo` frames by under 0.03% (callgrind).
+pub const MAX_VARYINGS: usize = 26;
 
 /// Fractional bits of the fixed-point screen positions.
 pub const SUBPIXEL_BITS: u32 = 8;
