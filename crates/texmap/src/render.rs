@@ -12,6 +12,10 @@
 //! varyings), the fragment stage taking the side the rasterizer says is facing.
 //! A mesh without (or with a wrong number of) normals is shaded flat; Phong and Gouraud
 //! need vertex normals.
+//!
+//! Blending: blended meshes are drawn after the opaque ones, back to front by the view depth
+//! of their centroid, each in index order (`gl_render.py`'s rule); `Visibility::DepthSort`
+//! sorts every triangle instead.
 
 // `!(x > y)` is deliberate: it is true for NaN, which must be rejected too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -228,10 +232,15 @@ pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Fra
         ambient: scene.ambient_light,
     };
 
-    let mut draws = Vec::with_capacity(scene.meshes.len());
-    let mut buffers: Vec<(Vec<PostVertex>, Option<Vec<u32>>)> =
-        Vec::with_capacity(scene.meshes.len());
-    for mesh in &scene.meshes {
+    // Submission order: the pipeline draws opaque meshes, then blended ones, as submitted.
+    let meshes: Vec<&Mesh> = match settings.visibility {
+        Visibility::ZBuffer => blend_order(scene, camera.view_from_world()),
+        // The painter's algorithm sorts every triangle itself.
+        Visibility::DepthSort => scene.meshes.iter().collect(),
+    };
+    let mut draws = Vec::with_capacity(meshes.len());
+    let mut buffers: Vec<(Vec<PostVertex>, Option<Vec<u32>>)> = Vec::with_capacity(meshes.len());
+    for &mesh in &meshes {
         let material = &scene.materials[mesh.material];
         let draw = DrawInfo::new(mesh, material, settings, &lighting);
         let vs = VertexShader {
@@ -249,7 +258,7 @@ pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Fra
     }
     let calls: Vec<DrawCall> = buffers
         .iter()
-        .zip(scene.meshes.iter().zip(&draws))
+        .zip(meshes.iter().zip(&draws))
         .map(|((verts, idx), (mesh, draw))| DrawCall {
             vertices: verts,
             indices: idx.as_deref().unwrap_or(&mesh.indices),
@@ -288,6 +297,46 @@ pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Fra
             texture_samples: st.texture_samples,
         },
     })
+}
+
+/// The scene's meshes with the blended ones moved to the end and sorted back to front by the
+/// view-space depth of their centroid (the mean of their world positions over the index list,
+/// ties in scene order): the rule of `gl_render.py` and the Khronos sample viewer. Each mesh's
+/// triangles are then drawn in index order, so a blended mesh that overlaps itself shows the
+/// order it was modelled in, as on a GPU.
+fn blend_order(scene: &Scene, view_from_world: Mat4) -> Vec<&Mesh> {
+    let blended = |m: &Mesh| scene.materials[m.material].alpha_mode == AlphaMode::Blend;
+    let mut order: Vec<&Mesh> = scene.meshes.iter().filter(|m| !blended(m)).collect();
+    let mut back: Vec<(f32, &Mesh)> = scene
+        .meshes
+        .iter()
+        .filter(|m| blended(m))
+        .map(|m| {
+            let c = m.world_from_object.transform_point3(centroid(m));
+            (view_from_world.transform_point3(c).z, m)
+        })
+        .collect();
+    // The camera looks down −z: ascending z is far to near. A stable sort keeps ties in order.
+    back.sort_by(|a, b| a.0.total_cmp(&b.0));
+    order.extend(back.into_iter().map(|(_, m)| m));
+    order
+}
+
+/// The mean object-space position over a mesh's index list (each triangle's corners count
+/// once per use; out-of-range indices are skipped; the origin for an empty mesh).
+fn centroid(m: &Mesh) -> Vec3 {
+    let (sum, n) = m
+        .indices
+        .iter()
+        .filter_map(|&i| m.positions.get(i as usize))
+        .fold((glam::DVec3::ZERO, 0u64), |(s, n), p| {
+            (s + p.as_dvec3(), n + 1)
+        });
+    if n == 0 {
+        Vec3::ZERO
+    } else {
+        (sum / n as f64).as_vec3()
+    }
 }
 
 fn normal_matrix(m: Mat4) -> Mat3 {

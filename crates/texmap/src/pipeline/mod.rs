@@ -192,8 +192,9 @@ pub struct DrawStats {
 /// rasterizes the tiles in parallel (rayon's current pool) and resolves.
 ///
 /// Returns the resolved colour, `width·height` premultiplied linear pixels, top row first.
-/// Opaque draws are drawn in order; blended draws after them, back to front by their farthest
-/// vertex; with `depth_sort`, every triangle back to front.
+/// Opaque draws are drawn in order, then blended draws in order (sorting them is the caller's
+/// business, as on a GPU), each draw's triangles in index order; with `depth_sort`, every
+/// triangle back to front by its farthest vertex instead.
 pub fn draw(
     calls: &[DrawCall],
     shader: &dyn FragmentShader,
@@ -256,26 +257,19 @@ pub fn draw(
     }
     stats.triangles_after_clip = prims.len() as u64;
 
-    // Draw order.
+    // Draw order: opaque, then blended, each in submission order; or the painter's sort.
     let mut order: Vec<u32> = Vec::with_capacity(prims.len());
-    let back_to_front = |a: &u32, b: &u32| {
-        prims[*b as usize]
-            .sort_depth
-            .total_cmp(&prims[*a as usize].sort_depth)
-    };
     if target.depth_sort {
         order.extend(0..prims.len() as u32);
-        order.sort_by(back_to_front);
+        order.sort_by(|a, b| {
+            prims[*b as usize]
+                .sort_depth
+                .total_cmp(&prims[*a as usize].sort_depth)
+        });
     } else {
-        order.extend(
-            (0..prims.len() as u32)
-                .filter(|&i| !calls[prims[i as usize].call as usize].state.blend),
-        );
-        let mut blended: Vec<u32> = (0..prims.len() as u32)
-            .filter(|&i| calls[prims[i as usize].call as usize].state.blend)
-            .collect();
-        blended.sort_by(back_to_front);
-        order.extend(blended);
+        let blend = |i: &u32| calls[prims[*i as usize].call as usize].state.blend;
+        order.extend((0..prims.len() as u32).filter(|i| !blend(i)));
+        order.extend((0..prims.len() as u32).filter(blend));
     }
 
     let bins = bin_prims(&prims, &order, target.width, target.height);

@@ -7,8 +7,8 @@
 //!
 //! Rules:
 //! - Slices sit at view depths `d_min + (k + ½)·step` (d along the view direction from the
-//!   eye); all vertices of a slice share one window depth, so the pipeline's back-to-front
-//!   order of blended triangles is the slice order.
+//!   eye) and are submitted far to near: the pipeline draws a blended call's triangles in
+//!   index order.
 //! - Opacity is corrected per fragment for the distance between two slices along that
 //!   pixel's ray, `step / cos θ`, so slices and rays agree off the image centre too.
 //! - Only composite mode exists here (blending is "over"); MIP, iso and X-ray are ray modes.
@@ -205,7 +205,7 @@ pub fn render_slices(
     let viewport = Viewport::new(width, height);
     let mut vertices: Vec<PostVertex> = Vec::new();
     let mut indices: Vec<u32> = Vec::new();
-    for k in 0..count {
+    for k in (0..count).rev() {
         let d = d_min + (k as f32 + 0.5) * params.step;
         let poly = slice_polygon(&corners, camera.eye, fwd, d);
         if poly.len() < 3 {
