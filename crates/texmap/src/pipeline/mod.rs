@@ -81,11 +81,13 @@ pub enum Interpolation {
     Perspective,
     /// Screen-linear (affine) interpolation, as early software renderers did: textures swim.
     Affine,
-    /// Affine interpolation on triangles split in screen space until the affine error (the
-    /// screen distance between where an edge midpoint's attributes are and where affine
-    /// interpolation puts them) is below `max_error_px`: the worst edge is bisected at its
-    /// screen midpoint, with perspective-correct attributes there. The splits make
-    /// T-junctions with neighbouring triangles, so this mode is not watertight.
+    /// Affine interpolation on triangles split in screen space until every edge's affine
+    /// error (the screen distance between where the edge midpoint's attributes are and where
+    /// affine interpolation puts them) is below `max_error_px`: each edge over it is bisected
+    /// at its screen midpoint, with perspective-correct attributes there, and the piece is cut
+    /// into two, three or four. Whether and where an edge splits depends on the edge alone,
+    /// so neighbours split shared edges identically: watertight, like the other modes (up to
+    /// [`setup::MAX_SUBDIVISION`] steps per triangle).
     Subdivide { max_error_px: f32 },
 }
 
