@@ -7,6 +7,7 @@ use texmap::scene::{CameraProjection, LoadOptions, Loaded};
 use texmap::shading::AlphaMode;
 use texmap::texture::load::{load_texture, Limits};
 use texmap::texture::ColorSpace;
+use texmap::volume::{load_volume, SceneVolume, Volume};
 use texmap::Error;
 
 #[derive(Args)]
@@ -19,6 +20,8 @@ pub struct InfoArgs {
     /// Let the file's references leave its folder.
     #[arg(long)]
     allow_outside_paths: bool,
+    #[command(flatten)]
+    raw: crate::volume::RawArgs,
 }
 
 /// Appends a line to a `String` (writing to a `String` cannot fail).
@@ -35,7 +38,6 @@ fn emit(s: &str) {
     let _ = std::io::stdout().write_all(s.as_bytes());
 }
 
-const VOLUME_EXTENSIONS: &[&str] = &["nii", "gz", "nrrd", "nhdr", "raw", "vol"];
 const IMAGE_EXTENSIONS: &[&str] = &["png", "jpg", "jpeg", "tga", "bmp", "hdr", "exr"];
 
 pub fn run(args: InfoArgs) -> Result<(), Error> {
@@ -61,13 +63,13 @@ pub fn run(args: InfoArgs) -> Result<(), Error> {
         emit(out);
         return Ok(());
     }
-    if VOLUME_EXTENSIONS.contains(&ext.as_str()) {
-        // Hook: when the volume loaders land (scene::volume), list dimensions, spacing and
-        // value range here.
-        return Err(Error::Unsupported(format!(
-            "{}: volume files are not read yet (dimensions and value range will be listed once the volume loaders exist)",
-            path.display()
-        )));
+    if crate::volume::is_volume_path(&path.to_string_lossy()) {
+        let vol = load_volume(path, args.raw.desc().as_ref())?;
+        let mut out = String::new();
+        outln!(out, "{}: volume", path.display());
+        outln!(out, "  {}", describe_volume(&vol));
+        emit(&out);
+        return Ok(());
     }
     let options = LoadOptions {
         allow_outside_paths: args.allow_outside_paths,
@@ -190,7 +192,10 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
         );
     }
     outln!(out, "lights: {}", s.lights.len());
-    outln!(out, "volumes: {}", l.info.volumes.len());
+    outln!(out, "volumes: {}", l.volumes.len());
+    for (i, v) in l.volumes.iter().enumerate() {
+        outln!(out, "  [{i}] {}", describe_scene_volume(v));
+    }
     let (lo, hi) = s.bounds();
     outln!(
         out,
@@ -201,4 +206,42 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
     for w in &l.warnings {
         outln!(out, "warning: {w}");
     }
+}
+
+/// Grid, voxel type, spacing, value range and world box of a volume, on one line.
+fn describe_volume(v: &Volume) -> String {
+    let [x, y, z] = v.dims();
+    let s = v.spacing();
+    let (lo, hi) = v.range();
+    let (a, b) = v.world_bounds();
+    format!(
+        "{x}x{y}x{z} {}, spacing ({}, {}, {}), values {lo} .. {hi}, box {:.3?} .. {:.3?}",
+        v.scalar_type()
+            .map_or("values".to_string(), |t| t.to_string()),
+        s.x,
+        s.y,
+        s.z,
+        a.to_array(),
+        b.to_array()
+    )
+}
+
+/// A scene's volume: its file, [`describe_volume`] and how it is rendered.
+fn describe_scene_volume(v: &SceneVolume) -> String {
+    let p = &v.params;
+    format!(
+        "{}: {}; tf {}, {}, {}, step {}{}{}",
+        v.source.display(),
+        describe_volume(&v.volume),
+        v.transfer_name,
+        format!("{:?}", p.mode).to_lowercase(),
+        format!("{:?}", v.method).to_lowercase(),
+        p.step,
+        if p.shade { ", shaded" } else { "" },
+        match (p.shade, p.lights.len()) {
+            (false, _) => String::new(),
+            (true, 0) => " (headlight)".to_string(),
+            (true, n) => format!(" ({n} scene light{})", if n == 1 { "" } else { "s" }),
+        }
+    )
 }

@@ -1,4 +1,5 @@
-//! `texmap render [SCENE]`: one frame or a turntable of a built-in scene.
+//! `texmap render [SCENE]`: one frame or a turntable of a built-in scene, a scene file, or a
+//! scan (with `--mesh` files inside it).
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -6,16 +7,20 @@ use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 use glam::Vec3;
-use texmap::render::{render, CullMode, Interpolation, Settings, ShadingMode, Visibility};
+use texmap::render::{
+    render_into, CullMode, Frame, FrameStats, Interpolation, Settings, ShadingMode, Visibility,
+};
 use texmap::scene::{builtin, Camera, CameraProjection, LoadOptions, Scene, TextureSlot};
 use texmap::texture::load::{load_texture, Limits};
 use texmap::texture::{ColorSpace, Filter, LodRule, Sampler, Texture2D, Wrap};
+use texmap::volume::{render_with_volumes, SceneVolume};
 use texmap::Error;
 
 #[derive(Args)]
 pub struct RenderArgs {
-    /// `builtin:demo` (default), `builtin:plane`, `builtin:sphere`, `builtin:marble`, or a scene
-    /// file: `.gltf`, `.glb`, `.obj` or `.toml`.
+    /// `builtin:demo` (default), `builtin:plane`, `builtin:sphere`, `builtin:marble`, a scene
+    /// file (`.gltf`, `.glb`, `.obj` or `.toml`), or a volume (`.nii`, `.nii.gz`, `.nrrd`,
+    /// `.nhdr`, `.raw`).
     scene: Option<String>,
     /// A missing or undecodable texture becomes a warning and a magenta placeholder.
     #[arg(long)]
@@ -187,8 +192,74 @@ fn parse_wrap(s: &str) -> Result<Wrap, String> {
     Wrap::parse(s).ok_or_else(|| "expected repeat, mirror, clamp, border or mirror-clamp".into())
 }
 
-/// The scene, its default output name, and whether it was read from a file.
-fn build_scene(args: &RenderArgs, sampler: Sampler) -> Result<(Scene, String, bool), Error> {
+/// What `render` draws.
+struct Built {
+    scene: Scene,
+    volumes: Vec<SceneVolume>,
+    /// The default output name's stem.
+    short: String,
+    /// Read from a file (not built in).
+    from_file: bool,
+}
+
+/// The scene, its volumes (a volume file's, or a TOML scene's with the volume flags laid
+/// over them), and `--mesh` files added.
+fn build(args: &RenderArgs, sampler: Sampler) -> Result<Built, Error> {
+    let options = LoadOptions {
+        allow_outside_paths: args.allow_outside_paths,
+        lenient: args.lenient,
+        ..Default::default()
+    };
+    let v = &args.volume;
+    let volume_file = args
+        .scene
+        .as_deref()
+        .filter(|s| crate::volume::is_volume_path(s));
+    v.check_for_scene(volume_file.is_some())?;
+    let mut built = match volume_file {
+        Some(path) => {
+            let path = Path::new(path);
+            let (scene, sv) = crate::volume::volume_file_scene(v, path)?;
+            Built {
+                scene,
+                volumes: vec![sv],
+                short: crate::volume::short_name(path),
+                from_file: true,
+            }
+        }
+        None => build_scene(args, sampler, &options)?,
+    };
+    let own_lights = crate::volume::add_meshes(v, &mut built.scene, &options, args.quiet)?;
+    if volume_file.is_some() {
+        // The mesh files' own lights light the scan too; without any, the meshes get the
+        // peers' light and the scan its headlight.
+        for sv in &mut built.volumes {
+            sv.params.lights = own_lights.clone();
+        }
+        built.scene.lights = own_lights;
+        if built.scene.lights.is_empty() {
+            built.scene.lights.push(texmap::scene::Light::Directional {
+                direction: Vec3::new(0.3, 0.8, 0.5).normalize(),
+                color: Vec3::ONE,
+            });
+        }
+        built.scene.ambient_light = Vec3::ONE;
+    } else {
+        built.scene.lights.extend(own_lights);
+    }
+    for sv in &mut built.volumes {
+        v.apply(sv).map_err(|e| match e {
+            Error::Parameter(m) | Error::Unsupported(m) => {
+                Error::parameter(format!("{}: {m}", sv.source.display()))
+            }
+            other => other,
+        })?;
+    }
+    Ok(built)
+}
+
+/// A built-in scene or a scene file (without `--mesh` files).
+fn build_scene(args: &RenderArgs, sampler: Sampler, options: &LoadOptions) -> Result<Built, Error> {
     let name = args.scene.as_deref().unwrap_or("builtin:demo");
     let texture: Option<Arc<Texture2D>> = match &args.texture {
         Some(p) => {
@@ -219,16 +290,25 @@ fn build_scene(args: &RenderArgs, sampler: Sampler) -> Result<(Scene, String, bo
             )))
         }
         other => {
-            let scene = load_file(args, Path::new(other), texture)?;
+            let (scene, volumes) = load_file(args, Path::new(other), texture, options)?;
             let short = Path::new(other)
                 .file_stem()
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_else(|| "scene".into());
-            return Ok((scene, short, true));
+            return Ok(Built {
+                scene,
+                volumes,
+                short,
+                from_file: true,
+            });
         }
     };
-    let short = name.trim_start_matches("builtin:").to_string();
-    Ok((scene, short, false))
+    Ok(Built {
+        scene,
+        volumes: Vec::new(),
+        short: name.trim_start_matches("builtin:").to_string(),
+        from_file: false,
+    })
 }
 
 /// Loads a scene file, prints its warnings, and applies `--texture`, `--uv-scale` and
@@ -237,13 +317,9 @@ fn load_file(
     args: &RenderArgs,
     path: &Path,
     texture: Option<Arc<Texture2D>>,
-) -> Result<Scene, Error> {
-    let options = LoadOptions {
-        allow_outside_paths: args.allow_outside_paths,
-        lenient: args.lenient,
-        ..Default::default()
-    };
-    let loaded = texmap::scene::load(path, &options)?;
+    options: &LoadOptions,
+) -> Result<(Scene, Vec<SceneVolume>), Error> {
+    let loaded = texmap::scene::load(path, options)?;
     if !args.quiet {
         for w in &loaded.warnings {
             eprintln!("texmap: warning: {w}");
@@ -266,31 +342,10 @@ fn load_file(
     if args.auto_camera {
         scene.camera = None;
     }
-    Ok(scene)
+    Ok((scene, loaded.volumes))
 }
 
 pub fn run(args: RenderArgs) -> Result<(), Error> {
-    if let Some(path) = args
-        .scene
-        .as_deref()
-        .filter(|s| crate::volume::is_volume_path(s))
-    {
-        let common = crate::volume::Common {
-            scene: path,
-            output: args.output.as_deref(),
-            size: args.size,
-            eye: args.eye,
-            target: args.target,
-            up: args.up,
-            fov: args.fov,
-            ortho: args.ortho,
-            frames: args.frames,
-            threads: args.threads,
-            stats: args.stats,
-            quiet: args.quiet,
-        };
-        return crate::volume::run(&args.volume, &common);
-    }
     let setup_start = Instant::now();
     if args.frames == 0 {
         return Err(Error::parameter("--frames must be at least 1"));
@@ -322,18 +377,39 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
     };
     let progress = crate::progress::Progress::new(args.frames, args.quiet);
     progress.message("loading");
-    let (scene, short, from_file) = build_scene(&args, sampler)?;
+    let Built {
+        scene,
+        volumes,
+        short,
+        from_file,
+    } = pool.install(|| build(&args, sampler))?;
     let fov = args.fov.unwrap_or(60.0);
-    let base = scene.camera.unwrap_or_else(|| scene.framing_camera(fov));
-    // --ortho, else --fov, else a file's camera keeps its own projection.
+    // With volumes and no camera in the file: vtk_volume.py's camera over everything.
+    let volume_camera = scene.camera.is_none() && !volumes.is_empty();
+    let base = match scene.camera {
+        Some(c) => c,
+        None if volume_camera => crate::volume::default_camera(&scene, &volumes, &args.volume),
+        None => scene.framing_camera(fov),
+    };
+    // --ortho, else --fov, else a file's camera (and the volume camera) keeps its projection.
     let projection = match (args.ortho, from_file, scene.camera) {
         (Some(Some(height)), ..) => CameraProjection::Orthographic {
             half_height: 0.5 * height,
+        },
+        // VTK's parallel scale: the bounding radius over --dolly.
+        (Some(None), ..) if volume_camera => CameraProjection::Orthographic {
+            half_height: crate::volume::bounding_radius(&scene, &volumes) / args.volume.dolly,
         },
         (Some(None), ..) => scene.framing_camera_orthographic().projection,
         (None, true, Some(c)) => {
             args.fov
                 .map_or(c.projection, |fov_y_deg| CameraProjection::Perspective {
+                    fov_y_deg,
+                })
+        }
+        (None, ..) if volume_camera => {
+            args.fov
+                .map_or(base.projection, |fov_y_deg| CameraProjection::Perspective {
                     fov_y_deg,
                 })
         }
@@ -347,6 +423,20 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
         ..base
     };
     camera.validate()?;
+    let camera = if volume_camera {
+        crate::volume::enclose(camera, &scene, &volumes)
+    } else {
+        camera
+    };
+    // Per-volume structures (VTK builds its own in its first frame): outside the frame times.
+    pool.install(|| {
+        for v in &volumes {
+            let _ = v.volume.bricks();
+            if v.params.shade {
+                let _ = v.volume.normals();
+            }
+        }
+    });
     let settings = Settings {
         width: args.size.0,
         height: args.size.1,
@@ -394,7 +484,13 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
     let setup_ms = setup_start.elapsed().as_secs_f64() * 1e3;
 
     let mut times = Vec::with_capacity(args.frames as usize);
-    let mut last = None;
+    // One frame buffer for the whole sequence.
+    let mut frame = Frame {
+        width: 0,
+        height: 0,
+        color: Vec::new(),
+        stats: FrameStats::default(),
+    };
     progress.message("rendering");
     for k in 1..=args.frames {
         let angle = std::f32::consts::TAU * k as f32 / args.frames as f32;
@@ -404,7 +500,14 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             camera.orbit(angle)
         };
         let start = Instant::now();
-        let frame = pool.install(|| render(&scene, &cam, &settings))?;
+        pool.install(|| {
+            if volumes.is_empty() {
+                render_into(&scene, &cam, &settings, &mut frame)
+            } else {
+                frame = render_with_volumes(&scene, &volumes, &cam, &settings)?;
+                Ok(())
+            }
+        })?;
         times.push(start.elapsed().as_secs_f64() * 1e3);
         if per_frame {
             let path = PathBuf::from(
@@ -414,11 +517,12 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             );
             crate::output::write_png_rgb8(&path, frame.width, frame.height, &frame.to_srgb8())?;
         }
-        last = Some(frame);
         progress.tick();
     }
     progress.finish();
-    let frame = last.ok_or_else(|| Error::parameter("no frame rendered"))?;
+    if times.is_empty() {
+        return Err(Error::parameter("no frame rendered"));
+    }
     if !per_frame {
         crate::output::write_png_rgb8(&output, frame.width, frame.height, &frame.to_srgb8())?;
     }
@@ -431,7 +535,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
     };
     if args.stats {
         let s = &frame.stats;
-        let json = serde_json::json!({
+        let mut json = serde_json::json!({
             "scene": args.scene.as_deref().unwrap_or("builtin:demo"),
             "size": [frame.width, frame.height],
             "threads": pool.current_num_threads(),
@@ -446,6 +550,17 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             "texture_samples": s.texture_samples,
             "output": output,
         });
+        if !volumes.is_empty() {
+            json["volumes"] = crate::volume::stats_json(&volumes);
+            json["camera"] = serde_json::json!({
+                "eye": camera.eye.to_array(), "target": camera.target.to_array(),
+                "up": camera.up.to_array(), "fov_y_deg": camera.projection.fov_y_deg(),
+                "ortho_height": match camera.projection {
+                    CameraProjection::Orthographic { half_height } => Some(2.0 * half_height),
+                    CameraProjection::Perspective { .. } => None,
+                },
+            });
+        }
         println!("{json}");
     } else if !args.quiet {
         eprintln!(

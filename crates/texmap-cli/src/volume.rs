@@ -1,44 +1,46 @@
-//! `texmap render scan.nii.gz --tf ct-bone …`: volume rendering flags and the volume path of
-//! `render`.
+//! `texmap render scan.nii.gz --tf ct-bone [--mesh model.obj] …`: the volume flags, a scan
+//! named on the command line made into a scene, and the flags laid over a scene's volumes.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 use glam::{Mat4, Vec3};
-use texmap::render::Frame;
-use texmap::scene::{Camera, CameraProjection};
+use texmap::scene::{Camera, LoadOptions, Scene};
 use texmap::volume::{
-    load_volume, raymarch, render_slices, Classification, MarchParams, Mode, RawDesc, ScalarType,
-    TransferFunction, TransferFunction2D,
+    load_volume, vtk_camera_for_bounds, Classification, Method, Mode, RawDesc, ScalarType,
+    SceneVolume, TransferFunction2D,
 };
 use texmap::Error;
 
-/// Flags for volume scenes (`.nii`, `.nii.gz`, `.nrrd`, `.nhdr`, `.raw`).
+/// Flags for volumes: a scan named as the scene (`.nii`, `.nii.gz`, `.nrrd`, `.nhdr`, `.raw`)
+/// or the `[[volumes]]` of a TOML scene, whose values they override when given.
 #[derive(Args, Clone, Debug)]
 pub struct VolumeArgs {
     /// Volume transfer function: a preset (ct-bone, ct-skin, ct-muscle, mri, synth), a file,
-    /// or inline `value:r,g,b,a;…` points.
-    #[arg(long, default_value = "synth", allow_hyphen_values = true)]
-    pub tf: String,
-    /// Volume mode: composite | mip | iso | xray.
-    #[arg(long, value_enum, default_value = "composite")]
-    pub mode: ModeArg,
+    /// or inline `value:r,g,b,a;…` points [default: synth].
+    #[arg(long, allow_hyphen_values = true)]
+    pub tf: Option<String>,
+    /// Volume mode [default: composite].
+    #[arg(long, value_enum)]
+    pub mode: Option<ModeArg>,
     /// Iso-value for --mode iso (default: the transfer function's first opaque value).
     #[arg(long, allow_hyphen_values = true)]
     pub iso: Option<f32>,
-    /// Sample distance along rays (or between slices), world units (like VTK's SampleDistance).
-    #[arg(long, default_value_t = 0.5)]
-    pub step: f32,
-    /// Blinn-Phong shading with a headlight (ambient 0.2, diffuse 0.7, specular 0.2, power 10).
+    /// Sample distance along rays (or between slices), world units (like VTK's
+    /// SampleDistance) [default: 0.5].
     #[arg(long)]
-    pub shade: bool,
-    /// Volume method: raymarch | slices.
-    #[arg(long, value_enum, default_value = "raymarch")]
-    pub method: MethodArg,
-    /// Classification: post (interpolate, then classify) | pre | preint (pre-integrated).
-    #[arg(long, value_enum, default_value = "post")]
-    pub classification: ClassArg,
+    pub step: Option<f32>,
+    /// Blinn-Phong shading (ambient 0.2, diffuse 0.7, specular 0.2, power 10) with the scene's
+    /// lights, else a headlight; `--shade=false` turns a scene's shading off.
+    #[arg(long, num_args = 0..=1, require_equals = true, default_missing_value = "true")]
+    pub shade: Option<bool>,
+    /// Volume method [default: raymarch].
+    #[arg(long, value_enum)]
+    pub method: Option<MethodArg>,
+    /// Classification: post (interpolate, then classify), pre, or preint (pre-integrated)
+    /// [default: post].
+    #[arg(long, value_enum)]
+    pub classification: Option<ClassArg>,
     /// Opacity × a function of gradient magnitude, `g:factor;…` (a 2D transfer function).
     #[arg(long)]
     pub gradient_opacity: Option<String>,
@@ -49,24 +51,63 @@ pub struct VolumeArgs {
     #[arg(long)]
     pub no_skip: bool,
     /// Place the grid by its spacing alone, ignoring the file's orientation and origin (as
-    /// vtk_volume.py does).
+    /// vtk_volume.py does). For a volume file; scenes set `ignore_orientation`.
     #[arg(long)]
     pub ignore_orientation: bool,
-    /// Camera distance divisor after framing the bounding sphere (vtk_volume.py's --dolly).
+    /// Camera distance divisor after framing the bounding sphere (vtk_volume.py's --dolly),
+    /// for the default camera of a scene with volumes.
     #[arg(long, default_value_t = 1.6)]
     pub dolly: f32,
-    /// Turn the default camera about z by this many degrees (vtk_volume.py's --azimuth).
+    /// Turn the default camera of a scene with volumes about z by this many degrees
+    /// (vtk_volume.py's --azimuth).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub azimuth: f32,
+    /// A mesh file (.gltf, .glb, .obj, .toml) drawn with the scene, e.g. inside a scan;
+    /// repeatable. Its world is the scan's (the scan's units, usually mm).
+    #[arg(long = "mesh", value_name = "FILE")]
+    pub meshes: Vec<PathBuf>,
+    #[command(flatten)]
+    pub raw: RawArgs,
+}
+
+/// How to read a raw volume file.
+#[derive(Args, Clone, Debug)]
+pub struct RawArgs {
     /// Raw volumes: grid size X,Y,Z.
     #[arg(long, value_parser = parse_dims)]
     pub dims: Option<[u32; 3]>,
-    /// Raw volumes: voxel type u8 | i8 | u16 | i16 | u32 | i32 | f32 | f64 (little endian).
+    /// Raw volumes: voxel type u8 | i8 | u16 | i16 | u32 | i32 | f32 | f64.
     #[arg(long, value_parser = parse_dtype, default_value = "u8")]
     pub dtype: ScalarType,
     /// Raw volumes: voxel spacing x,y,z.
     #[arg(long, value_parser = parse_spacing, default_value = "1,1,1")]
     pub spacing: Vec3,
+    /// Raw volumes: byte order of multi-byte voxels.
+    #[arg(long, value_enum, default_value = "little")]
+    pub endian: EndianArg,
+    /// Raw volumes: bytes to skip before the voxels (a header).
+    #[arg(long, default_value_t = 0)]
+    pub header_bytes: u64,
+}
+
+impl RawArgs {
+    /// The raw description when `--dims` is given.
+    pub fn desc(&self) -> Option<RawDesc> {
+        self.dims.map(|dims| RawDesc {
+            big_endian: self.endian == EndianArg::Big,
+            header_bytes: self.header_bytes,
+            ..RawDesc::new(dims, self.dtype, self.spacing)
+        })
+    }
+
+    /// True when a raw flag differs from its default.
+    fn any_given(&self) -> bool {
+        self.dims.is_some()
+            || self.dtype != ScalarType::U8
+            || self.spacing != Vec3::ONE
+            || self.endian != EndianArg::Little
+            || self.header_bytes != 0
+    }
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -86,6 +127,11 @@ pub enum ClassArg {
     Post,
     Pre,
     Preint,
+}
+#[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
+pub enum EndianArg {
+    Little,
+    Big,
 }
 
 fn parse_dims(s: &str) -> Result<[u32; 3], String> {
@@ -121,7 +167,7 @@ fn parse_spacing(s: &str) -> Result<Vec3, String> {
     }
 }
 
-/// True for the file names the volume path renders.
+/// True for the file names read as volumes.
 pub fn is_volume_path(s: &str) -> bool {
     let l = s.to_ascii_lowercase();
     [".nii", ".nii.gz", ".nrrd", ".nhdr", ".raw", ".raw.gz"]
@@ -129,110 +175,9 @@ pub fn is_volume_path(s: &str) -> bool {
         .any(|e| l.ends_with(e))
 }
 
-/// The `render` flags the volume path shares with surface scenes.
-pub struct Common<'a> {
-    pub scene: &'a str,
-    pub output: Option<&'a Path>,
-    pub size: (u32, u32),
-    pub eye: Option<Vec3>,
-    pub target: Option<Vec3>,
-    pub up: Option<Vec3>,
-    pub fov: Option<f32>,
-    /// `--ortho [HEIGHT]`.
-    pub ortho: Option<Option<f32>>,
-    pub frames: u32,
-    pub threads: Option<usize>,
-    pub stats: bool,
-    pub quiet: bool,
-}
-
-/// Loads the volume, renders `frames` turntable frames, writes the last (or each) frame.
-pub fn run(v: &VolumeArgs, c: &Common) -> Result<(), Error> {
-    let setup_start = Instant::now();
-    if c.frames == 0 {
-        return Err(Error::parameter("--frames must be at least 1"));
-    }
-    if !(v.dolly.is_finite() && v.dolly > 0.0) {
-        return Err(Error::parameter("--dolly must be > 0"));
-    }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(c.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| Error::parameter(format!("--threads: {e}")))?;
-    let path = Path::new(c.scene);
-    let raw = v.dims.map(|dims| RawDesc {
-        dims,
-        scalar: v.dtype,
-        spacing: v.spacing,
-    });
-    let mut vol = pool.install(|| load_volume(path, raw.as_ref()))?;
-    if v.ignore_orientation {
-        vol.set_world_from_voxel(Mat4::from_scale(vol.spacing()))?;
-    }
-    let tf = TransferFunction::from_arg(&v.tf)?;
-    let gradient_opacity = match &v.gradient_opacity {
-        Some(s) => TransferFunction2D::parse_gradient(s)?,
-        None => Vec::new(),
-    };
-    let params = MarchParams {
-        mode: match v.mode {
-            ModeArg::Composite => Mode::Composite,
-            ModeArg::Mip => Mode::Mip,
-            ModeArg::Iso => Mode::Iso,
-            ModeArg::Xray => Mode::Xray,
-        },
-        step: v.step,
-        shade: v.shade,
-        classification: match v.classification {
-            ClassArg::Post => Classification::Post,
-            ClassArg::Pre => Classification::Pre,
-            ClassArg::Preint => Classification::PreIntegrated,
-        },
-        iso: v.iso,
-        gradient_opacity,
-        jitter: !v.no_jitter,
-        empty_space_skipping: !v.no_skip,
-        ..MarchParams::default()
-    };
-    let base = vol.vtk_camera(v.dolly, v.azimuth);
-    let (lo, hi) = vol.world_bounds();
-    let centre = (lo + hi) * 0.5;
-    let radius = ((hi - lo) * 0.5).length().max(1e-3);
-    let projection = match (c.ortho, c.fov) {
-        (Some(Some(height)), _) => CameraProjection::Orthographic {
-            half_height: 0.5 * height,
-        },
-        // VTK's parallel scale after ResetCamera is the bounding radius; Dolly divides it.
-        (Some(None), _) => CameraProjection::Orthographic {
-            half_height: radius / v.dolly,
-        },
-        (None, Some(fov_y_deg)) => CameraProjection::Perspective { fov_y_deg },
-        (None, None) => base.projection,
-    };
-    let camera = Camera {
-        eye: c.eye.unwrap_or(base.eye),
-        target: c.target.unwrap_or(base.target),
-        up: c.up.unwrap_or(base.up),
-        projection,
-        ..base
-    };
-    camera.validate()?;
-    // Near and far around the box whatever the eye.
-    let dist = (camera.eye - centre).length();
-    let camera = Camera {
-        near: (dist - radius).max(dist * 1e-3).max(1e-4),
-        far: dist + radius + 1.0,
-        ..camera
-    };
-    // Per-volume structures (VTK builds its own in its first frame): outside the frame times.
-    pool.install(|| {
-        let _ = vol.bricks();
-        if params.shade {
-            let _ = vol.normals();
-        }
-    });
-    let stem = path
-        .file_name()
+/// The file name up to its first dot (`scan.nii.gz` → `scan`), for default output names.
+pub fn short_name(path: &Path) -> String {
+    path.file_name()
         .map(|n| {
             n.to_string_lossy()
                 .split('.')
@@ -240,89 +185,186 @@ pub fn run(v: &VolumeArgs, c: &Common) -> Result<(), Error> {
                 .unwrap_or("volume")
                 .to_string()
         })
-        .unwrap_or_else(|| "volume".into());
-    let output = c
-        .output
-        .map(Path::to_path_buf)
-        .unwrap_or_else(|| PathBuf::from(format!("texmap-{stem}.png")));
-    let per_frame = output.to_string_lossy().contains("{frame}");
-    let setup_ms = setup_start.elapsed().as_secs_f64() * 1e3;
+        .unwrap_or_else(|| "volume".into())
+}
 
-    let (w, h) = c.size;
-    let mut times = Vec::with_capacity(c.frames as usize);
-    let mut last: Option<Frame> = None;
-    for k in 1..=c.frames {
-        let cam = if k == c.frames {
-            camera
-        } else {
-            camera.orbit(std::f32::consts::TAU * k as f32 / c.frames as f32)
-        };
-        let start = Instant::now();
-        let frame = pool.install(|| match v.method {
-            MethodArg::Raymarch => raymarch(&vol, &tf, &cam, w, h, &params, None),
-            MethodArg::Slices => render_slices(&vol, &tf, &cam, w, h, &params),
-        })?;
-        times.push(start.elapsed().as_secs_f64() * 1e3);
-        if per_frame {
-            let p = PathBuf::from(
-                output
-                    .to_string_lossy()
-                    .replace("{frame}", &format!("{k:04}")),
-            );
-            crate::output::write_png_rgb8(&p, frame.width, frame.height, &frame.to_srgb8())?;
+/// A scan named on the command line as a scene: the volume (placed by its file, or by its
+/// spacing with `--ignore-orientation`), with no meshes yet (see [`add_meshes`]).
+pub fn volume_file_scene(v: &VolumeArgs, path: &Path) -> Result<(Scene, SceneVolume), Error> {
+    let vol = load_volume(path, v.raw.desc().as_ref())?;
+    let mut sv = SceneVolume::new(vol, path);
+    if v.ignore_orientation {
+        sv.place(Mat4::IDENTITY, true)?;
+    }
+    Ok((Scene::default(), sv))
+}
+
+/// Adds the meshes (and materials) of every `--mesh` file to `scene`, printing their warnings.
+/// Returns the lights the files define themselves (not the loaders' default light).
+pub fn add_meshes(
+    v: &VolumeArgs,
+    scene: &mut Scene,
+    options: &LoadOptions,
+    quiet: bool,
+) -> Result<Vec<texmap::scene::Light>, Error> {
+    let mut own_lights = Vec::new();
+    for file in &v.meshes {
+        let loaded = texmap::scene::load(file, options)?;
+        if !quiet {
+            for w in &loaded.warnings {
+                eprintln!("texmap: warning: {w}");
+            }
         }
-        last = Some(frame);
+        if !loaded.volumes.is_empty() {
+            return Err(Error::Unsupported(format!(
+                "{}: --mesh takes meshes; this file holds volumes",
+                file.display()
+            )));
+        }
+        let offset = scene.materials.len();
+        for mut m in loaded.scene.meshes {
+            m.material += offset;
+            scene.meshes.push(m);
+        }
+        scene.materials.extend(loaded.scene.materials);
+        if !loaded.info.default_light {
+            own_lights.extend(loaded.scene.lights);
+        }
     }
-    let frame = last.ok_or_else(|| Error::parameter("no frame rendered"))?;
-    if !per_frame {
-        crate::output::write_png_rgb8(&output, frame.width, frame.height, &frame.to_srgb8())?;
+    Ok(own_lights)
+}
+
+impl VolumeArgs {
+    /// Checks the flags that only make sense for a volume file.
+    pub fn check_for_scene(&self, volume_file: bool) -> Result<(), Error> {
+        if !volume_file && (self.raw.any_given() || self.ignore_orientation) {
+            return Err(Error::parameter(
+                "--dims, --dtype, --spacing, --endian, --header-bytes and --ignore-orientation \
+                 apply to a volume file; a scene sets them in its [[volumes]] tables",
+            ));
+        }
+        if !(self.dolly.is_finite() && self.dolly > 0.0) {
+            return Err(Error::parameter("--dolly must be > 0"));
+        }
+        Ok(())
     }
-    let mut sorted = times.clone();
-    sorted.sort_by(f64::total_cmp);
-    let n = sorted.len();
-    let median = if n % 2 == 1 {
-        sorted[n / 2]
-    } else {
-        0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
-    };
-    let r2 = |x: f64| (x * 100.0).round() / 100.0;
-    if c.stats {
-        let json = serde_json::json!({
-            "scene": c.scene,
-            "dims": vol.dims(),
-            "spacing": vol.spacing().to_array(),
-            "range": [vol.range().0, vol.range().1],
-            "size": [frame.width, frame.height],
-            "threads": pool.current_num_threads(),
-            "method": format!("{:?}", v.method).to_lowercase(),
-            "mode": format!("{:?}", v.mode).to_lowercase(),
-            "tf": v.tf,
-            "shade": v.shade,
-            "step": v.step,
-            "camera": {"eye": camera.eye.to_array(), "target": camera.target.to_array(),
-                       "up": camera.up.to_array(), "fov_y_deg": camera.projection.fov_y_deg(),
-                       "ortho_height": match camera.projection {
-                           CameraProjection::Orthographic { half_height } => Some(2.0 * half_height),
-                           CameraProjection::Perspective { .. } => None,
-                       }},
-            "frames": c.frames,
-            "setup_ms": r2(setup_ms),
-            "frame_ms": {"min": r2(sorted[0]), "median": r2(median), "max": r2(sorted[n - 1])},
-            "frame_ms_all": times.iter().map(|&t| r2(t)).collect::<Vec<_>>(),
-            "samples": frame.stats.texture_samples,
-            "output": output,
-        });
-        println!("{json}");
-    } else if !c.quiet {
-        eprintln!(
-            "wrote {} ({}x{}, {} frame{}, median {:.1} ms/frame)",
-            output.display(),
-            frame.width,
-            frame.height,
-            c.frames,
-            if c.frames == 1 { "" } else { "s" },
-            median
-        );
+
+    /// Lays the given flags over a volume's own settings.
+    pub fn apply(&self, sv: &mut SceneVolume) -> Result<(), Error> {
+        if let Some(tf) = &self.tf {
+            sv.set_transfer(tf, Path::new(""))?;
+        }
+        let p = &mut sv.params;
+        if let Some(m) = self.mode {
+            p.mode = match m {
+                ModeArg::Composite => Mode::Composite,
+                ModeArg::Mip => Mode::Mip,
+                ModeArg::Iso => Mode::Iso,
+                ModeArg::Xray => Mode::Xray,
+            };
+        }
+        if let Some(iso) = self.iso {
+            p.iso = Some(iso);
+        }
+        if let Some(step) = self.step {
+            p.step = step;
+        }
+        if let Some(shade) = self.shade {
+            p.shade = shade;
+        }
+        if let Some(c) = self.classification {
+            p.classification = match c {
+                ClassArg::Post => Classification::Post,
+                ClassArg::Pre => Classification::Pre,
+                ClassArg::Preint => Classification::PreIntegrated,
+            };
+        }
+        if let Some(g) = &self.gradient_opacity {
+            p.gradient_opacity = TransferFunction2D::parse_gradient(g)?;
+        }
+        if self.no_jitter {
+            p.jitter = false;
+        }
+        if self.no_skip {
+            p.empty_space_skipping = false;
+        }
+        if let Some(m) = self.method {
+            sv.method = match m {
+                MethodArg::Raymarch => Method::Raymarch,
+                MethodArg::Slices => Method::Slices,
+            };
+        }
+        if !(sv.params.step.is_finite() && sv.params.step > 0.0) {
+            return Err(Error::parameter(format!(
+                "--step {} must be > 0",
+                sv.params.step
+            )));
+        }
+        sv.validate()
     }
-    Ok(())
+}
+
+/// World bounds of the meshes and volumes together.
+fn bounds(scene: &Scene, volumes: &[SceneVolume]) -> (Vec3, Vec3) {
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    if !scene.meshes.is_empty() {
+        let (a, b) = scene.bounds();
+        lo = lo.min(a);
+        hi = hi.max(b);
+    }
+    for v in volumes {
+        let (a, b) = v.volume.world_bounds();
+        lo = lo.min(a);
+        hi = hi.max(b);
+    }
+    (lo, hi)
+}
+
+/// The default camera of a scene with volumes: `vtk_volume.py`'s (along +y, z up, 30°) over
+/// the bounds of every mesh and volume.
+pub fn default_camera(scene: &Scene, volumes: &[SceneVolume], v: &VolumeArgs) -> Camera {
+    let (lo, hi) = bounds(scene, volumes);
+    vtk_camera_for_bounds(lo, hi, v.dolly, v.azimuth)
+}
+
+/// The radius of the sphere around every mesh and volume (VTK's parallel scale after
+/// `ResetCamera`).
+pub fn bounding_radius(scene: &Scene, volumes: &[SceneVolume]) -> f32 {
+    let (lo, hi) = bounds(scene, volumes);
+    ((hi - lo) * 0.5).length().max(1e-3)
+}
+
+/// `camera` with near and far around every mesh and volume, wherever the eye was moved.
+pub fn enclose(camera: Camera, scene: &Scene, volumes: &[SceneVolume]) -> Camera {
+    let (lo, hi) = bounds(scene, volumes);
+    let centre = (lo + hi) * 0.5;
+    let radius = ((hi - lo) * 0.5).length().max(1e-3);
+    let dist = (camera.eye - centre).length();
+    Camera {
+        near: (dist - radius).max(dist * 1e-3).max(1e-4),
+        far: dist + radius + 1.0,
+        ..camera
+    }
+}
+
+/// The volumes as `--stats` lists them.
+pub fn stats_json(volumes: &[SceneVolume]) -> serde_json::Value {
+    volumes
+        .iter()
+        .map(|v| {
+            let vol = &v.volume;
+            serde_json::json!({
+                "file": v.source,
+                "dims": vol.dims(),
+                "spacing": vol.spacing().to_array(),
+                "range": [vol.range().0, vol.range().1],
+                "method": format!("{:?}", v.method).to_lowercase(),
+                "mode": format!("{:?}", v.params.mode).to_lowercase(),
+                "tf": v.transfer_name,
+                "shade": v.params.shade,
+                "lights": v.params.lights.len(),
+                "step": v.params.step,
+            })
+        })
+        .collect()
 }

@@ -366,3 +366,161 @@ fn ortho_flag_renders_a_parallel_view_and_info_names_the_projection() {
     assert!(text.contains("[0] orthographic height 4 "), "{text}");
     assert!(text.contains("[1] perspective fov 60.0°"), "{text}");
 }
+
+// ---- Volumes ---------------------------------------------------------------------------------
+
+/// A 24³ u8 raw ball: 200 at the centre, falling to 0 at radius 12 voxels.
+fn raw_ball(d: &Path) -> PathBuf {
+    let mut b = Vec::new();
+    for z in 0..24 {
+        for y in 0..24 {
+            for x in 0..24 {
+                let r = ((x as f32 - 11.5).powi(2)
+                    + (y as f32 - 11.5).powi(2)
+                    + (z as f32 - 11.5).powi(2))
+                .sqrt();
+                b.push((200.0 * (1.0 - r / 12.0)).clamp(0.0, 200.0) as u8);
+            }
+        }
+    }
+    let p = d.join("ball.raw");
+    std::fs::write(&p, b).unwrap();
+    p
+}
+
+const BALL_FLAGS: &[&str] = &[
+    "--dims",
+    "24,24,24",
+    "--tf",
+    "0:1,1,1,0;40:1,1,1,0.08;200:1,1,1,0.08",
+    "--no-jitter",
+];
+
+fn rgb(p: &Path) -> image::RgbImage {
+    image::open(p).unwrap().to_rgb8()
+}
+
+#[test]
+fn a_mesh_inside_a_scan_from_the_command_line() {
+    let d = dir("vol-mesh");
+    let ball = raw_ball(&d);
+    // A square through the middle plane y = 11.5, over the left half (x < 11.5).
+    let quad = d.join("quad.obj");
+    std::fs::write(
+        &quad,
+        "v 0 11.5 0\nv 11.5 11.5 0\nv 11.5 11.5 23\nv 0 11.5 23\nf 1 2 3 4\n",
+    )
+    .unwrap();
+    let (alone, inside) = (d.join("alone.png"), d.join("inside.png"));
+    let r = render(&ball, &alone, BALL_FLAGS);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let mut flags = BALL_FLAGS.to_vec();
+    flags.extend(["--mesh", quad.to_str().unwrap(), "--stats"]);
+    let r = render(&ball, &inside, &flags);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let stats = String::from_utf8_lossy(&r.stdout);
+    assert!(
+        stats.contains("\"volumes\"") && stats.contains("[24,24,24]"),
+        "{stats}"
+    );
+    // The camera looks along +y with z up: the square covers the left half of the image.
+    let (a, b) = (rgb(&alone), rgb(&inside));
+    let (w, h) = a.dimensions();
+    let (mut left, mut right) = (0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let differs = a.get_pixel(x, y) != b.get_pixel(x, y);
+            if x < w / 2 - 2 && differs {
+                left += 1;
+            }
+            if x > w / 2 + 1 && differs {
+                right += 1;
+            }
+        }
+    }
+    assert!(left > 50, "the mesh changed {left} pixels on the left");
+    assert_eq!(right, 0, "the right half has no mesh");
+    // A missing mesh file: one line naming it.
+    let out = d.join("missing.png");
+    let mut flags = BALL_FLAGS.to_vec();
+    flags.extend(["--mesh", "nothere.obj"]);
+    assert_fails(&render(&ball, &out, &flags), &["nothere.obj"], &out);
+}
+
+#[test]
+fn a_toml_scene_with_a_volume_renders_and_info_lists_it() {
+    let d = dir("vol-toml");
+    raw_ball(&d);
+    let scene = d.join("s.toml");
+    std::fs::write(
+        &scene,
+        r#"[[volumes]]
+file = "ball.raw"
+dims = [24, 24, 24]
+spacing = [1, 1, 2]
+tf = "0:1,1,1,0;40:1,0.5,0.2,0.08;200:1,0.5,0.2,0.08"
+jitter = false
+[[meshes]]
+primitive = "cube"
+size = 4
+translate = [11.5, 11.5, 23]
+"#,
+    )
+    .unwrap();
+    let info = texmap(&["info", scene.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&info.stdout);
+    assert!(
+        info.status.success(),
+        "{}",
+        String::from_utf8_lossy(&info.stderr)
+    );
+    assert!(
+        text.contains("volumes: 1")
+            && text.contains("ball.raw: 24x24x24 u8, spacing (1, 1, 2), values 0 .. 185"),
+        "{text}"
+    );
+    let (a, b) = (d.join("a.png"), d.join("b.png"));
+    let r = render(&scene, &a, &[]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    // Flags override the table: another transfer function, another image.
+    let r = render(&scene, &b, &["--tf", "mri", "--shade"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert_ne!(rgb(&a), rgb(&b));
+    // Orange where the ball is (the table's colour), not grey.
+    let centre = *rgb(&a).get_pixel(16, 12);
+    assert!(centre[0] > centre[2] + 40, "{centre:?}");
+    // Raw flags belong to volume files; a bad table is one line naming the file and line.
+    let out = d.join("o.png");
+    assert_fails(
+        &render(&scene, &out, &["--dims", "2,2,2"]),
+        &["--dims"],
+        &out,
+    );
+    let bad = d.join("bad.toml");
+    std::fs::write(&bad, "[[volumes]]\nfile = \"ball.raw\"\nopacity = 1\n").unwrap();
+    assert_fails(
+        &render(&bad, &out, &[]),
+        &["bad.toml", "line 3", "opacity"],
+        &out,
+    );
+}
+
+#[test]
+fn info_reads_a_volume_file() {
+    let d = dir("vol-info");
+    let ball = raw_ball(&d);
+    let info = texmap(&["info", ball.to_str().unwrap(), "--dims", "24,24,24"]);
+    let text = String::from_utf8_lossy(&info.stdout);
+    assert!(
+        info.status.success(),
+        "{}",
+        String::from_utf8_lossy(&info.stderr)
+    );
+    assert!(
+        text.contains("24x24x24 u8") && text.contains("values 0 .. 185"),
+        "{text}"
+    );
+    let info = texmap(&["info", ball.to_str().unwrap()]);
+    assert!(!info.status.success());
+    assert!(String::from_utf8_lossy(&info.stderr).contains("--dims"));
+}

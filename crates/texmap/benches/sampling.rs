@@ -34,8 +34,8 @@ fn texture(layout: Layout) -> Texture2D {
         ColorSpace::Srgb,
         &rgba,
         TextureOptions {
-            mipmaps: true,
             layout,
+            ..Default::default()
         },
     )
     .unwrap()

@@ -31,8 +31,8 @@ fn main() {
         })
         .collect();
     let options = TextureOptions {
-        mipmaps: true,
         layout,
+        ..Default::default()
     };
     let tex =
         Texture2D::from_texels(N, N, Format::Rgba8, ColorSpace::Srgb, &rgba, options).unwrap();

@@ -163,22 +163,47 @@ impl Frame {
     /// RGB8 rows, sRGB-encoded (the premultiplied colour, i.e. composited over black).
     #[must_use]
     pub fn to_srgb8(&self) -> Vec<u8> {
-        // Code k is chosen for c in [lin((k − ½)/255), lin((k + ½)/255)): exact rounding,
-        // without a powf per channel.
-        static THRESHOLDS: std::sync::OnceLock<Vec<f32>> = std::sync::OnceLock::new();
-        let t = THRESHOLDS.get_or_init(|| {
-            (0..255)
-                .map(|k| crate::color::srgb_to_linear((k as f32 + 0.5) / 255.0))
-                .collect()
-        });
         let mut out = Vec::with_capacity(self.color.len() * 3);
         for c in &self.color {
-            for v in [c.x, c.y, c.z] {
-                out.push(t.partition_point(|&x| x <= v) as u8);
-            }
+            out.extend([c.x, c.y, c.z].map(linear_to_srgb8_exact));
         }
         out
     }
+}
+
+/// The 8-bit sRGB code of linear `v`, exactly rounded: code k for v in
+/// [lin((k − ½)/255), lin((k + ½)/255)), without a powf. A 4096-bucket table gives the code at
+/// the bucket's start; at most two thresholds fall inside a bucket, so a short walk finishes.
+#[inline]
+fn linear_to_srgb8_exact(v: f32) -> u8 {
+    const BUCKETS: usize = 4096;
+    struct Table {
+        thresholds: [f32; 255],
+        start: Vec<u8>,
+    }
+    static TABLE: std::sync::OnceLock<Table> = std::sync::OnceLock::new();
+    let t = TABLE.get_or_init(|| {
+        let thresholds =
+            std::array::from_fn(|k| crate::color::srgb_to_linear((k as f32 + 0.5) / 255.0));
+        let start = (0..BUCKETS)
+            .map(|i| {
+                let v = i as f32 / BUCKETS as f32;
+                thresholds.partition_point(|&x| x <= v) as u8
+            })
+            .collect();
+        Table { thresholds, start }
+    });
+    if !(v > 0.0) {
+        return 0;
+    }
+    if v >= 1.0 {
+        return 255;
+    }
+    let mut k = t.start[((v * BUCKETS as f32) as usize).min(BUCKETS - 1)] as usize;
+    while k < 255 && t.thresholds[k] <= v {
+        k += 1;
+    }
+    k as u8
 }
 
 /// Renders `scene` seen by `camera`, in rayon's current thread pool.
@@ -204,6 +229,27 @@ impl Frame {
 /// [`Error::Parameter`] for invalid settings or camera (zero or absurd size, non-finite
 /// camera, `near ≤ 0`, `far ≤ near`) or a mesh naming a material that does not exist.
 pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Frame> {
+    let mut frame = Frame {
+        width: 0,
+        height: 0,
+        color: Vec::new(),
+        stats: FrameStats::default(),
+    };
+    render_into(scene, camera, settings, &mut frame)?;
+    Ok(frame)
+}
+
+/// [`render`] into `frame`, reusing its colour buffer: a sequence of frames (a turntable)
+/// does not pay for a fresh image each time. On error `frame` is left unchanged.
+///
+/// # Errors
+/// As [`render`].
+pub fn render_into(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &Settings,
+    frame: &mut Frame,
+) -> Result<()> {
     settings.validate()?;
     camera.validate()?;
     for (i, m) in scene.meshes.iter().enumerate() {
@@ -279,24 +325,27 @@ pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Fra
         interpolation: settings.interpolation,
         depth_sort: settings.visibility == Visibility::DepthSort,
     };
-    let (color, st) = pipeline::draw(&calls, &shader, &target);
-    let color = pipeline::downsample_box(
-        color,
-        settings.width as usize,
-        settings.height as usize,
-        n as usize,
-    );
-    Ok(Frame {
-        width: settings.width,
-        height: settings.height,
-        color,
-        stats: FrameStats {
-            triangles_submitted: st.triangles_submitted,
-            triangles_after_clip: st.triangles_after_clip,
-            pixels_shaded: st.pixels_shaded,
-            texture_samples: st.texture_samples,
-        },
-    })
+    let st = if n == 1 {
+        pipeline::draw_into(&calls, &shader, &target, &mut frame.color)
+    } else {
+        let (big, st) = pipeline::draw(&calls, &shader, &target);
+        frame.color = pipeline::downsample_box(
+            big,
+            settings.width as usize,
+            settings.height as usize,
+            n as usize,
+        );
+        st
+    };
+    frame.width = settings.width;
+    frame.height = settings.height;
+    frame.stats = FrameStats {
+        triangles_submitted: st.triangles_submitted,
+        triangles_after_clip: st.triangles_after_clip,
+        pixels_shaded: st.pixels_shaded,
+        texture_samples: st.texture_samples,
+    };
+    Ok(())
 }
 
 /// The scene's meshes with the blended ones moved to the end and sorted back to front by the
@@ -843,6 +892,34 @@ fn procedural_color(proc: &Procedural, d: &DrawInfo, quad: &Quad, j: usize, k: u
                 map.linear * fp.duv_dy,
             );
             sample(map.tex, &map.sampler, &fp)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb8_encoding_rounds_exactly_at_every_threshold() {
+        let lin = |c: f32| crate::color::srgb_to_linear(c / 255.0);
+        let code = |v: f32| {
+            // The definition: the number of thresholds lin((k + ½)/255) at or below v.
+            (0..255).filter(|&k| lin(k as f32 + 0.5) <= v).count() as u8
+        };
+        let mut values = vec![f32::NAN, -1.0, 0.0, 1.0, 2.0, f32::INFINITY];
+        for k in 0..255 {
+            let t = lin(k as f32 + 0.5);
+            let (below, above) = (
+                f32::from_bits(t.to_bits() - 1),
+                f32::from_bits(t.to_bits() + 1),
+            );
+            values.extend([t, below, above, lin(k as f32)]);
+        }
+        values.extend((0..10_000).map(|i| i as f32 / 10_000.0));
+        for v in values {
+            let want = if v.is_nan() { 0 } else { code(v) };
+            assert_eq!(linear_to_srgb8_exact(v), want, "v = {v:e}");
         }
     }
 }

@@ -459,11 +459,7 @@ fn raw_with_given_grid() {
     let d = tmp_dir("raw");
     let p = d.join("v.raw");
     std::fs::write(&p, (0..27u8).collect::<Vec<_>>()).unwrap();
-    let desc = RawDesc {
-        dims: [3, 3, 3],
-        scalar: ScalarType::U8,
-        spacing: Vec3::new(1.0, 2.0, 4.0),
-    };
+    let desc = RawDesc::new([3, 3, 3], ScalarType::U8, Vec3::new(1.0, 2.0, 4.0));
     let v = load_volume(&p, Some(&desc)).unwrap();
     close(v.voxel(2, 2, 2), 26.0, &v);
     close(v.voxel(1, 0, 2), 19.0, &v);
@@ -500,11 +496,7 @@ fn every_bad_input_is_a_clear_error_naming_the_file() {
     .unwrap();
     expect_error(&d.join("short.nrrd"), None, &["8 bytes", "7 bytes"]);
     std::fs::write(d.join("long.raw"), [0u8; 30]).unwrap();
-    let desc = RawDesc {
-        dims: [3, 3, 3],
-        scalar: ScalarType::U8,
-        spacing: Vec3::ONE,
-    };
+    let desc = RawDesc::new([3, 3, 3], ScalarType::U8, Vec3::ONE);
     expect_error(&d.join("long.raw"), Some(&desc), &["27 bytes", "30"]);
     // Unsupported types.
     std::fs::write(

@@ -57,13 +57,18 @@ impl TileBuffer {
     /// Writes `src` to sample index `i`, blending or replacing.
     #[inline(always)]
     pub fn write(&mut self, i: usize, src: Vec4, blend: bool) {
-        let dst = &mut self.color[i];
-        *dst = if blend {
-            src + *dst * (1.0 - src.w)
-        } else {
-            src
-        };
+        over(&mut self.color[i], src, blend);
     }
+}
+
+/// Writes `src` to `dst`: premultiplied "over" when blending, else replace.
+#[inline(always)]
+pub fn over(dst: &mut Vec4, src: Vec4, blend: bool) {
+    *dst = if blend {
+        src + *dst * (1.0 - src.w)
+    } else {
+        src
+    };
 }
 
 /// Box-filters an image of `(w·n) × (h·n)` pixels down to `w × h` (SSAA resolve).

@@ -17,7 +17,7 @@
 use glam::Vec4;
 
 use super::bin::{Bins, TileRect};
-use super::framebuffer::TileBuffer;
+use super::framebuffer::{over, TileBuffer};
 use super::interpolate::Planes;
 use super::setup::{Edges, EXTRA_VERTEX};
 use super::transform::PostVertex;
@@ -89,57 +89,103 @@ pub struct TileStats {
     pub texture_samples: u64,
 }
 
-/// Rasterizes the row of tiles `ty` into `out`, the target's rows `ty·TILE ..` (full width),
-/// tile by tile with one reused tile buffer; returns the stats.
-pub fn rasterize_tile_row(
+/// Rasterizes tile `t` into `rows` (its rows of the target, top first, each the tile's width),
+/// using `buf` (any previous content is cleared first); returns the stats.
+pub fn rasterize_tile(
     ctx: &RasterContext,
     bins: &Bins,
-    ty: u32,
-    out: &mut [Vec4],
+    t: usize,
+    buf: &mut TileBuffer,
+    rows: &mut [&mut [Vec4]],
 ) -> TileStats {
     let mut stats = TileStats::default();
-    let samples = match ctx.target.samples {
-        2 | 4 | 8 | 16 => ctx.target.samples as usize,
-        _ => 1,
-    };
-    let mut buf = TileBuffer::new(samples, ctx.target.clear_color);
-    let width = bins.width as usize;
-    let mut dirty = false;
-    for tx in 0..bins.tiles_x {
-        let t = (ty * bins.tiles_x + tx) as usize;
-        let rect = bins.tile_rect(t);
-        let prims = bins.tile_prims(t);
-        let (w, h) = ((rect.x1 - rect.x0) as usize, (rect.y1 - rect.y0) as usize);
-        if prims.is_empty() {
-            for ly in 0..h {
-                out[ly * width + rect.x0 as usize..][..w].fill(ctx.target.clear_color);
-            }
-            continue;
+    let rect = bins.tile_rect(t);
+    let prims = bins.tile_prims(t);
+    if prims.is_empty() {
+        for row in rows.iter_mut() {
+            row.fill(ctx.target.clear_color);
         }
-        if dirty {
-            buf.clear(ctx.target.clear_color);
+        return stats;
+    }
+    if buf.samples == 1 {
+        // One sample: colour goes straight to the target's rows (no tile copy to clear and
+        // resolve); only depth lives in the tile buffer.
+        for row in rows.iter_mut() {
+            row.fill(ctx.target.clear_color);
         }
-        dirty = true;
-        match samples {
-            2 => raster_prims::<2>(ctx, rect, prims, &mut buf, &mut stats),
-            4 => raster_prims::<4>(ctx, rect, prims, &mut buf, &mut stats),
-            8 => raster_prims::<8>(ctx, rect, prims, &mut buf, &mut stats),
-            16 => raster_prims::<16>(ctx, rect, prims, &mut buf, &mut stats),
-            _ => raster_prims::<1>(ctx, rect, prims, &mut buf, &mut stats),
-        }
-        for ly in 0..h {
-            let row = &mut out[ly * width + rect.x0 as usize..][..w];
-            buf.resolve_row(ly, row);
-        }
+        buf.depth.fill(1.0);
+        let mut out = RowsColor(rows);
+        raster_prims::<1, _>(ctx, rect, prims, &mut buf.depth, &mut out, &mut stats);
+        return stats;
+    }
+    buf.clear(ctx.target.clear_color);
+    let (color, depth) = (&mut buf.color, &mut buf.depth);
+    let mut out = TileColor(color);
+    match buf.samples {
+        2 => raster_prims::<2, _>(ctx, rect, prims, depth, &mut out, &mut stats),
+        4 => raster_prims::<4, _>(ctx, rect, prims, depth, &mut out, &mut stats),
+        8 => raster_prims::<8, _>(ctx, rect, prims, depth, &mut out, &mut stats),
+        _ => raster_prims::<16, _>(ctx, rect, prims, depth, &mut out, &mut stats),
+    }
+    for (ly, row) in rows.iter_mut().enumerate() {
+        buf.resolve_row(ly, row);
     }
     stats
 }
 
-fn raster_prims<const S: usize>(
+/// Where the rasterizer writes colour samples: sample `s` of tile pixel `p = ly·TILE + lx`.
+trait ColorSamples {
+    fn write<const S: usize>(&mut self, p: (usize, usize), s: usize, src: Vec4, blend: bool);
+}
+
+/// The tile buffer's colour, `S` samples per pixel, resolved afterwards.
+struct TileColor<'a>(&'a mut [Vec4]);
+
+impl ColorSamples for TileColor<'_> {
+    #[inline(always)]
+    fn write<const S: usize>(
+        &mut self,
+        (lx, ly): (usize, usize),
+        s: usize,
+        src: Vec4,
+        blend: bool,
+    ) {
+        let i = (ly * super::bin::TILE as usize + lx) * S + s;
+        over(&mut self.0[i], src, blend);
+    }
+}
+
+/// The target's own rows (one sample per pixel).
+struct RowsColor<'a, 'b>(&'a mut [&'b mut [Vec4]]);
+
+impl ColorSamples for RowsColor<'_, '_> {
+    #[inline(always)]
+    fn write<const S: usize>(
+        &mut self,
+        (lx, ly): (usize, usize),
+        _s: usize,
+        src: Vec4,
+        blend: bool,
+    ) {
+        over(&mut self.0[ly][lx], src, blend);
+    }
+}
+
+/// The sample count a target asks for, as the rasterizer runs it (1, 2, 4, 8 or 16).
+#[must_use]
+pub fn sample_count(target: &Target) -> usize {
+    match target.samples {
+        2 | 4 | 8 | 16 => target.samples as usize,
+        _ => 1,
+    }
+}
+
+fn raster_prims<const S: usize, O: ColorSamples>(
     ctx: &RasterContext,
     rect: TileRect,
     prims: &[u32],
-    buf: &mut TileBuffer,
+    depth: &mut [f32],
+    out: &mut O,
     stats: &mut TileStats,
 ) {
     let positions = sample_positions(S as u32);
@@ -273,7 +319,7 @@ fn raster_prims<const S: usize>(
                         for s in 0..S {
                             if cov[j] & (1 << s) != 0 {
                                 let z = zp[j] + zoff[s];
-                                if !state.depth_test || z < buf.depth[base + s] {
+                                if !state.depth_test || z < depth[base + s] {
                                     ok |= 1 << s;
                                 }
                             }
@@ -298,9 +344,10 @@ fn raster_prims<const S: usize>(
                             let base = ((ly + (j >> 1)) * tile + lx + (j & 1)) * S;
                             for s in 0..S {
                                 if pass[j] & (1 << s) != 0 {
-                                    buf.write(base + s, colors[j], state.blend);
+                                    let p = (lx + (j & 1), ly + (j >> 1));
+                                    out.write::<S>(p, s, colors[j], state.blend);
                                     if state.depth_write {
-                                        buf.depth[base + s] = zp[j] + zoff[s];
+                                        depth[base + s] = zp[j] + zoff[s];
                                     }
                                 }
                             }

@@ -383,6 +383,7 @@ fn mat4(m: [[f32; 4]; 4]) -> Mat4 {
 impl Loader<'_> {
     fn finish(mut self) -> Loaded {
         if self.scene.lights.is_empty() {
+            self.info.default_light = true;
             self.scene.lights.push(Light::Directional {
                 direction: Vec3::new(0.3, 0.8, 0.5).normalize(),
                 color: Vec3::ONE,
@@ -410,6 +411,7 @@ impl Loader<'_> {
             scene: self.scene,
             cameras,
             info: self.info,
+            volumes: Vec::new(),
             warnings: self.warnings,
         }
     }
@@ -475,6 +477,9 @@ impl Loader<'_> {
                 None,
                 n.scale(),
             )?;
+            // The crate exposes KHR_texture_transform on `textureInfo` only; normal and
+            // occlusion textures carry it too, read from their raw extension object.
+            apply_raw_transform(&mut mat, MapChannel::Normal, n.extension_value(TRANSFORM));
         }
         if let Some(o) = m.occlusion_texture() {
             self.push_map(
@@ -485,6 +490,11 @@ impl Loader<'_> {
                 None,
                 o.strength(),
             )?;
+            apply_raw_transform(
+                &mut mat,
+                MapChannel::Occlusion,
+                o.extension_value(TRANSFORM),
+            );
         }
         if let Some(info) = m.emissive_texture() {
             self.push_map(
@@ -1074,6 +1084,46 @@ fn sampler(s: &gltf::texture::Sampler) -> Sampler {
     out
 }
 
+const TRANSFORM: &str = "KHR_texture_transform";
+
+/// Sets the transform (and uv set override) of the last map of `mat`, if it feeds `channel`,
+/// from a raw `KHR_texture_transform` object: `offset`, `rotation`, `scale`, `texCoord`, each
+/// optional; malformed members keep their defaults.
+fn apply_raw_transform(mat: &mut Material, channel: MapChannel, value: Option<&gltf::json::Value>) {
+    let (Some(value), Some(map)) = (value, mat.maps.last_mut()) else {
+        return;
+    };
+    if map.channel != channel {
+        return;
+    }
+    let pair = |key: &str, default: Vec2| {
+        value
+            .get(key)
+            .and_then(|v| v.as_array())
+            .and_then(|a| {
+                Some(Vec2::new(
+                    a.first()?.as_f64()? as f32,
+                    a.get(1)?.as_f64()? as f32,
+                ))
+            })
+            .filter(|v| v.is_finite())
+            .unwrap_or(default)
+    };
+    map.slot.transform = TextureTransform {
+        offset: pair("offset", Vec2::ZERO),
+        rotation: value
+            .get("rotation")
+            .and_then(|v| v.as_f64())
+            .map(|r| r as f32)
+            .filter(|r| r.is_finite())
+            .unwrap_or(0.0),
+        scale: pair("scale", Vec2::ONE),
+    };
+    if let Some(tc) = value.get("texCoord").and_then(|v| v.as_u64()) {
+        map.slot.tex_coord = u32::try_from(tc).unwrap_or(u32::MAX);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1128,7 +1178,11 @@ mod tests {
   "meshes": [{{"primitives": [{{"mode": 5, "material": 0,
      "attributes": {{"POSITION": 0, "COLOR_0": 1, "TEXCOORD_1": 2}}}}]}}],
   "materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0,
-     "extensions": {{"KHR_texture_transform": {{"texCoord": 1, "scale": [2, 2]}}}}}}}}}}],
+     "extensions": {{"KHR_texture_transform": {{"texCoord": 1, "scale": [2, 2]}}}}}}}},
+     "normalTexture": {{"index": 0, "scale": 0.5,
+       "extensions": {{"KHR_texture_transform": {{"offset": [0.25, 0.5], "rotation": 0.5}}}}}},
+     "occlusionTexture": {{"index": 0,
+       "extensions": {{"KHR_texture_transform": {{"texCoord": 1, "scale": [3, 4]}}}}}}}}],
   "textures": [{{"source": 0}}],
   "images": [{{"uri": "data:image/png;base64,{}"}}],
   "buffers": [{{"byteLength": 112, "uri": "data:application/octet-stream;base64,{}"}}],
@@ -1158,7 +1212,19 @@ mod tests {
         let slot = l.scene.materials[0].base_color_texture.as_ref().unwrap();
         assert_eq!(slot.tex_coord, 1);
         assert_eq!(slot.transform.scale, Vec2::splat(2.0));
-        assert_eq!(l.info.textures.len(), 1);
+        // Normal and occlusion textures carry their own transforms.
+        let mat = &l.scene.materials[0];
+        let normal = mat.map(MapChannel::Normal).unwrap();
+        assert_eq!(normal.scale, 0.5);
+        assert_eq!(normal.slot.transform.offset, Vec2::new(0.25, 0.5));
+        assert_eq!(normal.slot.transform.rotation, 0.5);
+        assert_eq!(normal.slot.transform.scale, Vec2::ONE);
+        assert_eq!(normal.slot.tex_coord, 0);
+        let occlusion = mat.map(MapChannel::Occlusion).unwrap();
+        assert_eq!(occlusion.slot.transform.scale, Vec2::new(3.0, 4.0));
+        assert_eq!(occlusion.slot.tex_coord, 1);
+        // One image, decoded twice: as sRGB colour and as linear data.
+        assert_eq!(l.info.textures.len(), 2);
     }
 
     #[test]

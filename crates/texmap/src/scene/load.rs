@@ -73,8 +73,11 @@ pub struct AssetInfo {
     pub material_names: Vec<String>,
     /// Every texture loaded, once each.
     pub textures: Vec<TextureInfo>,
-    /// Volumes named by the file (a hook for the volume loaders; empty for now).
+    /// One name (the file) per [`Loaded::volumes`] entry.
     pub volumes: Vec<String>,
+    /// True when the file defines no light and the loader added the peers' directional
+    /// light (volumes then shade with a headlight instead).
+    pub default_light: bool,
 }
 
 /// A loaded scene file.
@@ -85,6 +88,9 @@ pub struct Loaded {
     /// Every camera the file defines, in file order.
     pub cameras: Vec<Camera>,
     pub info: AssetInfo,
+    /// Volumes placed in the scene (TOML `[[volumes]]`), with their transfer functions and
+    /// rendering options; drawn by [`crate::volume::render_with_volumes`].
+    pub volumes: Vec<crate::volume::SceneVolume>,
     /// Problems that did not stop loading (unsupported optional extensions, skipped
     /// primitives, placeholders), one line each, for stderr.
     pub warnings: Vec<String>,

@@ -15,6 +15,7 @@ pub mod obj;
 pub mod primitives;
 pub mod tangents;
 pub mod toml;
+mod toml_volume;
 
 pub use load::{load, AssetInfo, LoadOptions, Loaded, TextureInfo};
 
@@ -160,6 +161,17 @@ impl Camera {
     #[must_use]
     pub fn forward(&self) -> Vec3 {
         (self.target - self.eye).normalize()
+    }
+
+    /// How far along its pixel's ray `p` lies from the ray's origin: the distance from the
+    /// eye (perspective), or along the view direction from the eye's plane (orthographic
+    /// rays start there, see `volume::raymarch::camera_ray`).
+    #[must_use]
+    pub fn ray_distance(&self, p: Vec3) -> f32 {
+        match self.projection {
+            CameraProjection::Perspective { .. } => p.distance(self.eye),
+            CameraProjection::Orthographic { .. } => (p - self.eye).dot(self.forward()),
+        }
     }
 
     /// The viewer of the lighting model: the eye (perspective) or the direction towards the

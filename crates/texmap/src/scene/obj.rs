@@ -91,6 +91,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     };
     let mut info = AssetInfo {
         format: "Wavefront OBJ".into(),
+        default_light: true,
         ..Default::default()
     };
     for m in &materials {
@@ -175,6 +176,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
         scene,
         cameras: Vec::new(),
         info,
+        volumes: Vec::new(),
         warnings,
     })
 }

@@ -1,10 +1,10 @@
-//! TOML scene files: cameras, lights, materials with any texture channel, and meshes from
-//! files or built-in primitives. The format is documented in `docs/scenes.md`.
+//! TOML scene files: cameras, lights, materials with any texture channel, meshes from files
+//! or built-in primitives, and volumes ([`super::toml_volume`]). The format is documented in
+//! `docs/scenes.md`.
 //!
 //! Every table refuses unknown keys (a typo is an error naming the line), and relative paths
-//! resolve from the scene file's folder. Room for later features is kept where they belong:
-//! a texture is `file = …` today and may become `procedural = …`; a mesh may gain `texgen`;
-//! a `[[volumes]]` array may sit beside `[[meshes]]`.
+//! resolve from the scene file's folder. Meshes and volumes are placed alike: scale, rotate,
+//! translate, or a matrix.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -38,6 +38,8 @@ struct SceneFile {
     materials: BTreeMap<String, MaterialSpec>,
     #[serde(default)]
     meshes: Vec<MeshSpec>,
+    #[serde(default)]
+    volumes: Vec<super::toml_volume::VolumeSpec>,
 }
 
 #[derive(Deserialize)]
@@ -246,18 +248,17 @@ struct MeshSpec {
     segments: Option<u32>,
     rings: Option<u32>,
     divisions: Option<u32>,
-    /// Object → world: scale, then rotate (degrees about x, y, z), then translate.
-    #[serde(default)]
-    translate: [f32; 3],
-    #[serde(default)]
-    rotate: [f32; 3],
-    #[serde(default)]
+    /// Object → world: scale, then rotate (degrees about x, y, z), then translate; or a
+    /// column-major 4×4 `matrix` (glTF's order).
+    translate: Option<[f32; 3]>,
+    rotate: Option<[f32; 3]>,
     scale: Option<ScaleSpec>,
+    matrix: Option<[f32; 16]>,
 }
 
 #[derive(Deserialize)]
 #[serde(untagged)]
-enum ScaleSpec {
+pub(super) enum ScaleSpec {
     Uniform(f32),
     Axes([f32; 3]),
 }
@@ -393,7 +394,8 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     info.material_names.push("(default)".into());
 
     for (i, m) in spec.meshes.iter().enumerate() {
-        let transform = mesh_transform(m);
+        let transform = placement(m.translate, m.rotate, m.scale.as_ref(), m.matrix)
+            .map_err(|e| err(format!("meshes[{i}]: {e}")))?;
         let named = match &m.material {
             Some(n) => Some(*material_index.get(n).ok_or_else(|| {
                 err(format!(
@@ -451,6 +453,27 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
             }
         }
     }
+    // Volumes shade with the file's own lights, else with a headlight.
+    let volume_lights: &[Light] = if spec.lights.is_empty() {
+        &[]
+    } else {
+        &scene.lights
+    };
+    let mut volumes = Vec::new();
+    for (i, v) in spec.volumes.iter().enumerate() {
+        let transform = placement(v.translate, v.rotate, v.scale.as_ref(), v.matrix)
+            .map_err(|e| err(format!("volumes[{i}]: {e}")))?;
+        let sv =
+            super::toml_volume::volume(&dir, v, transform, volume_lights).map_err(|e| match e {
+                Error::Parameter(msg) | Error::Unsupported(msg) => {
+                    err(format!("volumes[{i}]: {msg}"))
+                }
+                other => other,
+            })?;
+        info.volumes.push(sv.source.display().to_string());
+        volumes.push(sv);
+    }
+    info.default_light = spec.lights.is_empty();
     for i in super::tangents::generate_where_needed(&mut scene.meshes, &scene.materials) {
         warnings.push(format!(
             "{}: mesh {i}: no tangents for its normal map (it lacks normals or uvs)",
@@ -463,22 +486,41 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
         scene,
         cameras,
         info,
+        volumes,
         warnings,
     })
 }
 
-fn mesh_transform(m: &MeshSpec) -> Mat4 {
-    let scale = match m.scale {
-        Some(ScaleSpec::Uniform(s)) => Vec3::splat(s),
-        Some(ScaleSpec::Axes(a)) => Vec3::from(a),
-        None => Vec3::ONE,
+/// Object → world from a table's `translate`, `rotate` (degrees about x, then y, then z) and
+/// `scale` (applied first), or its column-major `matrix` (then none of the others).
+fn placement(
+    translate: Option<[f32; 3]>,
+    rotate: Option<[f32; 3]>,
+    scale: Option<&ScaleSpec>,
+    matrix: Option<[f32; 16]>,
+) -> std::result::Result<Mat4, String> {
+    let m = if let Some(m) = matrix {
+        if translate.is_some() || rotate.is_some() || scale.is_some() {
+            return Err("give `matrix` or `translate`/`rotate`/`scale`, not both".into());
+        }
+        Mat4::from_cols_array(&m)
+    } else {
+        let scale = match scale {
+            Some(ScaleSpec::Uniform(s)) => Vec3::splat(*s),
+            Some(ScaleSpec::Axes(a)) => Vec3::from(*a),
+            None => Vec3::ONE,
+        };
+        let r = rotate.unwrap_or_default().map(f32::to_radians);
+        Mat4::from_scale_rotation_translation(
+            scale,
+            Quat::from_euler(EulerRot::ZYX, r[2], r[1], r[0]),
+            Vec3::from(translate.unwrap_or_default()),
+        )
     };
-    let r = m.rotate.map(f32::to_radians);
-    Mat4::from_scale_rotation_translation(
-        scale,
-        Quat::from_euler(EulerRot::ZYX, r[2], r[1], r[0]),
-        Vec3::from(m.translate),
-    )
+    if !m.is_finite() {
+        return Err("the placement has a non-finite number".into());
+    }
+    Ok(m)
 }
 
 fn primitive(kind: &str, m: &MeshSpec) -> std::result::Result<Primitive, String> {

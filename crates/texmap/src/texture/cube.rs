@@ -85,14 +85,14 @@ pub struct TextureCube {
 impl TextureCube {
     /// Builds a cube map from six faces in [`CubeFace::ALL`] order.
     pub fn new(faces: [Texture2D; 6]) -> Result<Self> {
-        let (w, f) = (faces[0].width(), faces[0].format());
+        let (w, f) = (faces[0].width(), faces[0].storage_format());
         for (i, t) in faces.iter().enumerate() {
-            if t.width() != w || t.height() != w || t.format() != f {
+            if t.width() != w || t.height() != w || t.storage_format() != f {
                 return Err(Error::parameter(format!(
                     "cube face {i} is {}x{} {:?}; every face must be {w}x{w} {f:?}",
                     t.width(),
                     t.height(),
-                    t.format()
+                    t.storage_format()
                 )));
             }
         }
@@ -125,7 +125,7 @@ impl TextureCube {
 /// Reads a cube map along a direction footprint: linear, premultiplied RGBA.
 #[must_use]
 pub fn sample_cube(cube: &TextureCube, sampler: &Sampler, fp: &CubeFootprint) -> Vec4 {
-    with_codec!(cube.faces[0].format(), C => sample_cube_with::<C>(cube, sampler, fp))
+    with_codec!(cube.faces[0].storage_format(), C => sample_cube_with::<C>(cube, sampler, fp))
 }
 
 /// The face footprint of a direction footprint (derivatives by the quotient rule).

@@ -18,6 +18,10 @@ pub enum Format {
     Rgba16F,
     R32F,
     Rgba32F,
+    /// RGBA, 16-bit unorm, linear light, premultiplied alpha: the filtering format 8-bit
+    /// colour textures are stored in by default ([`super::Storage::Linear16`]), read with no
+    /// lookup table and no multiply by alpha.
+    Rgba16Premultiplied,
 }
 
 /// What the stored values of a colour channel mean.
@@ -44,6 +48,7 @@ impl Format {
             Format::Rgba16F => 8,
             Format::R32F => 4,
             Format::Rgba32F => 16,
+            Format::Rgba16Premultiplied => 8,
         }
     }
 
@@ -67,7 +72,10 @@ impl Format {
     /// True for formats whose channels can be sRGB-encoded (the unorm ones).
     #[must_use]
     pub const fn is_unorm(self) -> bool {
-        !matches!(self, Format::Rgba16F | Format::R32F | Format::Rgba32F)
+        !matches!(
+            self,
+            Format::Rgba16F | Format::R32F | Format::Rgba32F | Format::Rgba16Premultiplied
+        )
     }
 
     /// Encodes one linear, straight-alpha RGBA value into `out` (`bytes_per_texel` long).
@@ -119,6 +127,14 @@ impl Format {
                 }
             }
             Format::R32F => out[..4].copy_from_slice(&c.x.to_le_bytes()),
+            Format::Rgba16Premultiplied => {
+                let a = c.w.clamp(0.0, 1.0);
+                let p = (c.truncate() * a).extend(a);
+                for (i, v) in p.to_array().into_iter().enumerate() {
+                    let q = (v.clamp(0.0, 1.0) * 65535.0 + 0.5) as u16;
+                    out[2 * i..2 * i + 2].copy_from_slice(&q.to_le_bytes());
+                }
+            }
             Format::Rgba32F => {
                 for (i, v) in c.to_array().into_iter().enumerate() {
                     out[4 * i..4 * i + 4].copy_from_slice(&v.to_le_bytes());
@@ -217,6 +233,34 @@ codec!(CodecRgba32F, 16, true, |b, _l| Vec4::new(
     f32le(b, 12)
 ));
 
+// Already premultiplied: `HAS_ALPHA` is false so readers do not multiply again.
+codec!(CodecRgba16Premultiplied, 8, false, |b, _l| decode_rgba16(b));
+
+/// Four little-endian u16 → `Vec4` in [0, 1]: one 8-byte load, a zero-extend and a
+/// conversion (SSE2), the inner step of every filter on the default storage.
+#[inline(always)]
+fn decode_rgba16(b: &[u8]) -> Vec4 {
+    let b: &[u8; 8] = b[..8].try_into().unwrap_or(&[0; 8]);
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{__m128i, _mm_unpacklo_epi16};
+        use std::arch::x86_64::{_mm_cvtepi32_ps, _mm_loadl_epi64, _mm_setzero_si128};
+        // SAFETY: SSE2 is part of x86_64; `b` is 8 readable bytes and `_mm_loadl_epi64`
+        // reads exactly 8, unaligned.
+        let v = unsafe {
+            let q = _mm_loadl_epi64(b.as_ptr().cast::<__m128i>());
+            _mm_cvtepi32_ps(_mm_unpacklo_epi16(q, _mm_setzero_si128()))
+        };
+        Vec4::from(v) * (1.0 / 65535.0)
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let q = u64::from_le_bytes(*b);
+        let lane = |k: u32| ((q >> (16 * k)) & 0xffff) as i32 as f32;
+        Vec4::new(lane(0), lane(1), lane(2), lane(3)) * (1.0 / 65535.0)
+    }
+}
+
 /// Runs `$body` with the type alias `$C` bound to the codec of `$format`.
 macro_rules! with_codec {
     ($format:expr, $C:ident => $body:expr) => {{
@@ -256,6 +300,10 @@ macro_rules! with_codec {
             }
             Format::Rgba32F => {
                 type $C = CodecRgba32F;
+                $body
+            }
+            Format::Rgba16Premultiplied => {
+                type $C = CodecRgba16Premultiplied;
                 $body
             }
         }

@@ -131,7 +131,7 @@ mod tests {
             TextureOptions::default(),
         )
         .unwrap();
-        let base = (n * n * 4) as f64;
+        let base = (n * n) as f64 * tex.storage_format().bytes_per_texel() as f64;
         let ratio = tex.texel_bytes() as f64 / base;
         assert!((ratio - 4.0 / 3.0).abs() < 0.01, "chain/base = {ratio}");
     }

@@ -22,7 +22,7 @@ pub use footprint::{CubeFootprint, Footprint, Footprint3, LodRule};
 pub use format::{f16_to_f32, f32_to_f16, ColorSpace, Format};
 pub use mip::level_count;
 pub use sampler::{Filter, MagFilter, MinFilter, Sampler};
-pub use storage::{Layout, Level, Texture2D, TextureOptions};
+pub use storage::{Layout, Level, Storage, Texture2D, TextureOptions};
 pub use texture3d::{sample_3d, Texture3D};
 pub use transform::TextureTransform;
 pub use wrap::{Wrap, BORDER};

@@ -1,7 +1,12 @@
 //! Texture storage: 2D textures with their mip chains, in a cache-friendly tiled layout.
 //!
-//! Texels are kept in their own [`Format`] (an sRGB RGBA8 texture costs 4 bytes a texel) and
-//! decoded when read. Each level is stored in 4×4 tiles by default: one tile of RGBA8 is 64
+//! By default 8-bit colour (RGB8, RGBA8, sRGB or linear) is stored decoded, as 16-bit linear
+//! premultiplied RGBA ([`Storage::Linear16`], 8 bytes a texel): a read is one 8-byte load
+//! and a conversion, where the native format costs a table lookup per channel and a multiply
+//! by alpha — 5× more instructions per texel in the trilinear path. 16 bits in linear light
+//! hold every 8-bit sRGB value to within 8·10⁻⁶, and the mip levels keep that precision
+//! instead of being rounded back to 8-bit sRGB. [`Storage::Native`] keeps the texels in their
+//! own [`Format`] (half the memory) and decodes them when read. Each level is stored in 4×4 tiles by default: one tile of RGBA8 is 64
 //! bytes, one cache line, so the 2×2 neighbourhood a bilinear tap reads usually sits in one
 //! line whatever the direction the footprint walks. [`Layout::RowMajor`] is kept so the gain can
 //! be measured (`cargo bench --bench sampling -- layout`).
@@ -44,6 +49,17 @@ impl Level {
     }
 }
 
+/// How texels are held in memory.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum Storage {
+    /// RGB8 and RGBA8 stored as [`Format::Rgba16Premultiplied`] (8 bytes a texel), decoded
+    /// once at load; other formats as given.
+    #[default]
+    Linear16,
+    /// Every format as given (an sRGB RGBA8 texel costs 4 bytes), decoded at each read.
+    Native,
+}
+
 /// Options for building a texture from texels.
 #[derive(Clone, Copy, Debug)]
 pub struct TextureOptions {
@@ -51,6 +67,8 @@ pub struct TextureOptions {
     pub mipmaps: bool,
     /// Memory order of the texels (default tiled).
     pub layout: Layout,
+    /// Memory format of the texels (default [`Storage::Linear16`]).
+    pub storage: Storage,
 }
 
 impl Default for TextureOptions {
@@ -58,6 +76,7 @@ impl Default for TextureOptions {
         TextureOptions {
             mipmaps: true,
             layout: Layout::Tiled4x4,
+            storage: Storage::Linear16,
         }
     }
 }
@@ -65,7 +84,10 @@ impl Default for TextureOptions {
 /// A 2D texture: a format, a colour space and a mip chain (level 0 is the full image).
 #[derive(Clone, Debug)]
 pub struct Texture2D {
+    /// The format the texels were given in.
     format: Format,
+    /// The format they are held in (see [`Storage`]).
+    stored: Format,
     color_space: ColorSpace,
     layout: Layout,
     levels: Vec<Level>,
@@ -115,37 +137,62 @@ impl Texture2D {
             ColorSpace::Linear
         };
         let srgb = color_space == ColorSpace::Srgb;
-        let lut = match format {
+        let lut_of = |f: Format| match f {
             Format::R16 | Format::Rgba16 => crate::color::lut16(srgb),
             _ => crate::color::lut8(srgb),
         };
+        let stored = match (options.storage, format) {
+            (Storage::Linear16, Format::Rgb8 | Format::Rgba8) => Format::Rgba16Premultiplied,
+            _ => format,
+        };
         let mut tex = Texture2D {
             format,
+            stored,
             color_space,
             layout: options.layout,
             levels: Vec::new(),
-            lut,
+            lut: lut_of(stored),
             sat: std::sync::OnceLock::new(),
         };
-        let base = tex.store_level(width, height, texels);
-        tex.levels.push(base);
-        if options.mipmaps {
-            let linear = tex.decode_level(0);
+        let linear = if stored == format {
+            tex.levels.push(tex.store_level(width, height, texels));
+            options.mipmaps.then(|| tex.decode_level(0))
+        } else {
+            let lut = lut_of(format);
+            let linear: Vec<Vec4> = with_codec!(format, C => texels
+                .chunks_exact(format.bytes_per_texel())
+                .map(|b| {
+                    let c = C::decode(b, lut);
+                    if C::HAS_ALPHA {
+                        (c.truncate() * c.w).extend(c.w)
+                    } else {
+                        c
+                    }
+                })
+                .collect());
+            let bytes = tex.encode_level(&linear);
+            tex.levels.push(tex.store_level(width, height, &bytes));
+            options.mipmaps.then_some(linear)
+        };
+        if let Some(linear) = linear {
             for (w, h, texels) in mip::build_chain(width, height, linear) {
-                let mut bytes = vec![0u8; (w * h) as usize * format.bytes_per_texel()];
-                let bpp = format.bytes_per_texel();
-                for (i, c) in texels.iter().enumerate() {
-                    format.encode(
-                        mip::unpremultiply(*c),
-                        srgb,
-                        &mut bytes[i * bpp..(i + 1) * bpp],
-                    );
-                }
+                let bytes = tex.encode_level(&texels);
                 let level = tex.store_level(w, h, &bytes);
                 tex.levels.push(level);
             }
         }
         Ok(tex)
+    }
+
+    /// Linear premultiplied texels → row-major bytes of the stored format.
+    fn encode_level(&self, texels: &[Vec4]) -> Vec<u8> {
+        let bpp = self.stored.bytes_per_texel();
+        let srgb = self.color_space == ColorSpace::Srgb;
+        let mut bytes = vec![0u8; texels.len() * bpp];
+        for (c, out) in texels.iter().zip(bytes.chunks_exact_mut(bpp)) {
+            self.stored.encode(mip::unpremultiply(*c), srgb, out);
+        }
+        bytes
     }
 
     /// Builds an RGBA8 texture (full mip chain, tiled) from row-major RGBA bytes.
@@ -191,7 +238,7 @@ impl Texture2D {
     }
 
     fn store_level(&self, width: u32, height: u32, texels: &[u8]) -> Level {
-        let bpp = self.format.bytes_per_texel();
+        let bpp = self.stored.bytes_per_texel();
         let tiles_x = width.div_ceil(4);
         let len = match self.layout {
             Layout::RowMajor => (width * height) as usize,
@@ -217,7 +264,7 @@ impl Texture2D {
     #[must_use]
     pub fn decode_level(&self, i: usize) -> Vec<Vec4> {
         let view = self.level(i);
-        with_codec!(self.format, C => {
+        with_codec!(self.stored, C => {
             let mut out = Vec::with_capacity((view.w * view.h) as usize);
             for y in 0..view.h {
                 for x in 0..view.w {
@@ -228,10 +275,16 @@ impl Texture2D {
         })
     }
 
-    /// The texel format.
+    /// The format the texels were given in.
     #[must_use]
     pub fn format(&self) -> Format {
         self.format
+    }
+    /// The format the texels are held in: [`Format::Rgba16Premultiplied`] for 8-bit colour
+    /// with [`Storage::Linear16`], else [`Self::format`].
+    #[must_use]
+    pub fn storage_format(&self) -> Format {
+        self.stored
     }
     /// The colour space the stored values are in.
     #[must_use]
@@ -282,7 +335,7 @@ impl Texture2D {
     #[must_use]
     pub fn texel(&self, level: usize, x: u32, y: u32) -> Vec4 {
         let view = self.level(level);
-        with_codec!(self.format, C => view.texel::<C>(x as i32, y as i32))
+        with_codec!(self.stored, C => view.texel::<C>(x as i32, y as i32))
     }
 
     pub(crate) fn summed_area_tables(&self) -> &super::filter::summed_area::SummedAreaTables {
@@ -358,12 +411,59 @@ mod tests {
     use super::*;
 
     #[test]
+    fn linear16_storage_holds_the_native_texels_within_its_precision() {
+        let (w, h) = (13u32, 7u32);
+        let rgba: Vec<u8> = (0..w * h * 4).map(|i| (i * 7 % 251) as u8).collect();
+        let make = |storage, format: Format, bytes: &[u8]| {
+            let options = TextureOptions {
+                storage,
+                ..Default::default()
+            };
+            Texture2D::from_texels(w, h, format, ColorSpace::Srgb, bytes, options).unwrap()
+        };
+        let rgb: Vec<u8> = rgba
+            .chunks_exact(4)
+            .flat_map(|c| [c[0], c[1], c[2]])
+            .collect();
+        for (format, bytes) in [(Format::Rgba8, &rgba), (Format::Rgb8, &rgb)] {
+            let native = make(Storage::Native, format, bytes);
+            let fast = make(Storage::Linear16, format, bytes);
+            assert_eq!(native.storage_format(), format);
+            assert_eq!(fast.storage_format(), Format::Rgba16Premultiplied);
+            assert_eq!(
+                (fast.format(), fast.color_space()),
+                (format, ColorSpace::Srgb)
+            );
+            let texels = native.texel_bytes() / format.bytes_per_texel();
+            assert_eq!(fast.texel_bytes(), texels * 8);
+            // Level 0 holds the same values to 16-bit precision; the mip levels differ by the
+            // native format's 8-bit sRGB rounding of each level.
+            let (a, b) = (native.decode_level(0), fast.decode_level(0));
+            let err = a
+                .iter()
+                .zip(&b)
+                .map(|(x, y)| (*x - *y).abs().max_element())
+                .fold(0.0, f32::max);
+            assert!(err < 1e-5, "{format:?} level 0: {err}");
+            for l in 1..native.levels().len() {
+                let (a, b) = (native.decode_level(l), fast.decode_level(l));
+                let err = a
+                    .iter()
+                    .zip(&b)
+                    .map(|(x, y)| (*x - *y).abs().max_element())
+                    .fold(0.0, f32::max);
+                assert!(err < 0.02, "{format:?} level {l}: {err}");
+            }
+        }
+    }
+
+    #[test]
     fn tiled_and_row_major_hold_the_same_texels() {
         let (w, h) = (13u32, 7u32);
         let rgba: Vec<u8> = (0..w * h * 4).map(|i| (i * 7 % 251) as u8).collect();
         let opts = |layout| TextureOptions {
-            mipmaps: true,
             layout,
+            ..Default::default()
         };
         let a = Texture2D::from_texels(
             w,

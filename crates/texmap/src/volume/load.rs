@@ -54,12 +54,47 @@ impl ScalarType {
     }
 }
 
-/// How to read a headerless raw file: grid, voxel type, spacing; x fastest, little endian.
+impl std::fmt::Display for ScalarType {
+    /// `u8`, `i16`, `f32`, … (the names [`ScalarType::parse`] reads).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ScalarType::U8 => "u8",
+            ScalarType::I8 => "i8",
+            ScalarType::U16 => "u16",
+            ScalarType::I16 => "i16",
+            ScalarType::U32 => "u32",
+            ScalarType::I32 => "i32",
+            ScalarType::F32 => "f32",
+            ScalarType::F64 => "f64",
+        })
+    }
+}
+
+/// How to read a raw file: grid, voxel type, spacing, byte order and the bytes to skip before
+/// the voxels (a header texmap does not read); x fastest.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RawDesc {
     pub dims: [u32; 3],
     pub scalar: ScalarType,
     pub spacing: Vec3,
+    /// Multi-byte voxels are big endian (default little).
+    pub big_endian: bool,
+    /// Bytes skipped at the start of the (decompressed) file.
+    pub header_bytes: u64,
+}
+
+impl RawDesc {
+    /// A little-endian raw file without a header.
+    #[must_use]
+    pub fn new(dims: [u32; 3], scalar: ScalarType, spacing: Vec3) -> Self {
+        RawDesc {
+            dims,
+            scalar,
+            spacing,
+            big_endian: false,
+            header_bytes: 0,
+        }
+    }
 }
 
 /// Loads a volume, choosing the reader by the file name: `.nii`/`.nii.gz` (NIfTI-1),
@@ -171,8 +206,17 @@ fn decode_voxels(
     Ok(v)
 }
 
-fn make_volume(path: &Path, dims: [u32; 3], m: Mat4, values: Vec<f32>) -> Result<Volume> {
-    Volume::from_scalars(dims, m, values).map_err(|e| Error::decode(path, e.to_string()))
+fn make_volume(
+    path: &Path,
+    dims: [u32; 3],
+    m: Mat4,
+    values: Vec<f32>,
+    ty: ScalarType,
+) -> Result<Volume> {
+    let mut v =
+        Volume::from_scalars(dims, m, values).map_err(|e| Error::decode(path, e.to_string()))?;
+    v.set_scalar_type(ty);
+    Ok(v)
 }
 
 fn check_dims(path: &Path, dims: &[i64]) -> Result<[u32; 3]> {
@@ -329,7 +373,7 @@ pub fn load_nifti(path: &Path) -> Result<Volume> {
     }
     let count = dims.iter().map(|&d| d as usize).product();
     let values = decode_voxels(path, &bytes[off..], ty, big, count, slope, inter)?;
-    make_volume(path, dims, m, values)
+    make_volume(path, dims, m, values, ty)
 }
 
 /// Reads a NRRD file with an attached (`.nrrd`) or detached (`.nhdr` + `data file:`) header;
@@ -536,10 +580,11 @@ pub fn load_nrrd(path: &Path) -> Result<Volume> {
         ));
     }
     let values = decode_voxels(&data_path, data, ty, big, count, 1.0, 0.0)?;
-    make_volume(path, dims, m, values)
+    make_volume(path, dims, m, values, ty)
 }
 
-/// Reads a headerless raw file: x fastest, little endian, exactly `dims`·size bytes.
+/// Reads a raw file (optionally gzipped): `header_bytes` skipped, then exactly
+/// `dims`·size bytes of voxels, x fastest, in the given byte order.
 ///
 /// # Errors
 /// See [`load_volume`].
@@ -547,17 +592,36 @@ pub fn load_raw(path: &Path, desc: &RawDesc) -> Result<Volume> {
     let dims = check_dims(path, &desc.dims.map(i64::from))?;
     let bytes = read_maybe_gzip(path)?;
     let count: usize = dims.iter().map(|&d| d as usize).product();
-    if bytes.len() != count * desc.scalar.size() {
+    let skip = usize::try_from(desc.header_bytes)
+        .ok()
+        .filter(|&h| h <= bytes.len())
+        .ok_or_else(|| {
+            Error::decode(
+                path,
+                format!(
+                    "a header of {} bytes is longer than the file ({} bytes)",
+                    desc.header_bytes,
+                    bytes.len()
+                ),
+            )
+        })?;
+    let data = &bytes[skip..];
+    if data.len() != count * desc.scalar.size() {
+        let after = if skip > 0 {
+            format!(" after its {skip}-byte header")
+        } else {
+            String::new()
+        };
         return Err(Error::decode(
             path,
             format!(
-                "--dims {}x{}x{} of {:?} need {} bytes but the file has {}",
+                "--dims {}x{}x{} of {:?} need {} bytes but the file has {}{after}",
                 dims[0],
                 dims[1],
                 dims[2],
                 desc.scalar,
                 count * desc.scalar.size(),
-                bytes.len()
+                data.len()
             ),
         ));
     }
@@ -565,6 +629,58 @@ pub fn load_raw(path: &Path, desc: &RawDesc) -> Result<Volume> {
     if !(s.is_finite() && s.min_element() > 0.0) {
         return Err(Error::parameter(format!("--spacing {s} must be positive")));
     }
-    let values = decode_voxels(path, &bytes, desc.scalar, false, count, 1.0, 0.0)?;
-    make_volume(path, dims, Mat4::from_scale(s), values)
+    let values = decode_voxels(path, data, desc.scalar, desc.big_endian, count, 1.0, 0.0)?;
+    make_volume(path, dims, Mat4::from_scale(s), values, desc.scalar)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn raw_header_is_skipped_and_big_endian_is_read() {
+        let dir = std::env::temp_dir().join(format!("texmap-raw-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("be.raw");
+        // A 5-byte header, then 2×1×1 big-endian u16: 258 and 1000.
+        std::fs::write(&p, [9, 9, 9, 9, 9, 0x01, 0x02, 0x03, 0xe8]).unwrap();
+        let desc = RawDesc {
+            big_endian: true,
+            header_bytes: 5,
+            ..RawDesc::new([2, 1, 1], ScalarType::U16, Vec3::ONE)
+        };
+        let v = load_raw(&p, &desc).unwrap();
+        assert_eq!(v.range(), (258.0, 1000.0));
+        assert_eq!(v.scalar_type(), Some(ScalarType::U16));
+        // Little endian reads other numbers; a wrong header length is a size error.
+        let le = load_raw(
+            &p,
+            &RawDesc {
+                big_endian: false,
+                ..desc
+            },
+        )
+        .unwrap();
+        assert_eq!(le.voxel(0, 0, 0), 513.0);
+        let e = load_raw(
+            &p,
+            &RawDesc {
+                header_bytes: 4,
+                ..desc
+            },
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("be.raw") && e.contains("4-byte header"), "{e}");
+        let e = load_raw(
+            &p,
+            &RawDesc {
+                header_bytes: 99,
+                ..desc
+            },
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("longer than the file"), "{e}");
+    }
 }

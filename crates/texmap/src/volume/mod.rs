@@ -12,6 +12,8 @@
 
 pub mod load;
 pub mod raymarch;
+pub mod scene_volume;
+mod shade;
 pub mod slice;
 pub mod transfer;
 pub mod with_meshes;
@@ -23,10 +25,11 @@ use crate::{Error, Result};
 
 pub use load::{load_volume, RawDesc, ScalarType};
 pub use raymarch::{iso_hit, raymarch, Classification, Lighting, MarchParams, Mode};
-pub use slice::render_slices;
+pub use slice::{render_slices, render_slices_until};
 
+pub use scene_volume::{Method, SceneVolume};
 pub use transfer::{PreIntegrated, TransferFunction, TransferFunction2D, TransferLut};
-pub use with_meshes::{render_with_meshes, surface_distances};
+pub use with_meshes::{render_with_meshes, render_with_volumes, surface_distances};
 
 /// A scalar volume: a 3D texture of values, its grid and its placement in the world.
 #[derive(Clone, Debug)]
@@ -45,6 +48,8 @@ pub struct Volume {
     bricks: std::sync::OnceLock<raymarch::Bricks>,
     /// Per-voxel world-space normals for shading, built on first use.
     normals: std::sync::OnceLock<Vec<[i8; 4]>>,
+    /// The file's voxel type, when a loader made the volume.
+    scalar_type: Option<ScalarType>,
 }
 
 impl Volume {
@@ -120,6 +125,7 @@ impl Volume {
             quant,
             bricks: std::sync::OnceLock::new(),
             normals: std::sync::OnceLock::new(),
+            scalar_type: None,
         })
     }
 
@@ -142,6 +148,15 @@ impl Volume {
     #[must_use]
     pub fn range(&self) -> (f32, f32) {
         self.range
+    }
+    /// The voxel type of the file the volume was read from (`None` when built from values).
+    #[must_use]
+    pub fn scalar_type(&self) -> Option<ScalarType> {
+        self.scalar_type
+    }
+    /// Records the voxel type of the source data (for listings; the values are unchanged).
+    pub fn set_scalar_type(&mut self, ty: ScalarType) {
+        self.scalar_type = Some(ty);
     }
     /// The values as a 3D texture (`R16`, linear: level/65535; texel centres at the voxels).
     #[must_use]
@@ -222,35 +237,12 @@ impl Volume {
         (lo, hi)
     }
 
-    /// The camera `vtk_volume.py` starts from: looking along +y with z up at the centre of the
-    /// bounds, at `ResetCamera`'s distance (bounding sphere fits a 30° view angle) divided by
-    /// `dolly` (the script's default is 1.6), then turned by `azimuth` about z (degrees).
+    /// The camera `vtk_volume.py` starts from, framing this volume's box (see
+    /// [`vtk_camera_for_bounds`]).
     #[must_use]
     pub fn vtk_camera(&self, dolly: f32, azimuth_deg: f32) -> crate::scene::Camera {
         let (lo, hi) = self.world_bounds();
-        let centre = (lo + hi) * 0.5;
-        let radius = {
-            let r = ((hi - lo) * 0.5).length();
-            if r > 0.0 {
-                r
-            } else {
-                1.0
-            }
-        };
-        let view_angle = 30.0f32;
-        let distance = radius / (view_angle.to_radians() * 0.5).sin() / dolly;
-        let cam = crate::scene::Camera {
-            eye: centre - Vec3::Y * distance,
-            target: centre,
-            up: Vec3::Z,
-            projection: crate::scene::CameraProjection::Perspective {
-                fov_y_deg: view_angle,
-            },
-            near: (distance - radius).max(distance * 1e-3),
-            far: distance + radius * 2.0,
-        };
-        // VTK's Azimuth turns the eye about the view-up through the focal point.
-        cam.orbit(azimuth_deg.to_radians())
+        vtk_camera_for_bounds(lo, hi, dolly, azimuth_deg)
     }
 
     /// Trilinear value at a point in voxel space (vertex-centred; clamped to the box), read
@@ -279,6 +271,42 @@ impl Volume {
     pub fn level_at_engine(&self, p: Vec3) -> f32 {
         (self.value_at_engine(p) - self.range.0) / self.value_step.max(f32::MIN_POSITIVE)
     }
+}
+
+/// The camera `vtk_volume.py` starts from for the world box `lo..hi`: looking along +y with z
+/// up at the centre of the box, at `ResetCamera`'s distance (bounding sphere fits a 30° view
+/// angle) divided by `dolly` (the script's default is 1.6), then turned by `azimuth_deg` about
+/// z (degrees).
+#[must_use]
+pub fn vtk_camera_for_bounds(
+    lo: Vec3,
+    hi: Vec3,
+    dolly: f32,
+    azimuth_deg: f32,
+) -> crate::scene::Camera {
+    let centre = (lo + hi) * 0.5;
+    let radius = {
+        let r = ((hi - lo) * 0.5).length();
+        if r > 0.0 {
+            r
+        } else {
+            1.0
+        }
+    };
+    let view_angle = 30.0f32;
+    let distance = radius / (view_angle.to_radians() * 0.5).sin() / dolly;
+    let cam = crate::scene::Camera {
+        eye: centre - Vec3::Y * distance,
+        target: centre,
+        up: Vec3::Z,
+        projection: crate::scene::CameraProjection::Perspective {
+            fov_y_deg: view_angle,
+        },
+        near: (distance - radius).max(distance * 1e-3),
+        far: distance + radius * 2.0,
+    };
+    // VTK's Azimuth turns the eye about the view-up through the focal point.
+    cam.orbit(azimuth_deg.to_radians())
 }
 
 /// The trilinear cell of voxel-space `p`, clamped to the box: the index of its lowest corner,

@@ -23,13 +23,14 @@
 //! - Colours are display values composited as VTK composites them; the frame stores
 //!   `srgb_to_linear` of the result, so writing it as sRGB gives VTK's bytes.
 
-use glam::{Mat3, Vec3, Vec4};
+use glam::{Mat3, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 
+use super::shade::VolumeLights;
 use super::transfer::{gradient_factor, PreIntegrated, TransferFunction, TransferLut};
 use super::{trilinear, Volume};
 use crate::render::{Frame, FrameStats};
-use crate::scene::{Camera, CameraProjection};
+use crate::scene::{Camera, CameraProjection, Light};
 use crate::{Error, Result};
 
 /// What a ray computes.
@@ -58,7 +59,8 @@ pub enum Classification {
     PreIntegrated,
 }
 
-/// Blinn-Phong coefficients for a white headlight (VTK's defaults in `vtk_volume.py`).
+/// Blinn-Phong coefficients (VTK's defaults in `vtk_volume.py`), for the headlight or the
+/// scene's lights ([`MarchParams::lights`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Lighting {
     pub ambient: f32,
@@ -88,6 +90,9 @@ pub struct MarchParams {
     pub shade: bool,
     pub classification: Classification,
     pub lighting: Lighting,
+    /// Lights for shading, world space (a scene's lights); empty: a white headlight along
+    /// the view direction (see `volume::shade`).
+    pub lights: Vec<Light>,
     /// Iso-value for [`Mode::Iso`] (default: the transfer function's first opaque value).
     pub iso: Option<f32>,
     /// Opacity × a piecewise-linear function of the gradient magnitude: `(g, factor)` points
@@ -111,6 +116,7 @@ impl Default for MarchParams {
             shade: false,
             classification: Classification::Post,
             lighting: Lighting::default(),
+            lights: Vec::new(),
             iso: None,
             gradient_opacity: Vec::new(),
             jitter: true,
@@ -412,7 +418,8 @@ struct Ctx<'a> {
     iso_q: f32,
     dims: [u32; 3],
     hi: Vec3,
-    voxel_from_world: glam::Mat4,
+    voxel_from_world: Mat4,
+    world_from_voxel: Mat4,
     /// Transposed linear part of voxel_from_world: voxel gradient → world gradient.
     grad_to_world: Mat3,
     lut: TransferLut,
@@ -428,7 +435,9 @@ struct Ctx<'a> {
     normals: Option<&'a [[i8; 4]]>,
     /// The headlight's direction: the camera's view direction for every ray (as VTK's
     /// shading tables, which use the centre view direction); `None` uses each ray's own.
+    /// Scene lights take it as the view direction.
     headlight: Option<Vec3>,
+    lights: VolumeLights,
 }
 
 /// The checks both methods make: an image size in 1..=16384 and a positive, finite step.
@@ -593,6 +602,7 @@ impl<'a> Ctx<'a> {
             dims: d,
             hi: Vec3::from_array(d.map(|n| (n - 1) as f32)),
             voxel_from_world,
+            world_from_voxel: vol.world_from_voxel(),
             grad_to_world,
             lut,
             pre_int,
@@ -607,6 +617,7 @@ impl<'a> Ctx<'a> {
                 && !p.engine_sampling)
                 .then(|| vol.normals().as_slice()),
             headlight: None,
+            lights: VolumeLights::new(p.lighting, &p.lights),
         })
     }
 
@@ -639,30 +650,12 @@ impl<'a> Ctx<'a> {
         self.grad_to_world * g
     }
 
-    /// Blinn-Phong with a white headlight: light and eye both along −ray, so the half vector
-    /// is −ray too; two-sided (the gradient's sign is arbitrary).
-    #[inline]
-    fn shade(&self, c: Vec3, g: Vec3, ray: Vec3) -> Vec3 {
-        let l = &self.p.lighting;
-        let len = g.length();
-        if len <= 1e-6 {
-            // A zero normal gets ambient light only (as VTK's shading tables).
-            return c * l.ambient;
-        }
-        let ndl = (g.dot(ray) / len).abs();
-        c * (l.ambient + l.diffuse * ndl) + Vec3::splat(l.specular * self.spec_pow(ndl))
-    }
-
-    /// `x^power`, by multiplications when the power is a small integer (powf costs more than
-    /// the rest of the shading).
+    /// Blinn-Phong of colour `c` with gradient `g` at voxel-space `q`, seen along `ray`: the
+    /// headlight or the scene's lights ([`VolumeLights`]).
     #[inline(always)]
-    fn spec_pow(&self, x: f32) -> f32 {
-        let p = self.p.lighting.power;
-        if p == p.round() && (0.0..=64.0).contains(&p) {
-            x.powi(p as i32)
-        } else {
-            x.powf(p)
-        }
+    fn shade(&self, c: Vec3, g: Vec3, ray: Vec3, q: Vec3) -> Vec3 {
+        self.lights
+            .shade(c, g, ray, || self.world_from_voxel.transform_point3(q))
     }
 
     /// The brick holding the trilinear cell of `q` (clamped as [`trilinear`] clamps).
@@ -814,7 +807,7 @@ impl<'a> Ctx<'a> {
             }
             let c = self.classify(level);
             if c.w > 0.0 {
-                let col = self.shade(c.truncate(), cell.normal(normals, self.dims), light);
+                let col = self.shade(c.truncate(), cell.normal(normals, self.dims), light, q);
                 let w = (1.0 - a) * c.w;
                 rgb += col * w;
                 a += w;
@@ -895,13 +888,14 @@ impl<'a> Ctx<'a> {
                     let g = self.gradient(q);
                     alpha *= gradient_factor(&self.p.gradient_opacity, g.length());
                     if shade {
-                        c = self.shade(c, g, self.headlight.unwrap_or(dir));
+                        c = self.shade(c, g, self.headlight.unwrap_or(dir), q);
                     }
                 } else if let Some(nv) = self.normals {
                     c = self.shade(
                         c,
                         trilinear_normal(nv, self.dims, q),
                         self.headlight.unwrap_or(dir),
+                        q,
                     );
                 }
                 let w = (1.0 - a) * alpha;
@@ -985,8 +979,9 @@ impl<'a> Ctx<'a> {
         let (hit, taken) = self.iso_t(o, d, t0, t1, jitter);
         match hit {
             Some(t) => {
-                let g = self.gradient(o + d * t);
-                (self.shade(self.iso_color, g, dir).extend(1.0), taken)
+                let q = o + d * t;
+                let g = self.gradient(q);
+                (self.shade(self.iso_color, g, dir, q).extend(1.0), taken)
             }
             None => (Vec4::ZERO, taken),
         }

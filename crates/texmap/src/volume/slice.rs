@@ -15,7 +15,8 @@
 
 use glam::{Mat4, Vec3, Vec4};
 
-use super::raymarch::{Classification, Lighting, MarchParams, Mode};
+use super::raymarch::{Classification, MarchParams, Mode};
+use super::shade::VolumeLights;
 use super::transfer::{correct_opacity, gradient_factor, TransferFunction};
 use super::Volume;
 use crate::pipeline::{
@@ -77,12 +78,15 @@ struct SliceShader<'a> {
     sampler: Sampler,
     inv_n: Vec3,
     step: f32,
+    camera: Camera,
     viewer: Viewer,
     fwd: Vec3,
     shade: bool,
-    lighting: Lighting,
+    lights: VolumeLights,
     gradient_opacity: &'a [(f32, f32)],
     grad_to_world: glam::Mat3,
+    /// Per pixel, the ray distance where rays stop (surfaces in front), and the image width.
+    depth: Option<(&'a [f32], u32)>,
 }
 
 impl SliceShader<'_> {
@@ -107,6 +111,17 @@ impl FragmentShader for SliceShader<'_> {
             let vy = &quad.varyings[j];
             let q = Vec3::new(vy[0], vy[1], vy[2]);
             let world = Vec3::new(vy[3], vy[4], vy[5]);
+            if let Some((depth, width)) = self.depth {
+                // Behind a surface: the ray stopped there.
+                let (x, y) = (quad.x + (j as u32 & 1), quad.y + (j as u32 >> 1));
+                let stop = depth
+                    .get((y * width + x) as usize)
+                    .copied()
+                    .unwrap_or(f32::INFINITY);
+                if self.camera.ray_distance(world) > stop {
+                    continue;
+                }
+            }
             let c = self.tf.eval(self.value(q));
             if c.w <= 0.0 {
                 continue;
@@ -118,15 +133,7 @@ impl FragmentShader for SliceShader<'_> {
             if self.shade && self.gradient_opacity.is_empty() {
                 // The marcher's normals (interpolated per-voxel normals), so both methods shade alike.
                 let g = super::raymarch::trilinear_normal(self.vol.normals(), self.vol.dims(), q);
-                let l = &self.lighting;
-                let len = g.length();
-                rgb = if len <= 1e-6 {
-                    rgb * l.ambient
-                } else {
-                    let ndl = (g.dot(self.fwd) / len).abs();
-                    rgb * (l.ambient + l.diffuse * ndl)
-                        + Vec3::splat(l.specular * ndl.powf(l.power))
-                };
+                rgb = self.lights.shade(rgb, g, self.fwd, || world);
             } else if self.shade || !self.gradient_opacity.is_empty() {
                 let g = self.grad_to_world
                     * Vec3::new(
@@ -139,15 +146,7 @@ impl FragmentShader for SliceShader<'_> {
                     a *= gradient_factor(self.gradient_opacity, g.length());
                 }
                 if self.shade {
-                    let l = &self.lighting;
-                    let len = g.length();
-                    rgb = if len <= 1e-6 {
-                        rgb * l.ambient
-                    } else {
-                        let ndl = (g.dot(self.fwd) / len).abs();
-                        rgb * (l.ambient + l.diffuse * ndl)
-                            + Vec3::splat(l.specular * ndl.powf(l.power))
-                    };
+                    rgb = self.lights.shade(rgb, g, self.fwd, || world);
                 }
             }
             *o = (rgb * a).extend(a);
@@ -172,7 +171,33 @@ pub fn render_slices(
     height: u32,
     params: &MarchParams,
 ) -> Result<Frame> {
+    render_slices_until(vol, tf, camera, width, height, params, None)
+}
+
+/// [`render_slices`] with the rays stopped at `depth` (per pixel, row-major, the eye
+/// distance of the surface in front, as [`super::raymarch`]'s `depth`): fragments farther
+/// than their pixel's distance are dropped.
+///
+/// # Errors
+/// As [`render_slices`], and [`Error::Parameter`] for a depth buffer of the wrong length.
+pub fn render_slices_until(
+    vol: &Volume,
+    tf: &TransferFunction,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    params: &MarchParams,
+    depth: Option<&[f32]>,
+) -> Result<Frame> {
     camera.validate()?;
+    if let Some(d) = depth {
+        if d.len() != (width as usize) * (height as usize) {
+            return Err(Error::parameter(format!(
+                "depth buffer has {} values for a {width}x{height} image",
+                d.len()
+            )));
+        }
+    }
     if params.mode != Mode::Composite || params.classification != Classification::Post {
         return Err(Error::Unsupported(
             "--method slices renders composite mode with post-classification only".into(),
@@ -233,12 +258,14 @@ pub fn render_slices(
         sampler: Sampler::new(Filter::BILINEAR, Wrap::ClampToEdge),
         inv_n: Vec3::from_array(vol.dims().map(|n| 1.0 / n as f32)),
         step: params.step,
+        camera: *camera,
         viewer: camera.viewer(),
         fwd,
         shade: params.shade,
-        lighting: params.lighting,
+        lights: VolumeLights::new(params.lighting, &params.lights),
         gradient_opacity: &params.gradient_opacity,
         grad_to_world: glam::Mat3::from_mat4(voxel_from_world).transpose(),
+        depth: depth.map(|d| (d, width)),
     };
     let call = DrawCall {
         vertices: &vertices,

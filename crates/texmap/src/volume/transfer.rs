@@ -118,15 +118,25 @@ impl TransferFunction {
     /// [`Error::Io`] for an unreadable file; [`Error::Parameter`] or [`Error::Decode`] for
     /// bad points.
     pub fn from_arg(s: &str) -> Result<Self> {
+        Self::from_arg_in(s, Path::new(""))
+    }
+
+    /// [`Self::from_arg`] with a relative file name resolved from `dir` (a scene file's
+    /// folder).
+    ///
+    /// # Errors
+    /// As [`Self::from_arg`].
+    pub fn from_arg_in(s: &str, dir: &Path) -> Result<Self> {
         if let Some(tf) = Self::preset(s) {
             return Ok(tf);
         }
-        let p = Path::new(s);
+        let joined = dir.join(s);
+        let p = joined.as_path();
         if !s.contains(':') || p.is_file() {
             let text = std::fs::read_to_string(p).map_err(|e| {
                 if e.kind() == std::io::ErrorKind::NotFound {
                     Error::parameter(format!(
-                        "--tf \"{s}\" is not a preset ({}), a file, or value:r,g,b,a points",
+                        "transfer function \"{s}\" is not a preset ({}), a file, or value:r,g,b,a points",
                         PRESETS.iter().map(|p| p.0).collect::<Vec<_>>().join(", ")
                     ))
                 } else {
@@ -402,6 +412,77 @@ mod tests {
         // Clamped beyond the ends.
         assert_eq!(tf.eval(300.0), tf.eval(250.0));
         assert_eq!(tf.eval(-5.0), Vec4::ZERO);
+    }
+
+    /// Every preset's points, pinned: `ct-bone`, `synth` and `mri` as `vtk_volume.py`'s
+    /// `PRESETS` (value, r, g, b, a); `ct-muscle` and `ct-skin` as texmap defines them (after
+    /// 3D Slicer's CT-Muscle and CT-Skin). A changed point fails here (the peer's own file is compared in `tests/volume.rs` when present).
+    #[test]
+    fn preset_points_are_pinned() {
+        let expected: &[(&str, &[[f32; 5]])] = &[
+            (
+                "ct-bone",
+                &[
+                    [-3024.0, 0.0, 0.0, 0.0, 0.0],
+                    [-16.4458, 0.729412, 0.254902, 0.301961, 0.0],
+                    [641.385, 0.905882, 0.815686, 0.552941, 0.715686],
+                    [3071.0, 1.0, 1.0, 1.0, 0.705882],
+                ],
+            ),
+            (
+                "synth",
+                &[
+                    [0.0, 0.0, 0.0, 0.0, 0.0],
+                    [45.0, 0.0, 0.0, 0.0, 0.0],
+                    [60.0, 0.8, 0.45, 0.3, 0.02],
+                    [100.0, 0.9, 0.6, 0.4, 0.04],
+                    [140.0, 0.3, 0.5, 0.9, 0.12],
+                    [200.0, 1.0, 1.0, 0.9, 0.12],
+                    [235.0, 1.0, 1.0, 0.9, 0.2],
+                    [250.0, 1.0, 0.85, 0.5, 0.9],
+                ],
+            ),
+            (
+                "mri",
+                &[
+                    [0.0, 0.0, 0.0, 0.0, 0.0],
+                    [70.0, 0.0, 0.0, 0.0, 0.0],
+                    [110.0, 0.8, 0.55, 0.45, 0.03],
+                    [170.0, 0.95, 0.85, 0.75, 0.15],
+                    [255.0, 1.0, 1.0, 1.0, 0.6],
+                ],
+            ),
+            (
+                "ct-muscle",
+                &[
+                    [-3024.0, 0.0, 0.0, 0.0, 0.0],
+                    [-155.407, 0.54902, 0.25098, 0.14902, 0.0],
+                    [217.641, 0.882353, 0.603922, 0.290196, 0.676471],
+                    [419.736, 1.0, 0.937033, 0.954531, 0.833333],
+                    [3071.0, 0.827451, 0.658824, 1.0, 0.803922],
+                ],
+            ),
+            (
+                "ct-skin",
+                &[
+                    [-3024.0, 0.0, 0.0, 0.0, 0.0],
+                    [-1000.0, 0.62, 0.36, 0.18, 0.0],
+                    [-500.0, 0.88, 0.6, 0.29, 0.0],
+                    [-499.0, 0.88, 0.6, 0.29, 1.0],
+                    [3071.0, 0.83, 0.66, 1.0, 1.0],
+                ],
+            ),
+        ];
+        assert_eq!(expected.len(), PRESETS.len(), "a preset is not pinned");
+        for (name, points) in expected {
+            let tf = TransferFunction::preset(name).expect("preset");
+            let got: Vec<[f32; 5]> = tf
+                .points()
+                .iter()
+                .map(|(v, c)| [*v, c.x, c.y, c.z, c.w])
+                .collect();
+            assert_eq!(&got[..], *points, "{name}");
+        }
     }
 
     #[test]

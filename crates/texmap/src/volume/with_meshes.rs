@@ -5,10 +5,17 @@
 //! The distance pass is a plain pipeline draw whose fragment shader writes the eye distance
 //! of the (perspective-correct) world position into the colour target, with the z-buffer on:
 //! the nearest surface per pixel wins, so no pipeline change was needed.
+//!
+//! Several volumes ([`render_with_volumes`]) are drawn one at a time, each stopped at the
+//! surfaces, and laid over the frame from the farthest box centre to the nearest: right for
+//! volumes one behind the other, approximate where boxes overlap along a ray (their samples
+//! are not interleaved).
 
 use glam::{Vec3, Vec4};
 
 use super::raymarch::{raymarch, MarchParams};
+use super::scene_volume::{Method, SceneVolume};
+use super::slice::render_slices_until;
 use super::transfer::TransferFunction;
 use super::Volume;
 use crate::pipeline::{
@@ -20,18 +27,14 @@ use crate::scene::{Camera, Scene};
 use crate::{Error, Result};
 
 struct DistanceShader {
-    eye: Vec3,
-    /// Orthographic cameras: the view direction. Rays start on the eye's plane, so the
-    /// distance along a ray is measured along this direction.
-    parallel: Option<Vec3>,
+    camera: Camera,
 }
 
 impl FragmentShader for DistanceShader {
     fn shade(&self, _draw: u32, quad: &Quad, out: &mut [Vec4; 4]) -> u8 {
         for (j, o) in out.iter_mut().enumerate() {
             let v = &quad.varyings[j];
-            let to_p = Vec3::new(v[0], v[1], v[2]) - self.eye;
-            let d = self.parallel.map_or_else(|| to_p.length(), |f| to_p.dot(f));
+            let d = self.camera.ray_distance(Vec3::new(v[0], v[1], v[2]));
             *o = Vec4::new(d, 0.0, 0.0, 1.0);
         }
         quad.mask
@@ -95,13 +98,7 @@ pub fn surface_distances(
         interpolation: Interpolation::Perspective,
         depth_sort: false,
     };
-    let shader = DistanceShader {
-        eye: camera.eye,
-        parallel: camera
-            .projection
-            .is_orthographic()
-            .then(|| camera.forward()),
-    };
+    let shader = DistanceShader { camera: *camera };
     let (color, _) = pipeline::draw(&calls, &shader, &target);
     Ok(color.into_iter().map(|c| c.x).collect())
 }
@@ -141,6 +138,81 @@ pub fn render_with_meshes(
         stats: surfaces.stats,
         ..surfaces
     })
+}
+
+/// Renders `scene`'s surfaces with `settings` and every volume of `volumes` over them, each
+/// with its own transfer function, options and method, rays (or slices) stopped at the
+/// surfaces; farthest volume first. Without meshes the volumes are laid over the scene's
+/// background, and no surface pass is drawn.
+///
+/// # Errors
+/// As [`render`], [`raymarch`] and [`super::render_slices`].
+pub fn render_with_volumes(
+    scene: &Scene,
+    volumes: &[SceneVolume],
+    camera: &Camera,
+    settings: &Settings,
+) -> Result<Frame> {
+    let (w, h) = (settings.width, settings.height);
+    let depth = if scene.meshes.is_empty() {
+        None
+    } else {
+        Some(surface_distances(scene, camera, w, h)?)
+    };
+    let mut order: Vec<&SceneVolume> = volumes.iter().collect();
+    // Farthest first, along the rays (from the eye, or its plane for orthographic cameras).
+    order.sort_by(|a, b| {
+        camera
+            .ray_distance(b.centre())
+            .total_cmp(&camera.ray_distance(a.centre()))
+    });
+    let mut frame: Option<Frame> = if scene.meshes.is_empty() && !volumes.is_empty() {
+        None
+    } else {
+        Some(render(scene, camera, settings)?)
+    };
+    for v in order {
+        let f = match v.method {
+            Method::Raymarch => raymarch(
+                &v.volume,
+                &v.transfer,
+                camera,
+                w,
+                h,
+                &v.params,
+                depth.as_deref(),
+            )?,
+            Method::Slices => render_slices_until(
+                &v.volume,
+                &v.transfer,
+                camera,
+                w,
+                h,
+                &v.params,
+                depth.as_deref(),
+            )?,
+        };
+        frame = Some(match frame {
+            None => {
+                // The farthest volume over the background.
+                let bg = scene.background;
+                let bg = (bg.truncate() * bg.w).extend(bg.w);
+                let mut f = f;
+                for c in &mut f.color {
+                    *c += bg * (1.0 - c.w);
+                }
+                f
+            }
+            Some(mut under) => {
+                for (c, s) in under.color.iter_mut().zip(&f.color) {
+                    *c = *s + *c * (1.0 - s.w);
+                }
+                under.stats.texture_samples += f.stats.texture_samples;
+                under
+            }
+        });
+    }
+    frame.ok_or_else(|| Error::parameter("nothing to render"))
 }
 
 #[cfg(test)]

@@ -26,7 +26,7 @@ use super::{Filter, Footprint, MagFilter, MinFilter, Sampler, Texture2D, Wrap, B
 /// ```
 #[must_use]
 pub fn sample(texture: &Texture2D, sampler: &Sampler, footprint: &Footprint) -> Vec4 {
-    with_codec!(texture.format(), C => sample_with::<C>(texture, sampler, footprint))
+    with_codec!(texture.storage_format(), C => sample_with::<C>(texture, sampler, footprint))
 }
 
 /// [`sample`] over many footprints: the format and filter are dispatched once.
@@ -43,7 +43,7 @@ pub fn sample_batch(
         out.len() >= footprints.len(),
         "output shorter than the footprints"
     );
-    with_codec!(texture.format(), C => {
+    with_codec!(texture.storage_format(), C => {
         for (fp, o) in footprints.iter().zip(out.iter_mut()) {
             *o = sample_with::<C>(texture, sampler, fp);
         }
@@ -63,7 +63,7 @@ pub fn sample_quad(
     duv_dy: Vec2,
     mask: u8,
 ) -> [Vec4; 4] {
-    with_codec!(texture.format(), C => sample_quad_with::<C>(texture, sampler, uvs, duv_dx, duv_dy, mask))
+    with_codec!(texture.storage_format(), C => sample_quad_with::<C>(texture, sampler, uvs, duv_dx, duv_dy, mask))
 }
 
 fn sample_quad_with<C: Codec>(
@@ -74,51 +74,141 @@ fn sample_quad_with<C: Codec>(
     duv_dy: Vec2,
     mask: u8,
 ) -> [Vec4; 4] {
-    let mut out = [Vec4::ZERO; 4];
-    if let Filter::Gl {
-        mag,
-        min: MinFilter::LinearMipmapLinear,
-    } = s.filter
-    {
-        // Trilinear, the common case: one λ, two levels, for the whole quad.
-        let fp = Footprint::new(uvs[0], duv_dx, duv_dy);
-        let (dx, dy) = texel_derivatives(tex, &fp);
-        let lod = s.adjust_lod(s.lod_rule.lod(dx, dy));
-        if lod > 0.0 {
-            let last = (tex.levels().len() - 1) as f32;
-            let l = lod.min(last);
-            let d = l.floor();
-            let f = l - d;
-            let (a, b) = (tex.level(d as usize), tex.level(d as usize + 1));
-            for (j, o) in out.iter_mut().enumerate() {
-                if mask & (1 << j) != 0 {
-                    let c = bilinear::<C>(&a, s, uvs[j]);
-                    *o = if f > 0.0 {
-                        c.lerp(bilinear::<C>(&b, s, uvs[j]), f)
-                    } else {
-                        c
-                    };
-                }
-            }
-            return out;
-        }
-        let base = tex.level(0);
+    let Filter::Gl { mag, min } = s.filter else {
+        let mut out = [Vec4::ZERO; 4];
         for (j, o) in out.iter_mut().enumerate() {
             if mask & (1 << j) != 0 {
-                *o = match mag {
-                    MagFilter::Nearest => nearest::<C>(&base, s, uvs[j]),
-                    MagFilter::Linear => bilinear::<C>(&base, s, uvs[j]),
-                };
+                *o = sample_with::<C>(tex, s, &Footprint::new(uvs[j], duv_dx, duv_dy));
+            }
+        }
+        return out;
+    };
+    // OpenGL filtering: λ depends on the derivatives only, so it is the same for the four
+    // pixels — one level choice per quad, as GPUs make it.
+    let fp = Footprint::new(uvs[0], duv_dx, duv_dy);
+    let (dx, dy) = texel_derivatives(tex, &fp);
+    let lod = s.adjust_lod(s.lod_rule.lod(dx, dy));
+    let (levels, linear) = gl_levels(tex, lod, mag, min);
+    let u = Vec4::from_array(uvs.map(|uv| uv.x));
+    let v = Vec4::from_array(uvs.map(|uv| uv.y));
+    let read = |level: usize| {
+        let lv = tex.level(level);
+        if linear {
+            bilinear_quad::<C>(&lv, s, u, v, mask)
+        } else {
+            std::array::from_fn(|j| {
+                if mask & (1 << j) != 0 {
+                    nearest::<C>(&lv, s, uvs[j])
+                } else {
+                    Vec4::ZERO
+                }
+            })
+        }
+    };
+    let a = read(levels.0);
+    match levels.1 {
+        Some((b, f)) => {
+            let b = read(b);
+            std::array::from_fn(|j| a[j].lerp(b[j], f))
+        }
+        None => a,
+    }
+}
+
+/// OpenGL's level choice (section 8.14 of the 4.6 core specification) for level of detail
+/// `lod`: the level to read, the second level and its weight when two are blended, and
+/// whether texels are read bilinearly (else nearest).
+#[inline]
+fn gl_levels(
+    tex: &Texture2D,
+    lod: f32,
+    mag: MagFilter,
+    min: MinFilter,
+) -> ((usize, Option<(usize, f32)>), bool) {
+    // λ ≤ 0 (or NaN from a degenerate footprint) magnifies.
+    if !(lod > 0.0) {
+        return ((0, None), mag == MagFilter::Linear);
+    }
+    let last = tex.levels().len() - 1;
+    let nearest_level = || {
+        if lod <= 0.5 {
+            0
+        } else {
+            (((lod + 0.5).ceil() as usize) - 1).min(last)
+        }
+    };
+    let between = || {
+        let l = lod.min(last as f32);
+        let d = l.floor();
+        let f = l - d;
+        (d as usize, (f > 0.0).then_some((d as usize + 1, f)))
+    };
+    match min {
+        MinFilter::Nearest => ((0, None), false),
+        MinFilter::Linear => ((0, None), true),
+        MinFilter::NearestMipmapNearest => ((nearest_level(), None), false),
+        MinFilter::LinearMipmapNearest => ((nearest_level(), None), true),
+        MinFilter::NearestMipmapLinear => (between(), false),
+        MinFilter::LinearMipmapLinear => (between(), true),
+    }
+}
+
+/// [`bilinear`] for the four pixels of a quad on one level, the coordinates in lanes. With
+/// repeat on both axes (the common case) the texel coordinates, weights and wrapping are
+/// computed four at a time; other wraps take [`bilinear`] per pixel.
+#[inline(always)]
+fn bilinear_quad<C: Codec>(lv: &LevelRef, s: &Sampler, u: Vec4, v: Vec4, mask: u8) -> [Vec4; 4] {
+    let mut out = [Vec4::ZERO; 4];
+    if s.wrap_u != Wrap::Repeat || s.wrap_v != Wrap::Repeat {
+        for (j, o) in out.iter_mut().enumerate() {
+            if mask & (1 << j) != 0 {
+                *o = bilinear::<C>(lv, s, Vec2::new(u[j], v[j]));
             }
         }
         return out;
     }
+    // Brought into [0, 1] (1 only by rounding), so x0 ∈ [−1, w − 1] and wrapping is a select.
+    let px = (u - u.floor()) * lv.w as f32 - 0.5;
+    let py = (v - v.floor()) * lv.h as f32 - 0.5;
+    let (fx, fy) = (px.floor(), py.floor());
+    let (ax, ay) = ((px - fx).to_array(), (py - fy).to_array());
+    let (x0, y0) = (truncate4(fx), truncate4(fy));
     for (j, o) in out.iter_mut().enumerate() {
-        if mask & (1 << j) != 0 {
-            *o = sample_with::<C>(tex, s, &Footprint::new(uvs[j], duv_dx, duv_dy));
+        if mask & (1 << j) == 0 {
+            continue;
         }
+        let (x, y) = (x0[j], y0[j]);
+        let ((t00, t10), (t01, t11)) = if x >= 0 && y >= 0 && x < lv.w - 1 && y < lv.h - 1 {
+            lv.quad::<C>(x, y)
+        } else {
+            let (x, y) = (x.clamp(-1, lv.w - 1), y.clamp(-1, lv.h - 1));
+            let xa = if x < 0 { lv.w - 1 } else { x };
+            let xb = if x + 1 >= lv.w { 0 } else { x + 1 };
+            let ya = if y < 0 { lv.h - 1 } else { y };
+            let yb = if y + 1 >= lv.h { 0 } else { y + 1 };
+            let t = |x, y| lv.texel::<C>(x, y);
+            ((t(xa, ya), t(xb, ya)), (t(xa, yb), t(xb, yb)))
+        };
+        *o = t00.lerp(t10, ax[j]).lerp(t01.lerp(t11, ax[j]), ay[j]);
     }
     out
+}
+
+/// Four floats (already integral) to `i32`, truncating; NaN and out-of-range lanes give
+/// `i32::MIN` on x86-64 (callers range-check the result).
+#[inline(always)]
+fn truncate4(v: Vec4) -> [i32; 4] {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{__m128i, _mm_cvttps_epi32};
+        // SAFETY: SSE2 is part of x86_64; `__m128i` and `[i32; 4]` have the same size and
+        // every bit pattern is valid for both.
+        unsafe { std::mem::transmute::<__m128i, [i32; 4]>(_mm_cvttps_epi32(v.into())) }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        v.to_array().map(|x| x as i32)
+    }
 }
 
 #[inline]
@@ -260,40 +350,19 @@ fn gl<C: Codec>(
 ) -> Vec4 {
     let (dx, dy) = texel_derivatives(tex, fp);
     let lod = s.adjust_lod(s.lod_rule.lod(dx, dy));
-    // λ ≤ 0 (or NaN from a degenerate footprint) magnifies.
-    if !(lod > 0.0) {
-        let base = tex.level(0);
-        return match mag {
-            MagFilter::Nearest => nearest::<C>(&base, s, fp.uv),
-            MagFilter::Linear => bilinear::<C>(&base, s, fp.uv),
-        };
-    }
-    let last = tex.levels().len() - 1;
-    let nearest_level = || {
-        if lod <= 0.5 {
-            0
+    let ((a, b), linear) = gl_levels(tex, lod, mag, min);
+    let read = |level: usize| {
+        let lv = tex.level(level);
+        if linear {
+            bilinear::<C>(&lv, s, fp.uv)
         } else {
-            (((lod + 0.5).ceil() as usize) - 1).min(last)
+            nearest::<C>(&lv, s, fp.uv)
         }
     };
-    let between = |read: &dyn Fn(&LevelRef) -> Vec4| {
-        let l = lod.min(last as f32);
-        let d = l.floor();
-        let a = read(&tex.level(d as usize));
-        let f = l - d;
-        if f <= 0.0 {
-            a
-        } else {
-            a.lerp(read(&tex.level(d as usize + 1)), f)
-        }
-    };
-    match min {
-        MinFilter::Nearest => nearest::<C>(&tex.level(0), s, fp.uv),
-        MinFilter::Linear => bilinear::<C>(&tex.level(0), s, fp.uv),
-        MinFilter::NearestMipmapNearest => nearest::<C>(&tex.level(nearest_level()), s, fp.uv),
-        MinFilter::LinearMipmapNearest => bilinear::<C>(&tex.level(nearest_level()), s, fp.uv),
-        MinFilter::NearestMipmapLinear => between(&|lv| nearest::<C>(lv, s, fp.uv)),
-        MinFilter::LinearMipmapLinear => trilinear_at::<C>(tex, s, fp.uv, lod),
+    let c = read(a);
+    match b {
+        Some((b, f)) => c.lerp(read(b), f),
+        None => c,
     }
 }
 

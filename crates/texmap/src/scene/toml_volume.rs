@@ -1,0 +1,154 @@
+//! The `[[volumes]]` tables of TOML scenes: a scan (NIfTI, NRRD or raw with its grid), its
+//! placement in the scene, its transfer function and how to render it — the options of
+//! `texmap render scan.nii.gz`, with the same names and defaults. Documented in
+//! `docs/scenes.md`.
+
+use std::path::{Path, PathBuf};
+
+use glam::{Mat4, Vec3};
+use serde::Deserialize;
+
+use super::Light;
+use crate::volume::scene_volume::{parse_classification, parse_mode};
+use crate::volume::{load_volume, Method, RawDesc, ScalarType, SceneVolume, TransferFunction2D};
+use crate::{Error, Result};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct VolumeSpec {
+    /// `.nii`, `.nii.gz`, `.nrrd`, `.nhdr`, or a raw file described by `dims` and the keys
+    /// after it (relative to the scene file).
+    file: PathBuf,
+    /// Raw files: grid size, voxel type (default u8), spacing (default 1), byte order
+    /// (default little) and bytes to skip before the voxels (default 0).
+    dims: Option<[u32; 3]>,
+    dtype: Option<String>,
+    spacing: Option<[f32; 3]>,
+    endian: Option<String>,
+    header_bytes: Option<u64>,
+    /// Place the grid by its spacing alone, as `vtk_volume.py` does.
+    #[serde(default)]
+    ignore_orientation: bool,
+    /// World from the file's placement: scale, rotate (degrees about x, y, z), translate;
+    /// or a column-major 4×4 `matrix`.
+    pub(super) translate: Option<[f32; 3]>,
+    pub(super) rotate: Option<[f32; 3]>,
+    pub(super) scale: Option<super::toml::ScaleSpec>,
+    pub(super) matrix: Option<[f32; 16]>,
+    /// A preset, `value:r,g,b,a;…` points, or a file of points (default `synth`).
+    tf: Option<String>,
+    /// composite | mip | iso | xray.
+    mode: Option<String>,
+    iso: Option<f32>,
+    /// Sample distance in world units (default 0.5).
+    step: Option<f32>,
+    #[serde(default)]
+    shade: bool,
+    /// raymarch | slices.
+    method: Option<String>,
+    /// post | pre | preint.
+    classification: Option<String>,
+    /// `g:factor;…`.
+    gradient_opacity: Option<String>,
+    #[serde(default = "yes")]
+    jitter: bool,
+    #[serde(default = "yes")]
+    empty_space_skipping: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// True for the file names whose header describes the grid.
+fn has_header(file: &Path) -> bool {
+    let l = file.to_string_lossy().to_ascii_lowercase();
+    [".nii", ".nii.gz", ".nrrd", ".nhdr"]
+        .iter()
+        .any(|e| l.ends_with(e))
+}
+
+/// Loads and places one `[[volumes]]` entry. `transform` is the placement already read from
+/// the table; `lights` are the scene's own lights (empty: the headlight).
+/// `Error::Parameter` messages are the table's problem, for the caller to prefix.
+pub(super) fn volume(
+    dir: &Path,
+    v: &VolumeSpec,
+    transform: Mat4,
+    lights: &[Light],
+) -> Result<SceneVolume> {
+    let file = dir.join(&v.file);
+    let raw_keys =
+        v.dtype.is_some() || v.spacing.is_some() || v.endian.is_some() || v.header_bytes.is_some();
+    let raw = if raw_keys || v.dims.is_some() {
+        if has_header(&file) {
+            return Err(Error::parameter(format!(
+                "{} has its own header: dims, dtype, spacing, endian and header_bytes are for raw files",
+                v.file.display()
+            )));
+        }
+        let dims = v.dims.ok_or_else(|| {
+            Error::parameter(
+                "dtype, spacing, endian and header_bytes describe a raw file and need dims",
+            )
+        })?;
+        let scalar = match v.dtype.as_deref() {
+            None => ScalarType::U8,
+            Some(t) => ScalarType::parse(t).ok_or_else(|| {
+                Error::parameter(format!(
+                    "dtype {t:?} is not u8, i8, u16, i16, u32, i32, f32 or f64"
+                ))
+            })?,
+        };
+        let big_endian = match v.endian.as_deref() {
+            None | Some("little") => false,
+            Some("big") => true,
+            Some(other) => {
+                return Err(Error::parameter(format!(
+                    "endian {other:?} is not little or big"
+                )))
+            }
+        };
+        Some(RawDesc {
+            big_endian,
+            header_bytes: v.header_bytes.unwrap_or(0),
+            ..RawDesc::new(dims, scalar, Vec3::from(v.spacing.unwrap_or([1.0; 3])))
+        })
+    } else {
+        None
+    };
+    let vol = load_volume(&file, raw.as_ref())?;
+    let mut sv = SceneVolume::new(vol, &file);
+    sv.place(transform, v.ignore_orientation)?;
+    if let Some(tf) = &v.tf {
+        sv.set_transfer(tf, dir)?;
+    }
+    if let Some(m) = &v.method {
+        sv.method = Method::parse(m)
+            .ok_or_else(|| Error::parameter(format!("method {m:?} is not raymarch or slices")))?;
+    }
+    let p = &mut sv.params;
+    if let Some(m) = &v.mode {
+        p.mode = parse_mode(m).ok_or_else(|| {
+            Error::parameter(format!("mode {m:?} is not composite, mip, iso or xray"))
+        })?;
+    }
+    if let Some(c) = &v.classification {
+        p.classification = parse_classification(c).ok_or_else(|| {
+            Error::parameter(format!("classification {c:?} is not post, pre or preint"))
+        })?;
+    }
+    p.iso = v.iso;
+    if let Some(s) = v.step {
+        p.step = s;
+    }
+    p.shade = v.shade;
+    p.jitter = v.jitter;
+    p.empty_space_skipping = v.empty_space_skipping;
+    if let Some(g) = &v.gradient_opacity {
+        p.gradient_opacity = TransferFunction2D::parse_gradient(g)?;
+    }
+    p.lights = lights.to_vec();
+    sv.validate()?;
+    Ok(sv)
+}

@@ -1,0 +1,142 @@
+//! A volume as a scene holds it: the placed volume, its transfer function and how to render
+//! it (a TOML `[[volumes]]` entry, or a scan named on the command line).
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3};
+
+use super::raymarch::{Classification, MarchParams, Mode};
+use super::transfer::TransferFunction;
+use super::Volume;
+use crate::{Error, Result};
+
+/// How a volume is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Method {
+    /// Rays from the camera ([`super::raymarch`]).
+    #[default]
+    Raymarch,
+    /// View-aligned slices through the pipeline ([`super::render_slices`]; composite mode).
+    Slices,
+}
+
+impl Method {
+    /// `raymarch` or `slices`.
+    #[must_use]
+    pub fn parse(s: &str) -> Option<Method> {
+        match s {
+            "raymarch" => Some(Method::Raymarch),
+            "slices" => Some(Method::Slices),
+            _ => None,
+        }
+    }
+}
+
+/// `composite`, `mip`, `iso` or `xray`.
+#[must_use]
+pub fn parse_mode(s: &str) -> Option<Mode> {
+    match s {
+        "composite" => Some(Mode::Composite),
+        "mip" => Some(Mode::Mip),
+        "iso" => Some(Mode::Iso),
+        "xray" => Some(Mode::Xray),
+        _ => None,
+    }
+}
+
+/// `post`, `pre` or `preint`.
+#[must_use]
+pub fn parse_classification(s: &str) -> Option<Classification> {
+    match s {
+        "post" => Some(Classification::Post),
+        "pre" => Some(Classification::Pre),
+        "preint" => Some(Classification::PreIntegrated),
+        _ => None,
+    }
+}
+
+/// A volume in a scene.
+#[derive(Clone, Debug)]
+pub struct SceneVolume {
+    /// The volume, placed: its `world_from_voxel` includes the scene's transform.
+    pub volume: Arc<Volume>,
+    pub transfer: TransferFunction,
+    /// The transfer function as written (a preset name, points or a file), for listings.
+    pub transfer_name: String,
+    pub params: MarchParams,
+    pub method: Method,
+    /// The file the volume was read from.
+    pub source: PathBuf,
+}
+
+impl SceneVolume {
+    /// Default rendering (the `synth` preset, composite, step 0.5, raymarch) of `volume`.
+    #[must_use]
+    pub fn new(volume: Volume, source: &Path) -> Self {
+        SceneVolume {
+            volume: Arc::new(volume),
+            transfer: TransferFunction::preset("synth").expect("the synth preset parses"),
+            transfer_name: "synth".into(),
+            params: MarchParams::default(),
+            method: Method::Raymarch,
+            source: source.to_path_buf(),
+        }
+    }
+
+    /// Sets the transfer function from a preset name, inline points or a file (relative
+    /// paths from `dir`), as [`TransferFunction::from_arg_in`].
+    ///
+    /// # Errors
+    /// As [`TransferFunction::from_arg_in`].
+    pub fn set_transfer(&mut self, s: &str, dir: &Path) -> Result<()> {
+        self.transfer = TransferFunction::from_arg_in(s, dir)?;
+        self.transfer_name = s.to_string();
+        Ok(())
+    }
+
+    /// Places the volume: `world_from_object` applied after the file's own placement, or
+    /// after its spacing alone when `ignore_orientation` (as `vtk_volume.py` places scans).
+    ///
+    /// # Errors
+    /// [`Error::Parameter`] for a singular or non-finite result.
+    pub fn place(&mut self, world_from_object: Mat4, ignore_orientation: bool) -> Result<()> {
+        let vol = Arc::make_mut(&mut self.volume);
+        let file = if ignore_orientation {
+            Mat4::from_scale(vol.spacing())
+        } else {
+            vol.world_from_voxel()
+        };
+        vol.set_world_from_voxel(world_from_object * file)
+    }
+
+    /// Checks the options that the renderers would otherwise reject frame by frame.
+    ///
+    /// # Errors
+    /// [`Error::Parameter`] for a bad step or iso-value, [`Error::Unsupported`] for slices in
+    /// a mode or classification they do not draw.
+    pub fn validate(&self) -> Result<()> {
+        let p = &self.params;
+        if !(p.step.is_finite() && p.step > 0.0) {
+            return Err(Error::parameter(format!("step {} must be > 0", p.step)));
+        }
+        if p.iso.is_some_and(|v| !v.is_finite()) {
+            return Err(Error::parameter("iso must be finite"));
+        }
+        if self.method == Method::Slices
+            && (p.mode != Mode::Composite || p.classification != Classification::Post)
+        {
+            return Err(Error::Unsupported(
+                "method slices renders composite mode with post-classification only".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The centre of the volume's box in world space.
+    #[must_use]
+    pub fn centre(&self) -> Vec3 {
+        let (lo, hi) = self.volume.world_bounds();
+        (lo + hi) * 0.5
+    }
+}
