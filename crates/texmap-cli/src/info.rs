@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use texmap::scene::{LoadOptions, Loaded};
+use texmap::scene::{CameraProjection, LoadOptions, Loaded};
 use texmap::shading::{AlphaMode, ShadingModel, SolidChannel};
 use texmap::texture::load::{load_texture, Limits};
 use texmap::texture::ColorSpace;
@@ -194,12 +194,19 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
     }
     outln!(out, "cameras: {}", l.cameras.len());
     for (i, c) in l.cameras.iter().enumerate() {
+        let projection = match c.projection {
+            CameraProjection::Perspective { fov_y_deg } => {
+                format!("perspective fov {fov_y_deg:.1}°")
+            }
+            CameraProjection::Orthographic { half_height } => {
+                format!("orthographic height {}", 2.0 * half_height)
+            }
+        };
         outln!(
             out,
-            "  [{i}] eye {:.3?} target {:.3?} fov {:.1}° near {} far {}",
+            "  [{i}] {projection} eye {:.3?} target {:.3?} near {} far {}",
             c.eye.to_array(),
             c.target.to_array(),
-            c.fov_y_deg,
             c.near,
             c.far
         );

@@ -10,7 +10,7 @@ use glam::Vec3;
 use texmap::render::{
     render_into, CullMode, Frame, FrameStats, Interpolation, Settings, ShadingMode, Visibility,
 };
-use texmap::scene::{builtin, Camera, LoadOptions, Scene, TextureSlot};
+use texmap::scene::{builtin, Camera, CameraProjection, LoadOptions, Scene, TextureSlot};
 use texmap::texture::load::{load_texture, Limits};
 use texmap::texture::{ColorSpace, Filter, LodRule, Sampler, Texture2D, Wrap};
 use texmap::volume::{render_with_volumes, SceneVolume};
@@ -49,6 +49,16 @@ pub struct RenderArgs {
     /// Vertical field of view in degrees.
     #[arg(long)]
     fov: Option<f32>,
+    /// Orthographic projection showing HEIGHT world units vertically (the width follows the
+    /// image's aspect); without a value, the height that frames the scene's bounding sphere.
+    #[arg(
+        long,
+        value_name = "HEIGHT",
+        num_args = 0..=1,
+        allow_negative_numbers = true,
+        conflicts_with = "fov"
+    )]
+    ortho: Option<Option<f32>>,
     /// nearest | bilinear | trilinear | aniso2 | aniso4 | aniso8 | aniso16 | ewa | sat.
     #[arg(long, value_parser = parse_filter)]
     filter: Option<Filter>,
@@ -381,17 +391,35 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
         None if volume_camera => crate::volume::default_camera(&scene, &volumes, &args.volume),
         None => scene.framing_camera(fov),
     };
-    // A file's camera (and the volume camera) keeps its own field of view unless --fov is given.
-    let fov = match (from_file, scene.camera) {
-        (true, Some(c)) => args.fov.unwrap_or(c.fov_y_deg),
-        _ if volume_camera => args.fov.unwrap_or(base.fov_y_deg),
-        _ => fov,
+    // --ortho, else --fov, else a file's camera (and the volume camera) keeps its projection.
+    let projection = match (args.ortho, from_file, scene.camera) {
+        (Some(Some(height)), ..) => CameraProjection::Orthographic {
+            half_height: 0.5 * height,
+        },
+        // VTK's parallel scale: the bounding radius over --dolly.
+        (Some(None), ..) if volume_camera => CameraProjection::Orthographic {
+            half_height: crate::volume::bounding_radius(&scene, &volumes) / args.volume.dolly,
+        },
+        (Some(None), ..) => scene.framing_camera_orthographic().projection,
+        (None, true, Some(c)) => {
+            args.fov
+                .map_or(c.projection, |fov_y_deg| CameraProjection::Perspective {
+                    fov_y_deg,
+                })
+        }
+        (None, ..) if volume_camera => {
+            args.fov
+                .map_or(base.projection, |fov_y_deg| CameraProjection::Perspective {
+                    fov_y_deg,
+                })
+        }
+        _ => CameraProjection::Perspective { fov_y_deg: fov },
     };
     let camera = Camera {
         eye: args.eye.unwrap_or(base.eye),
         target: args.target.unwrap_or(base.target),
         up: args.up.unwrap_or(base.up),
-        fov_y_deg: fov,
+        projection,
         ..base
     };
     camera.validate()?;
@@ -526,7 +554,11 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             json["volumes"] = crate::volume::stats_json(&volumes);
             json["camera"] = serde_json::json!({
                 "eye": camera.eye.to_array(), "target": camera.target.to_array(),
-                "up": camera.up.to_array(), "fov_y_deg": camera.fov_y_deg,
+                "up": camera.up.to_array(), "fov_y_deg": camera.projection.fov_y_deg(),
+                "ortho_height": match camera.projection {
+                    CameraProjection::Orthographic { half_height } => Some(2.0 * half_height),
+                    CameraProjection::Perspective { .. } => None,
+                },
             });
         }
         println!("{json}");

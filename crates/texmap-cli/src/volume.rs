@@ -327,6 +327,13 @@ pub fn default_camera(scene: &Scene, volumes: &[SceneVolume], v: &VolumeArgs) ->
     vtk_camera_for_bounds(lo, hi, v.dolly, v.azimuth)
 }
 
+/// The radius of the sphere around every mesh and volume (VTK's parallel scale after
+/// `ResetCamera`).
+pub fn bounding_radius(scene: &Scene, volumes: &[SceneVolume]) -> f32 {
+    let (lo, hi) = bounds(scene, volumes);
+    ((hi - lo) * 0.5).length().max(1e-3)
+}
+
 /// `camera` with near and far around every mesh and volume, wherever the eye was moved.
 pub fn enclose(camera: Camera, scene: &Scene, volumes: &[SceneVolume]) -> Camera {
     let (lo, hi) = bounds(scene, volumes);

@@ -315,6 +315,58 @@ fn missing_scene_file_and_unknown_format() {
     assert_fails(&render(&x, &out, &[]), &["scene.fbx"], &out);
 }
 
+#[test]
+fn ortho_flag_renders_a_parallel_view_and_info_names_the_projection() {
+    let d = dir("ortho");
+    let t = d.join("cube.toml");
+    std::fs::write(
+        &t,
+        "[[cameras]]\neye = [0, 0, 5]\ntarget = [0, 0, 0]\nfov = 30\n\
+         [materials.white]\nunlit = true\n\
+         [[meshes]]\nprimitive = \"cube\"\nsize = 2\nmaterial = \"white\"\n",
+    )
+    .unwrap();
+    let out = d.join("o.png");
+    let (ts, os) = (t.to_str().unwrap(), out.to_str().unwrap());
+    let r = texmap(&["render", ts, "--size", "96x64", "-o", os, "--ortho", "4"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    // A visible height of 4 over 64 rows: the 2-unit face spans columns 32..64, rows 16..48.
+    let img = image::open(&out).unwrap().to_rgb8();
+    for (x, y, p) in img.enumerate_pixels() {
+        let inside = (32..64).contains(&x) && (16..48).contains(&y);
+        assert_eq!(p[0] > 128, inside, "pixel ({x}, {y}) = {p:?}");
+    }
+    // Without a value the height frames the bounding sphere (2.2·√3): a smaller square.
+    let r = texmap(&["render", ts, "--size", "96x64", "-o", os, "--ortho"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let img = image::open(&out).unwrap().to_rgb8();
+    let rows = (0..64)
+        .filter(|&y| (0..96).any(|x| img.get_pixel(x, y)[0] > 128))
+        .count();
+    assert!((33..=34).contains(&rows), "{rows} rows");
+    // --ortho and --fov exclude each other; a bad height is one line naming it.
+    let r = texmap(&["render", ts, "-o", os, "--fov", "40", "--ortho", "4"]);
+    assert!(!r.status.success());
+    let _ = std::fs::remove_file(&out);
+    assert_fails(
+        &texmap(&["render", ts, "-o", os, "--ortho", "-2"]),
+        &["orthographic", "height -2"],
+        &out,
+    );
+
+    std::fs::write(
+        &t,
+        "[[cameras]]\neye = [0, 0, 5]\ntarget = [0, 0, 0]\nprojection = \"orthographic\"\nheight = 4\n\
+         [[cameras]]\neye = [0, 0, 5]\ntarget = [0, 0, 0]\n",
+    )
+    .unwrap();
+    let info = texmap(&["info", ts]);
+    let text = String::from_utf8_lossy(&info.stdout);
+    assert!(info.status.success(), "{text}");
+    assert!(text.contains("[0] orthographic height 4 "), "{text}");
+    assert!(text.contains("[1] perspective fov 60.0°"), "{text}");
+}
+
 // ---- Volumes ---------------------------------------------------------------------------------
 
 /// A 24³ u8 raw ball: 200 at the centre, falling to 0 at radius 12 voxels.

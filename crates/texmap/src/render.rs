@@ -19,10 +19,15 @@
 //! | emissive map | per pixel | per pixel |
 //!
 //! Culling: `Settings::cull` applies to single-sided materials; double-sided ones are never
-//! culled, and their back faces are lit with the flipped normal (per pixel in Phong shading,
-//! per face in flat shading; Gouraud lights the vertices with their own normals only).
+//! culled, and their back faces are lit with the flipped normal: per pixel in Phong shading,
+//! per face in flat shading, and in Gouraud shading per vertex for both sides (six more
+//! varyings), the fragment stage taking the side the rasterizer says is facing.
 //! A mesh without (or with a wrong number of) normals is shaded flat; Phong and Gouraud
 //! need vertex normals.
+//!
+//! Blending: blended meshes are drawn after the opaque ones, back to front by the view depth
+//! of their centroid, each in index order (`gl_render.py`'s rule); `Visibility::DepthSort`
+//! sorts every triangle instead.
 
 // `!(x > y)` is deliberate: it is true for NaN, which must be rejected too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -40,7 +45,7 @@ pub use crate::pipeline::{CullMode, Interpolation};
 use crate::scene::{Camera, Mesh, Scene};
 use crate::shading::{
     bump, combine, illuminate, phong, shininess_from_roughness, AlphaMode, Light, Lighting,
-    MapChannel, Material, Procedural, ShadingModel, SolidMap, Surface, TextureSlot,
+    MapChannel, Material, Procedural, ShadingModel, SolidMap, Surface, TextureSlot, Viewer,
 };
 use crate::texture::{sample, sample_quad, Filter, Footprint, Sampler, Texture2D, Wrap};
 use crate::{Error, Result};
@@ -285,10 +290,15 @@ pub fn render_into(
         ambient: scene.ambient_light,
     };
 
-    let mut draws = Vec::with_capacity(scene.meshes.len());
-    let mut buffers: Vec<(Vec<PostVertex>, Option<Vec<u32>>)> =
-        Vec::with_capacity(scene.meshes.len());
-    for mesh in &scene.meshes {
+    // Submission order: the pipeline draws opaque meshes, then blended ones, as submitted.
+    let meshes: Vec<&Mesh> = match settings.visibility {
+        Visibility::ZBuffer => blend_order(scene, camera.view_from_world()),
+        // The painter's algorithm sorts every triangle itself.
+        Visibility::DepthSort => scene.meshes.iter().collect(),
+    };
+    let mut draws = Vec::with_capacity(meshes.len());
+    let mut buffers: Vec<(Vec<PostVertex>, Option<Vec<u32>>)> = Vec::with_capacity(meshes.len());
+    for &mesh in &meshes {
         let material = &scene.materials[mesh.material];
         let draw = DrawInfo::new(mesh, material, settings, &lighting);
         let vs = VertexShader {
@@ -297,7 +307,7 @@ pub fn render_into(
             draw: &draw,
             clip_from_world,
             normal_from_object: normal_matrix(mesh.world_from_object),
-            eye: camera.eye,
+            viewer: camera.viewer(),
             lighting: &lighting,
             viewport: &viewport,
         };
@@ -306,7 +316,7 @@ pub fn render_into(
     }
     let calls: Vec<DrawCall> = buffers
         .iter()
-        .zip(scene.meshes.iter().zip(&draws))
+        .zip(meshes.iter().zip(&draws))
         .map(|((verts, idx), (mesh, draw))| DrawCall {
             vertices: verts,
             indices: idx.as_deref().unwrap_or(&mesh.indices),
@@ -316,7 +326,7 @@ pub fn render_into(
     let shader = SceneShader {
         draws: &draws,
         lighting,
-        eye: camera.eye,
+        viewer: camera.viewer(),
     };
     let bg = scene.background;
     let target = Target {
@@ -350,6 +360,46 @@ pub fn render_into(
     Ok(())
 }
 
+/// The scene's meshes with the blended ones moved to the end and sorted back to front by the
+/// view-space depth of their centroid (the mean of their world positions over the index list,
+/// ties in scene order): the rule of `gl_render.py` and the Khronos sample viewer. Each mesh's
+/// triangles are then drawn in index order, so a blended mesh that overlaps itself shows the
+/// order it was modelled in, as on a GPU.
+fn blend_order(scene: &Scene, view_from_world: Mat4) -> Vec<&Mesh> {
+    let blended = |m: &Mesh| scene.materials[m.material].alpha_mode == AlphaMode::Blend;
+    let mut order: Vec<&Mesh> = scene.meshes.iter().filter(|m| !blended(m)).collect();
+    let mut back: Vec<(f32, &Mesh)> = scene
+        .meshes
+        .iter()
+        .filter(|m| blended(m))
+        .map(|m| {
+            let c = m.world_from_object.transform_point3(centroid(m));
+            (view_from_world.transform_point3(c).z, m)
+        })
+        .collect();
+    // The camera looks down −z: ascending z is far to near. A stable sort keeps ties in order.
+    back.sort_by(|a, b| a.0.total_cmp(&b.0));
+    order.extend(back.into_iter().map(|(_, m)| m));
+    order
+}
+
+/// The mean object-space position over a mesh's index list (each triangle's corners count
+/// once per use; out-of-range indices are skipped; the origin for an empty mesh).
+fn centroid(m: &Mesh) -> Vec3 {
+    let (sum, n) = m
+        .indices
+        .iter()
+        .filter_map(|&i| m.positions.get(i as usize))
+        .fold((glam::DVec3::ZERO, 0u64), |(s, n), p| {
+            (s + p.as_dvec3(), n + 1)
+        });
+    if n == 0 {
+        Vec3::ZERO
+    } else {
+        (sum / n as f64).as_vec3()
+    }
+}
+
 fn normal_matrix(m: Mat4) -> Mat3 {
     let m3 = Mat3::from_mat4(m);
     let det = m3.determinant();
@@ -366,7 +416,8 @@ enum Mode {
     Unlit,
     /// Varyings: normal at 2, position at 5 (when lights, specular terms or bumps need it).
     Phong,
-    /// Varyings: diffuse factor D at 2, additive S at 5 (Gouraud, or flat per face).
+    /// Varyings: diffuse factor D at 2, additive S at 5 (Gouraud, or flat per face); for
+    /// the back faces of double-sided Gouraud draws, the same at `DrawInfo::back_at`.
     Interpolated,
 }
 
@@ -470,6 +521,9 @@ struct DrawInfo<'a> {
     tangent_at: Option<usize>,
     /// Offset of the vertex colour in the varyings.
     color_at: Option<usize>,
+    /// Offset of D and S lit with the flipped normal (double-sided Gouraud draws), read on
+    /// back-facing triangles.
+    back_at: Option<usize>,
     needs_position: bool,
     /// Offset of the object-space position and normal (6 floats) for solid textures and
     /// projections.
@@ -511,6 +565,10 @@ impl<'a> DrawInfo<'a> {
                 varyings += 4;
                 varyings - 4
             });
+        let back_at = (mode == Mode::Interpolated && !flat && material.double_sided).then(|| {
+            varyings += 6;
+            varyings - 6
+        });
         let solid_maps = per_pixel && !material.solid_maps.is_empty();
         let object_at = (material.procedural.is_some() || solid_maps).then(|| {
             varyings += 6;
@@ -669,6 +727,7 @@ impl<'a> DrawInfo<'a> {
             uv1_at,
             tangent_at,
             color_at,
+            back_at,
             needs_position,
             object_at,
             projected,
@@ -709,7 +768,7 @@ struct VertexShader<'a> {
     draw: &'a DrawInfo<'a>,
     clip_from_world: Mat4,
     normal_from_object: Mat3,
-    eye: Vec3,
+    viewer: Viewer,
     lighting: &'a Lighting<'a>,
     viewport: &'a Viewport,
 }
@@ -747,9 +806,23 @@ impl VertexShader<'_> {
                         let n = self.world_normal(i);
                         let surface = Surface::new(self.material, p, n);
                         let (d, s) =
-                            illuminate(self.material.model, &surface, self.lighting, self.eye);
+                            illuminate(self.material.model, &surface, self.lighting, self.viewer);
                         var[2..5].copy_from_slice(&d.to_array());
                         var[5..8].copy_from_slice(&s.to_array());
+                        if let Some(k) = self.draw.back_at {
+                            let surface = Surface {
+                                normal: -n,
+                                ..surface
+                            };
+                            let (d, s) = illuminate(
+                                self.material.model,
+                                &surface,
+                                self.lighting,
+                                self.viewer,
+                            );
+                            var[k..k + 3].copy_from_slice(&d.to_array());
+                            var[k + 3..k + 6].copy_from_slice(&s.to_array());
+                        }
                     }
                 }
                 PostVertex::new(self.clip_from_world * p.extend(1.0), var, self.viewport)
@@ -824,11 +897,11 @@ impl VertexShader<'_> {
             }
         }
         let centroid = (p[0] + p[1] + p[2]) / 3.0;
-        if self.material.double_sided && n.dot(self.eye - centroid) < 0.0 {
+        if self.material.double_sided && n.dot(self.viewer.towards(centroid)) < 0.0 {
             n = -n;
         }
         let surface = Surface::new(self.material, centroid, n);
-        let (d, s) = illuminate(self.material.model, &surface, self.lighting, self.eye);
+        let (d, s) = illuminate(self.material.model, &surface, self.lighting, self.viewer);
         [0, 1, 2].map(|k| {
             let mut var = if valid {
                 self.common_varyings(ids[k])
@@ -845,7 +918,7 @@ impl VertexShader<'_> {
 struct SceneShader<'a> {
     draws: &'a [DrawInfo<'a>],
     lighting: Lighting<'a>,
-    eye: Vec3,
+    viewer: Viewer,
 }
 
 impl FragmentShader for SceneShader<'_> {
@@ -906,7 +979,7 @@ impl FragmentShader for SceneShader<'_> {
                                 normal,
                                 ..d.surface
                             };
-                            phong(&s, &self.lighting, self.eye)
+                            phong(&s, &self.lighting, self.viewer)
                         }
                         Some(maps) => {
                             let mut s = Surface {
@@ -918,13 +991,15 @@ impl FragmentShader for SceneShader<'_> {
                             if back {
                                 s.normal = -s.normal;
                             }
-                            illuminate(d.model, &s, &self.lighting, self.eye)
+                            illuminate(d.model, &s, &self.lighting, self.viewer)
                         }
                     }
                 }
                 Mode::Interpolated => {
-                    let mut df = Vec3::new(v[2], v[3], v[4]);
-                    let mut sp = Vec3::new(v[5], v[6], v[7]);
+                    // Double-sided back faces read the factors lit with −N.
+                    let k = d.back_at.filter(|_| !quad.front_facing).unwrap_or(2);
+                    let mut df = Vec3::new(v[k], v[k + 1], v[k + 2]);
+                    let mut sp = Vec3::new(v[k + 3], v[k + 4], v[k + 5]);
                     let maps = maps.as_ref();
                     if let (Some(texel), Some(map)) =
                         (maps.and_then(|m| m.occlusion.as_ref()), &d.occlusion_map)

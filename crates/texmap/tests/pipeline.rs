@@ -8,7 +8,7 @@ use texmap::pipeline::{
     Viewport, MAX_VARYINGS,
 };
 use texmap::render::{render, Frame, Settings, ShadingMode, Visibility};
-use texmap::scene::{builtin, AlphaMode, Camera, Material, Mesh, Scene};
+use texmap::scene::{builtin, AlphaMode, Camera, CameraProjection, Material, Mesh, Scene};
 use texmap::texture::Sampler;
 
 // ---- helpers -------------------------------------------------------------------------------
@@ -129,7 +129,7 @@ fn camera(eye: Vec3, target: Vec3) -> Camera {
         eye,
         target,
         up: Vec3::Y,
-        fov_y_deg: 60.0,
+        projection: CameraProjection::Perspective { fov_y_deg: 60.0 },
         near: 0.05,
         far: 100.0,
     }
@@ -340,7 +340,7 @@ fn plane_uv_error(interpolation: Interpolation, max_dist: f32) -> f32 {
     let (color, _) = pipeline::draw(&[call], &Uv, &t);
     // Analytic: the ray through each pixel centre.
     let world_from_view = cam.view_from_world().inverse();
-    let tan = (cam.fov_y_deg.to_radians() * 0.5).tan();
+    let tan = (cam.projection.fov_y_deg().unwrap().to_radians() * 0.5).tan();
     let aspect = w as f32 / h as f32;
     let mut worst = 0.0f32;
     for y in 0..h {
@@ -634,7 +634,9 @@ fn bad_settings_and_cameras_are_errors() {
         Camera { near: -1.0, ..cam },
         Camera { far: 0.01, ..cam },
         Camera {
-            fov_y_deg: f32::INFINITY,
+            projection: CameraProjection::Perspective {
+                fov_y_deg: f32::INFINITY,
+            },
             ..cam
         },
     ] {

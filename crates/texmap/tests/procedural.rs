@@ -11,8 +11,8 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use texmap::geometry::Projection;
 use texmap::render::{render, Settings};
 use texmap::scene::{
-    builtin, Camera, Light, Material, Mesh, Procedural, Scene, ShadingModel, SolidChannel,
-    SolidMap, TextureSlot,
+    builtin, Camera, CameraProjection, Light, Material, Mesh, Procedural, Scene, ShadingModel,
+    SolidChannel, SolidMap, TextureSlot,
 };
 use texmap::texture::procedural::Solid;
 use texmap::texture::{ColorSpace, Filter, Sampler, Texture2D, TextureOptions, Wrap};
@@ -40,7 +40,7 @@ fn lit_scene(
         eye,
         target,
         up: Vec3::Y,
-        fov_y_deg: 40.0,
+        projection: CameraProjection::Perspective { fov_y_deg: 40.0 },
         near: 0.05,
         far: 100.0,
     };
@@ -222,7 +222,7 @@ fn marble_floor(antialias: bool) -> (Scene, Camera) {
         Vec3::new(0.0, 0.0, -20.0),
     );
     scene.ambient_light = Vec3::ONE;
-    camera.fov_y_deg = 60.0;
+    camera.projection = CameraProjection::Perspective { fov_y_deg: 60.0 };
     (scene, camera)
 }
 
@@ -325,7 +325,7 @@ fn solid_roughness_and_bump_on_lit_spheres() {
         Vec3::ZERO,
     );
     // Each sphere fills most of its third of the image.
-    camera.fov_y_deg = 20.0;
+    camera.projection = CameraProjection::Perspective { fov_y_deg: 20.0 };
     scene.lights[0] = Light::Directional {
         direction: Vec3::new(0.4, 0.8, 0.6),
         color: Vec3::splat(0.8),
@@ -392,7 +392,7 @@ fn bumpy_floor(antialias: bool) -> (Scene, Camera) {
         Vec3::new(0.0, 1.0, 4.0),
         Vec3::new(0.0, 0.0, -20.0),
     );
-    camera.fov_y_deg = 60.0;
+    camera.projection = CameraProjection::Perspective { fov_y_deg: 60.0 };
     (scene, camera)
 }
 

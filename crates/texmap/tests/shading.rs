@@ -10,7 +10,8 @@ use texmap::metrics::compare_rgb8;
 use texmap::render::{render, Frame, Settings, ShadingMode};
 use texmap::scene::primitives::Primitive;
 use texmap::scene::{
-    builtin, Camera, Light, Material, Scene, ShadingModel, SolidChannel, SolidMap, TextureSlot,
+    builtin, Camera, CameraProjection, Light, Material, Scene, ShadingModel, SolidChannel,
+    SolidMap, TextureSlot,
 };
 use texmap::shading::{MapChannel, MaterialMap};
 use texmap::texture::procedural::Solid;
@@ -47,7 +48,7 @@ fn plane_scene(material: Material, scale: f32) -> (Scene, Camera) {
         eye: Vec3::new(0.0, 2.0 * scale, 0.0),
         target: Vec3::ZERO,
         up: Vec3::NEG_Z,
-        fov_y_deg: 40.0,
+        projection: CameraProjection::Perspective { fov_y_deg: 40.0 },
         near: 0.05 * scale,
         far: 100.0 * scale,
     };
@@ -213,7 +214,7 @@ fn gouraud_metallic_roughness_stays_close_to_phong() {
         eye: Vec3::new(0.0, 0.5, 3.0),
         target: Vec3::ZERO,
         up: Vec3::Y,
-        fov_y_deg: 40.0,
+        projection: CameraProjection::Perspective { fov_y_deg: 40.0 },
         near: 0.05,
         far: 100.0,
     };

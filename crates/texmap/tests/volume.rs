@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
 use texmap::metrics::compare_rgb8;
-use texmap::scene::Camera;
+use texmap::scene::{Camera, CameraProjection};
 use texmap::volume::{
     iso_hit, load_volume, raymarch, render_slices, Classification, MarchParams, Mode, RawDesc,
     ScalarType, TransferFunction, Volume,
@@ -81,7 +81,7 @@ fn sphere_mip_is_a_disk_of_known_radius() {
         eye: Vec3::new(c, c - dist, c),
         target: Vec3::splat(c),
         up: Vec3::Z,
-        fov_y_deg: 20.0,
+        projection: CameraProjection::Perspective { fov_y_deg: 20.0 },
         near: 1.0,
         far: 1000.0,
     };
@@ -139,7 +139,7 @@ fn isosurface_of_a_ramp_is_a_plane_at_the_iso_value() {
         eye: Vec3::new(-60.0, 18.5, 26.5),
         target: Vec3::new(50.0, 18.5, 26.5),
         up: Vec3::Z,
-        fov_y_deg: 10.0,
+        projection: CameraProjection::Perspective { fov_y_deg: 10.0 },
         near: 1.0,
         far: 500.0,
     };

@@ -50,8 +50,12 @@ pub use raster::{rasterize_tile, TileStats};
 pub use setup::{assemble_triangle, Prim};
 pub use transform::{PostVertex, Viewport};
 
-/// The number of floats a vertex can carry to the fragment shader.
-pub const MAX_VARYINGS: usize = 24;
+/// The number of floats a vertex can carry to the fragment shader: the largest draw `render`
+/// makes, a double-sided Gouraud draw (uv, D and S for each side, vertex colour, a projected
+/// texture's object position and normal, a second uv set). Raising it from 24 changed the
+/// instruction count of `builtin:sphere` and `builtin:demo` frames by at most 0.05%
+/// (callgrind, 640×360, one thread).
+pub const MAX_VARYINGS: usize = 26;
 
 /// Fractional bits of the fixed-point screen positions.
 pub const SUBPIXEL_BITS: u32 = 8;
@@ -78,11 +82,13 @@ pub enum Interpolation {
     Perspective,
     /// Screen-linear (affine) interpolation, as early software renderers did: textures swim.
     Affine,
-    /// Affine interpolation on triangles split in screen space until the affine error (the
-    /// screen distance between where an edge midpoint's attributes are and where affine
-    /// interpolation puts them) is below `max_error_px`: the worst edge is bisected at its
-    /// screen midpoint, with perspective-correct attributes there. The splits make
-    /// T-junctions with neighbouring triangles, so this mode is not watertight.
+    /// Affine interpolation on triangles split in screen space until every edge's affine
+    /// error (the screen distance between where the edge midpoint's attributes are and where
+    /// affine interpolation puts them) is below `max_error_px`: each edge over it is bisected
+    /// at its screen midpoint, with perspective-correct attributes there, and the piece is cut
+    /// into two, three or four. Whether and where an edge splits depends on the edge alone,
+    /// so neighbours split shared edges identically: watertight, like the other modes (up to
+    /// [`setup::MAX_SUBDIVISION`] steps per triangle).
     Subdivide { max_error_px: f32 },
 }
 
@@ -189,8 +195,9 @@ pub struct DrawStats {
 /// rasterizes the tiles in parallel (rayon's current pool) and resolves.
 ///
 /// Returns the resolved colour, `width·height` premultiplied linear pixels, top row first.
-/// Opaque draws are drawn in order; blended draws after them, back to front by their farthest
-/// vertex; with `depth_sort`, every triangle back to front.
+/// Opaque draws are drawn in order, then blended draws in order (sorting them is the caller's
+/// business, as on a GPU), each draw's triangles in index order; with `depth_sort`, every
+/// triangle back to front by its farthest vertex instead.
 pub fn draw(
     calls: &[DrawCall],
     shader: &dyn FragmentShader,
@@ -266,26 +273,19 @@ pub fn draw_into(
     }
     stats.triangles_after_clip = prims.len() as u64;
 
-    // Draw order.
+    // Draw order: opaque, then blended, each in submission order; or the painter's sort.
     let mut order: Vec<u32> = Vec::with_capacity(prims.len());
-    let back_to_front = |a: &u32, b: &u32| {
-        prims[*b as usize]
-            .sort_depth
-            .total_cmp(&prims[*a as usize].sort_depth)
-    };
     if target.depth_sort {
         order.extend(0..prims.len() as u32);
-        order.sort_by(back_to_front);
+        order.sort_by(|a, b| {
+            prims[*b as usize]
+                .sort_depth
+                .total_cmp(&prims[*a as usize].sort_depth)
+        });
     } else {
-        order.extend(
-            (0..prims.len() as u32)
-                .filter(|&i| !calls[prims[i as usize].call as usize].state.blend),
-        );
-        let mut blended: Vec<u32> = (0..prims.len() as u32)
-            .filter(|&i| calls[prims[i as usize].call as usize].state.blend)
-            .collect();
-        blended.sort_by(back_to_front);
-        order.extend(blended);
+        let blend = |i: &u32| calls[prims[*i as usize].call as usize].state.blend;
+        order.extend((0..prims.len() as u32).filter(|i| !blend(i)));
+        order.extend((0..prims.len() as u32).filter(blend));
     }
 
     let bins = bin_prims(&prims, &order, target.width, target.height);

@@ -16,8 +16,9 @@ use super::{CullMode, DrawCall, Interpolation, SUBPIXEL_BITS};
 /// subdivision rather than in the draw call's vertex buffer.
 pub const EXTRA_VERTEX: u32 = 1 << 31;
 
-/// Most bisections of one triangle in [`Interpolation::Subdivide`]. Each halves the edge
-/// with the largest affine error; pieces outside the view are dropped.
+/// Most split steps of one triangle in [`Interpolation::Subdivide`] (each splits one piece
+/// into two to four). A safety net against absurd geometry: pieces left when it runs out are
+/// drawn as they are, and only then may neighbours' shared edges disagree.
 pub const MAX_SUBDIVISION: u32 = 1 << 16;
 
 /// A triangle ready for binning and rasterization.
@@ -125,35 +126,77 @@ impl Ctx<'_> {
             self.emit(r, &v, self.interpolation == Interpolation::Affine, prims);
             return;
         };
-        if !(affine_error_px(&v).1 > max_error_px) {
-            self.emit(r, &v, true, prims);
-            return;
-        }
-        // Breadth first, so a budget that runs out leaves the pieces evenly refined.
+        // Every edge decides alone whether and where it splits (`split_point` reads only its
+        // two ends, in a canonical order), so the triangles on either side of an edge split
+        // it at the same points: no T-junctions. Breadth first, so a budget that runs out
+        // leaves the pieces evenly refined.
+        let n = self.call.state.varyings;
         let mut queue = std::collections::VecDeque::from([(r, v)]);
         let mut budget = MAX_SUBDIVISION;
         while let Some((r, v)) = queue.pop_front() {
-            let (k, error) = affine_error_px(&v);
-            if budget == 0 || !(error > max_error_px) {
-                self.emit(r, &v, true, prims);
-                continue;
-            }
-            // Pieces entirely outside one side of the view need no more work.
+            // Pieces entirely outside one side of the view cover no pixel.
             if view_sides(v[0].clip) & view_sides(v[1].clip) & view_sides(v[2].clip) != 0 {
                 continue;
             }
-            // Bisect the worst edge at its screen midpoint (perspective-correct attributes).
-            let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
-            let m = midpoint(&v[k], &v[k1], self.call.state.varyings, self.vp);
-            if m.outcode == u8::MAX {
+            let split: [Option<PostVertex>; 3] = if budget == 0 {
+                [None; 3]
+            } else {
+                std::array::from_fn(|k| {
+                    split_point(&v[k], &v[(k + 1) % 3], max_error_px, n, self.vp)
+                })
+            };
+            let count = split.iter().flatten().count();
+            if count == 0 {
                 self.emit(r, &v, true, prims);
                 continue;
             }
             budget -= 1;
-            let mr = extra.len() as u32 | EXTRA_VERTEX;
-            extra.push(m);
-            queue.push_back(([r[k], mr, r[k2]], [v[k], m, v[k2]]));
-            queue.push_back(([mr, r[k1], r[k2]], [m, v[k1], v[k2]]));
+            // Vertex k, its reference, and the midpoint of edge k (from vertex k to k + 1).
+            let mut mid = [(0u32, v[0]); 3];
+            for k in 0..3 {
+                if let Some(m) = split[k] {
+                    mid[k] = (extra.len() as u32 | EXTRA_VERTEX, m);
+                    extra.push(m);
+                }
+            }
+            let vert = |k: usize| (r[k % 3], v[k % 3]);
+            let mut piece = |p: [(u32, PostVertex); 3]| {
+                queue.push_back((p.map(|x| x.0), p.map(|x| x.1)));
+            };
+            // The pieces keep the triangle's orientation.
+            match count {
+                1 => {
+                    // Edge k (a → b) split at m: (a, m, c), (m, b, c).
+                    let k = (0..3).find(|&k| split[k].is_some()).unwrap_or(0);
+                    let (a, b, c, m) = (vert(k), vert(k + 1), vert(k + 2), mid[k]);
+                    piece([a, m, c]);
+                    piece([m, b, c]);
+                }
+                2 => {
+                    // Edge k (c → a) whole; a → b split at m0, b → c at m1: the corner
+                    // (m0, b, m1) and the quad (a, m0, m1, c) cut along its shorter diagonal
+                    // (an edge inside this piece, so either choice is crack-free).
+                    let k = (0..3).find(|&k| split[k].is_none()).unwrap_or(0);
+                    let (c, a, b) = (vert(k), vert(k + 1), vert(k + 2));
+                    let (m0, m1) = (mid[(k + 1) % 3], mid[(k + 2) % 3]);
+                    piece([m0, b, m1]);
+                    if screen_dist2(&a.1, &m1.1) <= screen_dist2(&m0.1, &c.1) {
+                        piece([a, m0, m1]);
+                        piece([a, m1, c]);
+                    } else {
+                        piece([a, m0, c]);
+                        piece([m0, m1, c]);
+                    }
+                }
+                _ => {
+                    let (a, b, c) = (vert(0), vert(1), vert(2));
+                    let (m0, m1, m2) = (mid[0], mid[1], mid[2]);
+                    piece([a, m0, m2]);
+                    piece([m0, b, m1]);
+                    piece([m2, m1, c]);
+                    piece([m0, m1, m2]);
+                }
+            }
         }
     }
 
@@ -194,23 +237,34 @@ impl Ctx<'_> {
     }
 }
 
-/// The edge with the largest affine error and that error: the screen distance (pixels)
-/// between where the edge midpoint's attributes belong and where affine interpolation puts
-/// them, `|w_a − w_b| / (2(w_a + w_b)) · length`.
-fn affine_error_px(v: &[PostVertex; 3]) -> (usize, f32) {
-    let mut worst = (0, 0.0f32);
-    for k in 0..3 {
-        let (a, b) = (&v[k], &v[(k + 1) % 3]);
-        let (wa, wb) = (a.clip.w, b.clip.w);
-        let dx = (b.sx - a.sx) as f32 / 256.0;
-        let dy = (b.sy - a.sy) as f32 / 256.0;
-        let len = (dx * dx + dy * dy).sqrt();
-        let e = (wa - wb).abs() / (2.0 * (wa + wb)) * len;
-        if e > worst.1 {
-            worst = (k, e);
-        }
+/// The affine error of edge a–b in pixels: the screen distance between where the edge
+/// midpoint's attributes belong and where affine interpolation puts them,
+/// `|w_a − w_b| / (2(w_a + w_b)) · length`. Symmetric in a and b, bit for bit.
+fn edge_error_px(a: &PostVertex, b: &PostVertex) -> f32 {
+    let (wa, wb) = (a.clip.w, b.clip.w);
+    let dx = (b.sx - a.sx) as f32 / 256.0;
+    let dy = (b.sy - a.sy) as f32 / 256.0;
+    let len = (dx * dx + dy * dy).sqrt();
+    (wa - wb).abs() / (2.0 * (wa + wb)) * len
+}
+
+/// Where edge a–b splits, if its affine error exceeds `max_error_px`: the point that projects
+/// to the screen midpoint. Computed from the two ends in a canonical order (by clip
+/// coordinates), so both triangles sharing the edge get the same position, bit for bit.
+fn split_point(
+    a: &PostVertex,
+    b: &PostVertex,
+    max_error_px: f32,
+    n: usize,
+    vp: &Viewport,
+) -> Option<PostVertex> {
+    if !(edge_error_px(a, b) > max_error_px) {
+        return None;
     }
-    worst
+    let key = |v: &PostVertex| v.clip.to_array().map(f32::to_bits);
+    let (lo, hi) = if key(a) <= key(b) { (a, b) } else { (b, a) };
+    let m = midpoint(lo, hi, n, vp);
+    (m.outcode != u8::MAX).then_some(m)
 }
 
 /// The point of edge a–b that projects to the screen midpoint: clip-space parameter
@@ -222,6 +276,12 @@ fn midpoint(a: &PostVertex, b: &PostVertex, n: usize, vp: &Viewport) -> PostVert
         *x += (y - *x) * t;
     }
     PostVertex::new_clipped(a.clip + (b.clip - a.clip) * t, varyings, vp)
+}
+
+/// Squared screen distance in 1/256 pixels (for choosing a diagonal).
+fn screen_dist2(a: &PostVertex, b: &PostVertex) -> i64 {
+    let (dx, dy) = ((b.sx - a.sx) as i64, (b.sy - a.sy) as i64);
+    dx * dx + dy * dy
 }
 
 /// A triangle's three edge functions, evaluated at the centre of a reference pixel.

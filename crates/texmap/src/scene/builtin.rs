@@ -8,7 +8,7 @@ use std::sync::{Arc, OnceLock};
 
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 
-use super::{Camera, Light, Material, Mesh, Procedural, Scene, TextureSlot};
+use super::{Camera, CameraProjection, Light, Material, Mesh, Procedural, Scene, TextureSlot};
 use crate::shading::AlphaMode;
 use crate::texture::procedural::Solid;
 use crate::texture::{ColorSpace, Filter, Sampler, Texture2D, TextureTransform, Wrap};
@@ -113,7 +113,7 @@ pub fn plane(texture: Option<Arc<Texture2D>>, uv_scale: f32, sampler: Sampler) -
             eye: Vec3::new(0.0, 1.0, 0.0),
             target: Vec3::new(0.0, 0.0, -50.0),
             up: Vec3::Y,
-            fov_y_deg: 60.0,
+            projection: CameraProjection::Perspective { fov_y_deg: 60.0 },
             near: 0.05,
             far: 1000.0,
         }),
@@ -370,7 +370,7 @@ pub fn demo() -> Scene {
             eye: Vec3::new(0.0, 2.0, 6.5),
             target: Vec3::new(0.0, 0.8, 0.0),
             up: Vec3::Y,
-            fov_y_deg: 50.0,
+            projection: CameraProjection::Perspective { fov_y_deg: 50.0 },
             near: 0.05,
             far: 1000.0,
         }),
@@ -439,7 +439,7 @@ pub fn marble() -> Scene {
             eye: Vec3::new(0.0, 2.2, 6.0),
             target: Vec3::new(0.2, 0.7, 0.0),
             up: Vec3::Y,
-            fov_y_deg: 50.0,
+            projection: CameraProjection::Perspective { fov_y_deg: 50.0 },
             near: 0.05,
             far: 1000.0,
         }),

@@ -42,7 +42,10 @@ use super::load::{
     decode_data_uri, percent_decode, read_bounded, resolve_reference, AssetInfo, ImageSource,
     LoadOptions, Loaded, TextureCache,
 };
-use super::{tangents, AlphaMode, Camera, Light, Material, Mesh, Scene, ShadingModel, TextureSlot};
+use super::{
+    tangents, AlphaMode, Camera, CameraProjection, Light, Material, Mesh, Scene, ShadingModel,
+    TextureSlot,
+};
 use crate::shading::{MapChannel, MaterialMap};
 use crate::texture::{Filter, MagFilter, MinFilter, Sampler, Texture2D, TextureTransform, Wrap};
 use crate::{Error, Result};
@@ -733,29 +736,38 @@ impl Loader<'_> {
             }
         }
         if let Some(cam) = node.camera() {
-            match cam.projection() {
-                gltf::camera::Projection::Perspective(p) => {
-                    let eye = world.transform_point3(Vec3::ZERO);
-                    let fwd = world.transform_vector3(-Vec3::Z).normalize_or(-Vec3::Z);
-                    let up = world.transform_vector3(Vec3::Y).normalize_or(Vec3::Y);
-                    self.cameras.push((
-                        Camera {
-                            eye,
-                            target: eye + fwd,
-                            up,
-                            fov_y_deg: p.yfov().to_degrees(),
-                            near: p.znear(),
-                            far: p.zfar().unwrap_or(f32::INFINITY),
-                        },
-                        p.zfar(),
-                    ));
-                }
-                gltf::camera::Projection::Orthographic(_) => self.warnings.push(format!(
-                    "{}: camera {} is orthographic, which texmap does not render; it is ignored",
-                    self.path.display(),
-                    cam.index()
-                )),
-            }
+            let eye = world.transform_point3(Vec3::ZERO);
+            let fwd = world.transform_vector3(-Vec3::Z).normalize_or(-Vec3::Z);
+            let up = world.transform_vector3(Vec3::Y).normalize_or(Vec3::Y);
+            // The image's aspect sets the horizontal extent (yfov / ymag are kept, a file's
+            // aspectRatio / xmag are not), so nothing is stretched.
+            let (projection, near, zfar) = match cam.projection() {
+                gltf::camera::Projection::Perspective(p) => (
+                    CameraProjection::Perspective {
+                        fov_y_deg: p.yfov().to_degrees(),
+                    },
+                    p.znear(),
+                    p.zfar(),
+                ),
+                gltf::camera::Projection::Orthographic(o) => (
+                    CameraProjection::Orthographic {
+                        half_height: o.ymag().abs(),
+                    },
+                    o.znear(),
+                    Some(o.zfar()),
+                ),
+            };
+            self.cameras.push((
+                Camera {
+                    eye,
+                    target: eye + fwd,
+                    up,
+                    projection,
+                    near,
+                    far: zfar.unwrap_or(f32::INFINITY),
+                },
+                zfar,
+            ));
         }
         if let Some(light) = node.light() {
             // Lux and candela to texmap's units (module docs).

@@ -23,18 +23,47 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 
 pub use crate::shading::{
     AlphaMode, Light, Material, Procedural, ShadingModel, SolidChannel, SolidMap, TextureSlot,
+    Viewer,
 };
 use crate::{Error, Result};
 
-/// A perspective camera.
+/// How a camera maps view space to the image.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CameraProjection {
+    /// Rays from the eye; `fov_y_deg` is the vertical field of view in degrees.
+    Perspective { fov_y_deg: f32 },
+    /// Parallel rays along the view direction; the image shows `half_height` world units
+    /// above and below the view axis, and `half_height · aspect` to either side (glTF's
+    /// `ymag`; the horizontal extent follows the image's aspect).
+    Orthographic { half_height: f32 },
+}
+
+impl CameraProjection {
+    /// The vertical field of view in degrees, for a perspective projection.
+    #[must_use]
+    pub fn fov_y_deg(self) -> Option<f32> {
+        match self {
+            CameraProjection::Perspective { fov_y_deg } => Some(fov_y_deg),
+            CameraProjection::Orthographic { .. } => None,
+        }
+    }
+
+    /// True for an orthographic projection.
+    #[must_use]
+    pub fn is_orthographic(self) -> bool {
+        matches!(self, CameraProjection::Orthographic { .. })
+    }
+}
+
+/// A camera: a pose (eye, target, up), a projection and the clipping range.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
     pub eye: Vec3,
     pub target: Vec3,
     pub up: Vec3,
-    /// Vertical field of view, degrees.
-    pub fov_y_deg: f32,
-    /// Distance to the near clipping plane (> 0).
+    pub projection: CameraProjection,
+    /// Distance to the near clipping plane along the view direction (> 0; orthographic
+    /// cameras may also use 0).
     pub near: f32,
     /// Distance to the far clipping plane (> near).
     pub far: f32,
@@ -53,12 +82,12 @@ impl Camera {
     }
 
     /// Checks that the camera defines a view: finite values, eye ≠ target, up not parallel
-    /// to the view direction, 0 < fov < 180, 0 < near < far.
+    /// to the view direction, 0 < fov < 180 (perspective) or a half-height > 0
+    /// (orthographic), 0 < near < far (0 ≤ near for orthographic).
     pub fn validate(&self) -> Result<()> {
         let finite = self.eye.is_finite()
             && self.target.is_finite()
             && self.up.is_finite()
-            && self.fov_y_deg.is_finite()
             && self.near.is_finite()
             && self.far.is_finite();
         if !finite {
@@ -73,17 +102,34 @@ impl Camera {
                 "camera up is parallel to the view direction",
             ));
         }
-        if !(self.fov_y_deg > 0.0 && self.fov_y_deg < 180.0) {
-            return Err(Error::parameter(format!(
-                "camera fov {} is not in (0, 180) degrees",
-                self.fov_y_deg
-            )));
-        }
-        if !(self.near > 0.0) {
-            return Err(Error::parameter(format!(
-                "camera near {} must be > 0",
-                self.near
-            )));
+        match self.projection {
+            CameraProjection::Perspective { fov_y_deg } => {
+                if !(fov_y_deg > 0.0 && fov_y_deg < 180.0) {
+                    return Err(Error::parameter(format!(
+                        "camera fov {fov_y_deg} is not in (0, 180) degrees"
+                    )));
+                }
+                if !(self.near > 0.0) {
+                    return Err(Error::parameter(format!(
+                        "camera near {} must be > 0",
+                        self.near
+                    )));
+                }
+            }
+            CameraProjection::Orthographic { half_height } => {
+                if !(half_height > 0.0 && half_height.is_finite()) {
+                    return Err(Error::parameter(format!(
+                        "orthographic camera height {} must be > 0 and finite",
+                        2.0 * half_height
+                    )));
+                }
+                if !(self.near >= 0.0) {
+                    return Err(Error::parameter(format!(
+                        "orthographic camera near {} must be ≥ 0",
+                        self.near
+                    )));
+                }
+            }
         }
         if !(self.far > self.near) {
             return Err(Error::parameter(format!(
@@ -100,10 +146,45 @@ impl Camera {
         Mat4::look_at_rh(self.eye, self.target, self.up)
     }
 
-    /// View → clip: OpenGL's perspective projection, NDC depth in [−1, 1].
+    /// View → clip, NDC depth in [−1, 1]: OpenGL's perspective projection, or its
+    /// orthographic one (`glOrtho(−h·aspect, h·aspect, −h, h, near, far)`, so w = 1).
     #[must_use]
     pub fn clip_from_view(&self, aspect: f32) -> Mat4 {
-        Mat4::perspective_rh_gl(self.fov_y_deg.to_radians(), aspect, self.near, self.far)
+        match self.projection {
+            CameraProjection::Perspective { fov_y_deg } => {
+                Mat4::perspective_rh_gl(fov_y_deg.to_radians(), aspect, self.near, self.far)
+            }
+            CameraProjection::Orthographic { half_height: h } => {
+                Mat4::orthographic_rh_gl(-h * aspect, h * aspect, -h, h, self.near, self.far)
+            }
+        }
+    }
+
+    /// The unit view direction, from the eye towards the target.
+    #[must_use]
+    pub fn forward(&self) -> Vec3 {
+        (self.target - self.eye).normalize()
+    }
+
+    /// How far along its pixel's ray `p` lies from the ray's origin: the distance from the
+    /// eye (perspective), or along the view direction from the eye's plane (orthographic
+    /// rays start there, see `volume::raymarch::camera_ray`).
+    #[must_use]
+    pub fn ray_distance(&self, p: Vec3) -> f32 {
+        match self.projection {
+            CameraProjection::Perspective { .. } => p.distance(self.eye),
+            CameraProjection::Orthographic { .. } => (p - self.eye).dot(self.forward()),
+        }
+    }
+
+    /// The viewer of the lighting model: the eye (perspective) or the direction towards the
+    /// camera, the same at every point (orthographic).
+    #[must_use]
+    pub fn viewer(&self) -> Viewer {
+        match self.projection {
+            CameraProjection::Perspective { .. } => Viewer::Point(self.eye),
+            CameraProjection::Orthographic { .. } => Viewer::Direction(-self.forward()),
+        }
     }
 }
 
@@ -178,25 +259,44 @@ impl Scene {
     /// near/far enclosing the scene on the whole turntable orbit.
     #[must_use]
     pub fn framing_camera(&self, fov_y_deg: f32) -> Camera {
+        let (c, r) = self.bounding_sphere();
+        let half = (fov_y_deg.to_radians() * 0.5).sin();
+        let eye = c + Vec3::new(0.0, 0.0, 1.1 * r / half);
+        let d = eye.distance(c);
+        Camera {
+            eye,
+            target: c,
+            up: Vec3::Y,
+            projection: CameraProjection::Perspective { fov_y_deg },
+            near: (d - 1.5 * r).max(1e-3 * d),
+            far: d + 1.5 * r,
+        }
+    }
+
+    /// The orthographic counterpart of [`Scene::framing_camera`]: the same pose and range as
+    /// at 60°, and a half-height of `1.1·r`, so the bounding sphere fills the image's height
+    /// with the same margin.
+    #[must_use]
+    pub fn framing_camera_orthographic(&self) -> Camera {
+        let (_, r) = self.bounding_sphere();
+        Camera {
+            projection: CameraProjection::Orthographic {
+                half_height: 1.1 * r,
+            },
+            ..self.framing_camera(60.0)
+        }
+    }
+
+    /// The bounding-box centre and the largest vertex distance from it (1 for an empty or
+    /// point-like scene).
+    fn bounding_sphere(&self) -> (Vec3, f32) {
         let (lo, hi) = self.bounds();
         let c = (lo + hi) * 0.5;
         let r = self
             .world_positions()
             .map(|p| p.distance(c))
             .fold(0.0f32, f32::max);
-        let r = if r > 0.0 { r } else { 1.0 };
-        let half = (fov_y_deg.to_radians() * 0.5).sin();
-        let eye = c + Vec3::new(0.0, 0.0, 1.1 * r / half);
-        let d = eye.distance(c);
-        let o = 0.0;
-        Camera {
-            eye,
-            target: c,
-            up: Vec3::Y,
-            fov_y_deg,
-            near: (d - o - 1.5 * r).max(1e-3 * (d + o)),
-            far: d + o + 1.5 * r,
-        }
+        (c, if r > 0.0 { r } else { 1.0 })
     }
 
     fn world_positions(&self) -> impl Iterator<Item = Vec3> + '_ {
@@ -223,7 +323,7 @@ mod tests {
             eye: Vec3::new(0.0, 0.0, 1.0),
             target: Vec3::ZERO,
             up: Vec3::Y,
-            fov_y_deg: 60.0,
+            projection: CameraProjection::Perspective { fov_y_deg: 60.0 },
             near: 0.1,
             far: 10.0,
         };
@@ -247,7 +347,7 @@ mod tests {
             eye: Vec3::Z,
             target: Vec3::ZERO,
             up: Vec3::Y,
-            fov_y_deg: 60.0,
+            projection: CameraProjection::Perspective { fov_y_deg: 60.0 },
             near: 0.1,
             far: 10.0,
         };
@@ -265,7 +365,16 @@ mod tests {
                 ..ok
             },
             Camera {
-                fov_y_deg: 180.0,
+                projection: CameraProjection::Perspective { fov_y_deg: 180.0 },
+                ..ok
+            },
+            Camera {
+                projection: CameraProjection::Orthographic { half_height: 0.0 },
+                ..ok
+            },
+            Camera {
+                projection: CameraProjection::Orthographic { half_height: 1.0 },
+                near: -0.1,
                 ..ok
             },
         ] {

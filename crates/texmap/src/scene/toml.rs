@@ -15,8 +15,8 @@ use serde::Deserialize;
 use super::load::{read_bounded, AssetInfo, ImageSource, LoadOptions, Loaded, TextureCache};
 use super::primitives::Primitive;
 use super::{
-    AlphaMode, Camera, Light, Material, Procedural, Scene, ShadingModel, SolidChannel, SolidMap,
-    TextureSlot,
+    AlphaMode, Camera, CameraProjection, Light, Material, Procedural, Scene, ShadingModel,
+    SolidChannel, SolidMap, TextureSlot,
 };
 use crate::geometry::Projection;
 use crate::shading::{MapChannel, MaterialMap};
@@ -52,8 +52,15 @@ struct CameraSpec {
     target: [f32; 3],
     #[serde(default = "up")]
     up: [f32; 3],
-    #[serde(default = "fov")]
-    fov: f32,
+    /// "perspective" (default) or "orthographic".
+    #[serde(default)]
+    projection: Option<String>,
+    /// Perspective: vertical field of view, degrees (default 60).
+    #[serde(default)]
+    fov: Option<f32>,
+    /// Orthographic: the visible world height (required).
+    #[serde(default)]
+    height: Option<f32>,
     #[serde(default = "near")]
     near: f32,
     #[serde(default = "far")]
@@ -62,9 +69,6 @@ struct CameraSpec {
 
 fn up() -> [f32; 3] {
     [0.0, 1.0, 0.0]
-}
-fn fov() -> f32 {
-    60.0
 }
 fn near() -> f32 {
     0.05
@@ -329,11 +333,39 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
 
     let mut cameras = Vec::new();
     for (i, c) in spec.cameras.iter().enumerate() {
+        let projection = match (c.projection.as_deref(), c.fov, c.height) {
+            (None | Some("perspective"), fov, None) => CameraProjection::Perspective {
+                fov_y_deg: fov.unwrap_or(60.0),
+            },
+            (Some("orthographic"), None, Some(height)) => CameraProjection::Orthographic {
+                half_height: 0.5 * height,
+            },
+            (Some("orthographic"), None, None) => {
+                return Err(err(format!(
+                    "cameras[{i}]: an orthographic camera needs `height` (visible world height)"
+                )))
+            }
+            (Some("orthographic"), Some(_), _) => {
+                return Err(err(format!(
+                "cameras[{i}]: `fov` is for perspective cameras; orthographic ones take `height`"
+            )))
+            }
+            (None | Some("perspective"), _, Some(_)) => {
+                return Err(err(format!(
+                "cameras[{i}]: `height` is for orthographic cameras; perspective ones take `fov`"
+            )))
+            }
+            (Some(other), _, _) => {
+                return Err(err(format!(
+                    "cameras[{i}]: projection {other:?} is not perspective or orthographic"
+                )))
+            }
+        };
         let cam = Camera {
             eye: Vec3::from(c.eye),
             target: Vec3::from(c.target),
             up: Vec3::from(c.up),
-            fov_y_deg: c.fov,
+            projection,
             near: c.near,
             far: c.far,
         };
@@ -881,6 +913,38 @@ roughness = 0.5
             let p = write(name, body);
             let e = load(&p, &LoadOptions::default()).unwrap_err().to_string();
             assert!(e.contains(needle), "{name}: {e}");
+        }
+    }
+
+    #[test]
+    fn orthographic_cameras_take_a_height() {
+        let cam = |body: &str| {
+            let p = write(
+                "cam.toml",
+                &format!("[[cameras]]\neye = [0, 0, 5]\ntarget = [0, 0, 0]\n{body}"),
+            );
+            load(&p, &LoadOptions::default()).map(|l| l.scene.camera.unwrap().projection)
+        };
+        assert_eq!(
+            cam("projection = \"orthographic\"\nheight = 4\nnear = 0\n").unwrap(),
+            CameraProjection::Orthographic { half_height: 2.0 }
+        );
+        assert_eq!(
+            cam("fov = 45\n").unwrap(),
+            CameraProjection::Perspective { fov_y_deg: 45.0 }
+        );
+        for (bad, says) in [
+            ("projection = \"orthographic\"\n", "needs `height`"),
+            (
+                "projection = \"orthographic\"\nheight = 4\nfov = 30\n",
+                "`fov`",
+            ),
+            ("height = 4\n", "`height`"),
+            ("projection = \"fisheye\"\n", "fisheye"),
+            ("projection = \"orthographic\"\nheight = -1\n", "height"),
+        ] {
+            let e = cam(bad).unwrap_err().to_string();
+            assert!(e.contains("cam.toml") && e.contains(says), "{bad}: {e}");
         }
     }
 

@@ -29,6 +29,7 @@
 
 pub mod bump;
 pub mod pbr;
+mod viewer;
 
 use std::sync::Arc;
 
@@ -37,6 +38,8 @@ use glam::{Vec3, Vec4};
 use crate::geometry::Projection;
 use crate::texture::procedural::Solid;
 use crate::texture::{Sampler, Texture2D, TextureTransform};
+
+pub use viewer::Viewer;
 
 /// A texture bound to a material: the image, how it is read, and the uv transform.
 ///
@@ -460,7 +463,7 @@ impl Lighting<'_> {
     }
 }
 
-/// The factors `(D, S)` of `model` at surface point `s`, seen from `eye`: the lit colour is
+/// The factors `(D, S)` of `model` at surface point `s`, seen by `viewer`: the lit colour is
 /// `C·D + S` (see the module docs and [`pbr`]).
 #[inline(always)]
 #[must_use]
@@ -468,24 +471,24 @@ pub fn illuminate(
     model: ShadingModel,
     s: &Surface,
     lighting: &Lighting,
-    eye: Vec3,
+    viewer: Viewer,
 ) -> (Vec3, Vec3) {
     match model {
-        ShadingModel::Phong => phong(s, lighting, eye),
-        ShadingModel::MetallicRoughness => pbr::metallic_roughness(s, lighting, eye),
+        ShadingModel::Phong => phong(s, lighting, viewer),
+        ShadingModel::MetallicRoughness => pbr::metallic_roughness(s, lighting, viewer),
     }
 }
 
 /// The Phong factors `(D, S)` (the module docs' rule).
 #[inline(always)]
 #[must_use]
-pub fn phong(s: &Surface, lighting: &Lighting, eye: Vec3) -> (Vec3, Vec3) {
+pub fn phong(s: &Surface, lighting: &Lighting, viewer: Viewer) -> (Vec3, Vec3) {
     let (p, n) = (s.position, s.normal);
     let mut d = lighting.ambient * (s.ambient * s.occlusion);
     let mut sp = s.emissive;
     let specular = s.specular > 0.0;
     let v = if specular {
-        (eye - p).normalize_or_zero()
+        viewer.towards(p)
     } else {
         Vec3::ZERO
     };
@@ -555,7 +558,12 @@ mod tests {
             color: Vec3::ONE,
         }];
         let surface = Surface::new(&Material::default(), Vec3::ZERO, Vec3::Y);
-        let (d, s) = illuminate(ShadingModel::Phong, &surface, &lighting(&light), Vec3::Y);
+        let (d, s) = illuminate(
+            ShadingModel::Phong,
+            &surface,
+            &lighting(&light),
+            Viewer::Point(Vec3::Y),
+        );
         assert!((d - Vec3::splat(0.84650)).abs().max_element() < 1e-5, "{d}");
         assert_eq!(s, Vec3::ZERO);
     }
@@ -573,9 +581,21 @@ mod tests {
         }];
         let l = lighting(&light);
         let s = Surface::new(&m, Vec3::ZERO, Vec3::Y);
-        let (_, on) = illuminate(ShadingModel::Phong, &s, &l, Vec3::new(-1.0, 1.0, 0.0));
-        let (_, off) = illuminate(ShadingModel::Phong, &s, &l, Vec3::new(1.0, 1.0, 0.0));
+        let eye = |x: f32| Viewer::Point(Vec3::new(x, 1.0, 0.0));
+        let (_, on) = illuminate(ShadingModel::Phong, &s, &l, eye(-1.0));
+        let (_, off) = illuminate(ShadingModel::Phong, &s, &l, eye(1.0));
         assert!((on.x - 1.0).abs() < 1e-5 && off.x < 1e-3, "{on} {off}");
+        // An orthographic viewer along the mirror direction sees the peak at every point.
+        let ortho = Viewer::Direction(Vec3::new(-1.0, 1.0, 0.0).normalize());
+        for p in [Vec3::ZERO, Vec3::new(5.0, 0.0, -3.0)] {
+            let (_, s) = illuminate(
+                ShadingModel::Phong,
+                &Surface::new(&m, p, Vec3::Y),
+                &l,
+                ortho,
+            );
+            assert!((s.x - 1.0).abs() < 1e-5, "{p} {s}");
+        }
     }
 
     #[test]

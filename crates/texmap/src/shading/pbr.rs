@@ -32,7 +32,7 @@ use std::sync::OnceLock;
 
 use glam::{Vec2, Vec3};
 
-use super::{Lighting, Surface};
+use super::{Lighting, Surface, Viewer};
 
 /// The smallest roughness used: α = roughness² ≥ 0.002, so a perfect mirror keeps a finite,
 /// visible highlight from a point light.
@@ -86,16 +86,16 @@ pub fn alpha(roughness: f32) -> f32 {
     r * r
 }
 
-/// The factors `(D, S)` of the metallic-roughness model at surface `s` seen from `eye`, with
+/// The factors `(D, S)` of the metallic-roughness model at surface `s` seen by `viewer`, with
 /// `I = C·D + S` (see the module docs). Includes the ambient term and `s.emissive`.
 #[inline(never)]
 #[must_use]
-pub fn metallic_roughness(s: &Surface, lighting: &Lighting, eye: Vec3) -> (Vec3, Vec3) {
+pub fn metallic_roughness(s: &Surface, lighting: &Lighting, viewer: Viewer) -> (Vec3, Vec3) {
     let metallic = s.metallic.clamp(0.0, 1.0);
     let f0 = Vec3::splat(DIELECTRIC_F0).lerp(s.base_color, metallic);
     let a = alpha(s.roughness);
     let n = s.normal;
-    let v = (eye - s.position).normalize_or_zero();
+    let v = viewer.towards(s.position);
     // Normal-mapped normals can face away from the viewer; keep N·V just above 0.
     let n_dot_v = n.dot(v).max(1e-4);
     let diffuse_weight = 1.0 - metallic;
@@ -222,7 +222,7 @@ mod tests {
 
     /// The lit value of a grey surface: C·D + S.
     fn value(s: &Surface, lighting: &Lighting, eye: Vec3) -> Vec3 {
-        let (d, sp) = metallic_roughness(s, lighting, eye);
+        let (d, sp) = metallic_roughness(s, lighting, Viewer::Point(eye));
         s.base_color * d + sp
     }
 
@@ -232,14 +232,14 @@ mod tests {
         // π·F·D·Vis = 0.04·16·¼ = 0.16, and the diffuse factor is 1 − F = 0.96.
         let s = surface(0.5, 0.0, 0.5, Vec3::Z);
         let light = sun(Vec3::Z);
-        let (d, sp) = metallic_roughness(&s, &lit(&light, 0.0), Vec3::Z * 3.0);
+        let (d, sp) = metallic_roughness(&s, &lit(&light, 0.0), Viewer::Point(Vec3::Z * 3.0));
         assert!((d - Vec3::splat(0.96)).abs().max_element() < 1e-5, "{d}");
         assert!((sp - Vec3::splat(0.16)).abs().max_element() < 1e-5, "{sp}");
         assert!((value(&s, &lit(&light, 0.0), Vec3::Z * 3.0).x - 0.64).abs() < 1e-5);
         // Light 60° off the normal, viewer on it: H at 30°; by hand, D = 0.2257267,
         // Vis = 0.4785319, F = 0.0400414, so S = π·F·D·Vis·½ = 0.0067940, D = (1 − F)·½.
         let light = sun(Vec3::new(60f32.to_radians().sin(), 0.0, 0.5));
-        let (d, sp) = metallic_roughness(&s, &lit(&light, 0.0), Vec3::Z);
+        let (d, sp) = metallic_roughness(&s, &lit(&light, 0.0), Viewer::Point(Vec3::Z));
         assert!((d.x - 0.4799793).abs() < 1e-5, "{d}");
         assert!((sp.x - 0.0067940).abs() < 1e-6, "{sp}");
     }
@@ -249,7 +249,11 @@ mod tests {
         let mut s = surface(1.0, 1.0, 0.4, Vec3::Z);
         s.base_color = Vec3::new(1.0, 0.5, 0.1);
         let light = sun(Vec3::new(0.3, 0.0, 1.0));
-        let (d, sp) = metallic_roughness(&s, &lit(&light, 1.0), Vec3::new(-0.3, 0.0, 1.0));
+        let (d, sp) = metallic_roughness(
+            &s,
+            &lit(&light, 1.0),
+            Viewer::Point(Vec3::new(-0.3, 0.0, 1.0)),
+        );
         assert_eq!(d, Vec3::ZERO);
         // f0 is the base colour: the highlight keeps its hue.
         assert!(sp.x > sp.y && sp.y > sp.z && sp.z > 0.0, "{sp}");
@@ -265,9 +269,13 @@ mod tests {
         let l = lit(&light, 0.0);
         let mirror = Vec3::new(-sin, 0.0, cos);
         let spec = |roughness: f32, eye: Vec3| {
-            metallic_roughness(&surface(0.5, 0.0, roughness, Vec3::Z), &l, eye)
-                .1
-                .x
+            metallic_roughness(
+                &surface(0.5, 0.0, roughness, Vec3::Z),
+                &l,
+                Viewer::Point(eye),
+            )
+            .1
+            .x
         };
         let (smooth_peak, rough_peak) = (spec(0.1, mirror), spec(1.0, mirror));
         assert!(

@@ -299,7 +299,9 @@ pub fn vtk_camera_for_bounds(
         eye: centre - Vec3::Y * distance,
         target: centre,
         up: Vec3::Z,
-        fov_y_deg: view_angle,
+        projection: crate::scene::CameraProjection::Perspective {
+            fov_y_deg: view_angle,
+        },
         near: (distance - radius).max(distance * 1e-3),
         far: distance + radius * 2.0,
     };

@@ -30,7 +30,7 @@ use super::shade::VolumeLights;
 use super::transfer::{gradient_factor, PreIntegrated, TransferFunction, TransferLut};
 use super::{trilinear, Volume};
 use crate::render::{Frame, FrameStats};
-use crate::scene::{Camera, Light};
+use crate::scene::{Camera, CameraProjection, Light};
 use crate::{Error, Result};
 
 /// What a ray computes.
@@ -381,18 +381,30 @@ pub fn pixel_hash(x: u32, y: u32) -> f32 {
     (h >> 8) as f32 / (1u32 << 24) as f32
 }
 
-/// A camera ray for pixel `(x, y)`: origin and unit direction in world space.
+/// A camera ray for pixel `(x, y)`: origin and unit direction in world space. Perspective
+/// rays start at the eye; orthographic rays start on the plane through the eye perpendicular
+/// to the view direction and all run along it.
 #[inline]
 #[must_use]
 pub fn camera_ray(cam: &Camera, width: u32, height: u32, x: f32, y: f32) -> (Vec3, Vec3) {
     let f = (cam.target - cam.eye).normalize();
     let r = f.cross(cam.up).normalize();
     let u = r.cross(f);
-    let th = (cam.fov_y_deg.to_radians() * 0.5).tan();
     let aspect = width as f32 / height as f32;
+    // Half the image height: at unit distance (perspective) or in world units (orthographic).
+    let (th, ortho) = match cam.projection {
+        CameraProjection::Perspective { fov_y_deg } => {
+            ((fov_y_deg.to_radians() * 0.5).tan(), false)
+        }
+        CameraProjection::Orthographic { half_height } => (half_height, true),
+    };
     let sx = (2.0 * x / width as f32 - 1.0) * th * aspect;
     let sy = (1.0 - 2.0 * y / height as f32) * th;
-    (cam.eye, (f + r * sx + u * sy).normalize())
+    if ortho {
+        (cam.eye + r * sx + u * sy, f)
+    } else {
+        (cam.eye, (f + r * sx + u * sy).normalize())
+    }
 }
 
 /// Everything a ray needs, prepared once per frame.
@@ -1082,6 +1094,7 @@ pub fn ray_distances_from_depth(
     let (n, f) = (camera.near, camera.far);
     let fwd = (camera.target - camera.eye).normalize();
     let w = width as usize;
+    let ortho = camera.projection.is_orthographic();
     depth_window
         .iter()
         .enumerate()
@@ -1090,7 +1103,12 @@ pub fn ray_distances_from_depth(
                 return f32::INFINITY;
             }
             let zn = z * 2.0 - 1.0;
-            let view_z = 2.0 * n * f / (f + n - zn * (f - n));
+            // Distance along the view direction: GL's projections inverted.
+            let view_z = if ortho {
+                0.5 * (zn * (f - n) + f + n)
+            } else {
+                2.0 * n * f / (f + n - zn * (f - n))
+            };
             let (_, d) = camera_ray(
                 camera,
                 width,

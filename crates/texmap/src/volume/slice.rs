@@ -7,8 +7,8 @@
 //!
 //! Rules:
 //! - Slices sit at view depths `d_min + (k + ½)·step` (d along the view direction from the
-//!   eye); all vertices of a slice share one window depth, so the pipeline's back-to-front
-//!   order of blended triangles is the slice order.
+//!   eye) and are submitted far to near: the pipeline draws a blended call's triangles in
+//!   index order.
 //! - Opacity is corrected per fragment for the distance between two slices along that
 //!   pixel's ray, `step / cos θ`, so slices and rays agree off the image centre too.
 //! - Only composite mode exists here (blending is "over"); MIP, iso and X-ray are ray modes.
@@ -24,7 +24,7 @@ use crate::pipeline::{
     MAX_VARYINGS,
 };
 use crate::render::{Frame, FrameStats};
-use crate::scene::Camera;
+use crate::scene::{Camera, Viewer};
 use crate::texture::{sample_3d, Filter, Footprint3, Sampler, Wrap};
 use crate::{Error, Result};
 
@@ -78,13 +78,14 @@ struct SliceShader<'a> {
     sampler: Sampler,
     inv_n: Vec3,
     step: f32,
-    eye: Vec3,
+    camera: Camera,
+    viewer: Viewer,
     fwd: Vec3,
     shade: bool,
     lights: VolumeLights,
     gradient_opacity: &'a [(f32, f32)],
     grad_to_world: glam::Mat3,
-    /// Per pixel, the eye distance where rays stop (surfaces in front), and the image width.
+    /// Per pixel, the ray distance where rays stop (surfaces in front), and the image width.
     depth: Option<(&'a [f32], u32)>,
 }
 
@@ -117,7 +118,7 @@ impl FragmentShader for SliceShader<'_> {
                     .get((y * width + x) as usize)
                     .copied()
                     .unwrap_or(f32::INFINITY);
-                if (world - self.eye).length() > stop {
+                if self.camera.ray_distance(world) > stop {
                     continue;
                 }
             }
@@ -125,7 +126,7 @@ impl FragmentShader for SliceShader<'_> {
             if c.w <= 0.0 {
                 continue;
             }
-            let dir = (world - self.eye).normalize_or_zero();
+            let dir = -self.viewer.towards(world);
             let cos = dir.dot(self.fwd).max(1e-3);
             let mut a = correct_opacity(c.w, self.step / cos);
             let mut rgb = c.truncate();
@@ -229,7 +230,7 @@ pub fn render_slices_until(
     let viewport = Viewport::new(width, height);
     let mut vertices: Vec<PostVertex> = Vec::new();
     let mut indices: Vec<u32> = Vec::new();
-    for k in 0..count {
+    for k in (0..count).rev() {
         let d = d_min + (k as f32 + 0.5) * params.step;
         let poly = slice_polygon(&corners, camera.eye, fwd, d);
         if poly.len() < 3 {
@@ -257,7 +258,8 @@ pub fn render_slices_until(
         sampler: Sampler::new(Filter::BILINEAR, Wrap::ClampToEdge),
         inv_n: Vec3::from_array(vol.dims().map(|n| 1.0 / n as f32)),
         step: params.step,
-        eye: camera.eye,
+        camera: *camera,
+        viewer: camera.viewer(),
         fwd,
         shade: params.shade,
         lights: VolumeLights::new(params.lighting, &params.lights),

@@ -27,22 +27,23 @@ use crate::scene::{Camera, Scene};
 use crate::{Error, Result};
 
 struct DistanceShader {
-    eye: Vec3,
+    camera: Camera,
 }
 
 impl FragmentShader for DistanceShader {
     fn shade(&self, _draw: u32, quad: &Quad, out: &mut [Vec4; 4]) -> u8 {
         for (j, o) in out.iter_mut().enumerate() {
             let v = &quad.varyings[j];
-            let d = (Vec3::new(v[0], v[1], v[2]) - self.eye).length();
+            let d = self.camera.ray_distance(Vec3::new(v[0], v[1], v[2]));
             *o = Vec4::new(d, 0.0, 0.0, 1.0);
         }
         quad.mask
     }
 }
 
-/// Per pixel (row-major, top row first), the distance from the eye to the nearest surface of
-/// `scene` along the pixel's ray; infinite where no surface is drawn.
+/// Per pixel (row-major, top row first), the distance along the pixel's ray (from the eye, or
+/// for an orthographic camera from the eye's plane) to the nearest surface of `scene`;
+/// infinite where no surface is drawn.
 ///
 /// # Errors
 /// [`Error::Parameter`] for a bad camera or size.
@@ -97,7 +98,8 @@ pub fn surface_distances(
         interpolation: Interpolation::Perspective,
         depth_sort: false,
     };
-    let (color, _) = pipeline::draw(&calls, &DistanceShader { eye: camera.eye }, &target);
+    let shader = DistanceShader { camera: *camera };
+    let (color, _) = pipeline::draw(&calls, &shader, &target);
     Ok(color.into_iter().map(|c| c.x).collect())
 }
 
@@ -158,11 +160,11 @@ pub fn render_with_volumes(
         Some(surface_distances(scene, camera, w, h)?)
     };
     let mut order: Vec<&SceneVolume> = volumes.iter().collect();
-    let eye = camera.eye;
+    // Farthest first, along the rays (from the eye, or its plane for orthographic cameras).
     order.sort_by(|a, b| {
-        b.centre()
-            .distance_squared(eye)
-            .total_cmp(&a.centre().distance_squared(eye))
+        camera
+            .ray_distance(b.centre())
+            .total_cmp(&camera.ray_distance(a.centre()))
     });
     let mut frame: Option<Frame> = if scene.meshes.is_empty() && !volumes.is_empty() {
         None
@@ -304,7 +306,7 @@ mod tests {
 #[cfg(test)]
 mod depth_tests {
     use super::super::raymarch::{camera_ray, ray_distances_from_depth};
-    use crate::scene::Camera;
+    use crate::scene::{Camera, CameraProjection};
     use glam::Vec3;
 
     #[test]
@@ -313,7 +315,7 @@ mod depth_tests {
             eye: Vec3::new(1.0, 2.0, 30.0),
             target: Vec3::new(0.0, 0.0, 0.0),
             up: Vec3::Y,
-            fov_y_deg: 40.0,
+            projection: CameraProjection::Perspective { fov_y_deg: 40.0 },
             near: 0.5,
             far: 200.0,
         };
