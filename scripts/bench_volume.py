@@ -53,7 +53,7 @@ def main():
     ap.add_argument("--rounds", type=int, default=2)
     ap.add_argument("--step", type=float, default=0.5)
     ap.add_argument("--out", default="/tmp/volbench")
-    ap.add_argument("--texmap-steps", default="1,2", help="coarser texmap steps to time too")
+    ap.add_argument("--texmap-steps", default="0.75,1,2", help="coarser texmap steps to time too")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     steps = [float(x) for x in a.texmap_steps.split(",") if x]

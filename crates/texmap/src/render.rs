@@ -47,7 +47,9 @@ use crate::shading::{
     bump, combine, illuminate, phong, shininess_from_roughness, AlphaMode, Light, Lighting,
     MapChannel, Material, Procedural, ShadingModel, SolidMap, Surface, TextureSlot, Viewer,
 };
-use crate::texture::{sample, sample_quad, Filter, Footprint, Sampler, Texture2D, Wrap};
+use crate::texture::{
+    sample, sample_3d, sample_quad, Filter, Footprint, Footprint3, Sampler, Texture2D, Wrap,
+};
 use crate::{Error, Result};
 
 /// Where lighting is evaluated.
@@ -1158,6 +1160,26 @@ fn procedural_color(proc: &Procedural, d: &DrawInfo, quad: &Quad, j: usize, k: u
                 map.linear * fp.duv_dy,
             );
             sample(map.tex, &map.sampler, &fp)
+        }
+        Procedural::Texture3D {
+            texture,
+            sampler,
+            min,
+            max,
+            colors,
+        } => {
+            let v = &quad.varyings[j];
+            let p = Vec3::new(v[k], v[k + 1], v[k + 2]);
+            let dp_dx = Vec3::new(quad.ddx(k), quad.ddx(k + 1), quad.ddx(k + 2));
+            let dp_dy = Vec3::new(quad.ddy(k), quad.ddy(k + 1), quad.ddy(k + 2));
+            let inv = (*max - *min).recip();
+            let fp = Footprint3 {
+                uvw: (p - *min) * inv,
+                duvw_dx: dp_dx * inv,
+                duvw_dy: dp_dy * inv,
+            };
+            let value = sample_3d(texture, sampler, &fp).x.clamp(0.0, 1.0);
+            colors[0].lerp(colors[1], value).extend(1.0)
         }
     }
 }

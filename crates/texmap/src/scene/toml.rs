@@ -149,6 +149,8 @@ struct MaterialSpec {
     procedural: Option<ProceduralSpec>,
     /// An image whose coordinates a projection generates per pixel, multiplying the base colour.
     projected: Option<ProjectedSpec>,
+    /// A 3D texture (baked from a pattern, or a volume file) as a solid texture.
+    solid_texture: Option<SolidTextureSpec>,
     /// A solid texture on the roughness channel.
     roughness_procedural: Option<RoughnessProceduralSpec>,
     /// A solid texture on the bump (height) channel.
@@ -205,6 +207,38 @@ struct ProjectedSpec {
     /// Centre for bounding-sphere, in object space (default: the mesh's bounding-box centre).
     center: Option<[f32; 3]>,
     texture: TextureSpec,
+}
+
+/// A 3D texture over an object-space box: baked from a pattern or read from a volume file.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SolidTextureSpec {
+    /// A pattern to bake (marble | wood | granite | clouds | checker3d | bricks) …
+    bake: Option<String>,
+    /// … at this many voxels a side (default 64) …
+    size: Option<u32>,
+    /// … or a volume file (.nii, .nii.gz, .nrrd, .nhdr; relative to the scene file), its value
+    /// range mapped to 0..1.
+    file: Option<PathBuf>,
+    /// The object-space box the texture fills (default [-1, -1, -1] to [1, 1, 1]).
+    #[serde(default = "minus_one")]
+    min: [f32; 3],
+    #[serde(default = "plus_one")]
+    max: [f32; 3],
+    /// Linear RGB for values 0 and 1 (default: the pattern's own, else black and white).
+    colors: Option<[[f32; 3]; 2]>,
+    /// nearest | bilinear | trilinear (default trilinear: mipmapped).
+    filter: Option<String>,
+    /// repeat | mirror | clamp | border | mirror-clamp (default repeat).
+    wrap: Option<String>,
+}
+
+fn minus_one() -> [f32; 3] {
+    [-1.0; 3]
+}
+
+fn plus_one() -> [f32; 3] {
+    [1.0; 3]
 }
 
 fn yes() -> bool {
@@ -660,13 +694,18 @@ fn material(
     if let Some(t) = &m.base_color_texture {
         mat.base_color_texture = slot(dir, t, true, textures)?;
     }
+    let colour_sources = [
+        m.procedural.is_some(),
+        m.projected.is_some(),
+        m.solid_texture.is_some(),
+    ];
+    if colour_sources.iter().filter(|&&x| x).count() > 1 {
+        return Err(Error::parameter(
+            "a material takes one of `procedural`, `projected` and `solid_texture`",
+        ));
+    }
     mat.procedural = match (&m.procedural, &m.projected) {
-        (Some(_), Some(_)) => {
-            return Err(Error::parameter(
-                "a material takes `procedural` or `projected`, not both",
-            ))
-        }
-        (Some(p), None) => {
+        (Some(p), _) => {
             let solid = pattern(&p.pattern)?;
             Some(Procedural::Solid {
                 colors: p
@@ -690,7 +729,10 @@ fn material(
             slot(dir, &p.texture, true, textures)?
                 .map(|slot| Procedural::Projected { slot, projection })
         }
-        (None, None) => None,
+        (None, None) => match &m.solid_texture {
+            Some(t) => Some(solid_texture(dir, t)?),
+            None => None,
+        },
     };
     if let Some(r) = &m.roughness_procedural {
         if !r.range.iter().all(|v| (0.0..=1.0).contains(v)) {
@@ -745,6 +787,64 @@ fn pattern(name: &str) -> Result<Solid> {
         Error::parameter(format!(
             "pattern {name:?}: expected marble, wood, granite, clouds, checker3d or bricks"
         ))
+    })
+}
+
+/// A `solid_texture` table → [`Procedural::Texture3D`].
+fn solid_texture(dir: &Path, t: &SolidTextureSpec) -> Result<Procedural> {
+    let (min, max) = (Vec3::from(t.min), Vec3::from(t.max));
+    if !(min.is_finite() && max.is_finite() && max.cmpgt(min).all()) {
+        return Err(Error::parameter(format!(
+            "solid_texture: the box {min}..{max} must have every max above its min"
+        )));
+    }
+    let (texture, default_colors) = match (&t.bake, &t.file) {
+        (Some(name), None) => {
+            let solid = pattern(name)?;
+            let size = t.size.unwrap_or(64);
+            let tex = solid.bake(size, min.as_dvec3(), max.as_dvec3())?;
+            (tex, solid.default_colors())
+        }
+        (None, Some(file)) => {
+            if t.size.is_some() {
+                return Err(Error::parameter(
+                    "solid_texture: `size` is for `bake`, not `file`",
+                ));
+            }
+            let path = dir.join(file);
+            let vol = crate::volume::load_volume(&path, None)?;
+            (vol.texture().clone(), [Vec3::ZERO, Vec3::ONE])
+        }
+        _ => {
+            return Err(Error::parameter(
+                "solid_texture: give either `bake = \"pattern\"` or `file = \"volume\"`",
+            ))
+        }
+    };
+    let filter = match t.filter.as_deref() {
+        None | Some("trilinear") => Filter::TRILINEAR,
+        Some("bilinear") => Filter::BILINEAR,
+        Some("nearest") => Filter::NEAREST,
+        Some(f) => {
+            return Err(Error::parameter(format!(
+                "solid_texture: filter {f:?}: expected nearest, bilinear or trilinear"
+            )))
+        }
+    };
+    let wrap = match t.wrap.as_deref() {
+        None => Wrap::Repeat,
+        Some(w) => Wrap::parse(w).ok_or_else(|| {
+            Error::parameter(format!(
+                "solid_texture: wrap {w:?}: expected repeat, mirror, clamp, border or mirror-clamp"
+            ))
+        })?,
+    };
+    Ok(Procedural::Texture3D {
+        texture: std::sync::Arc::new(texture),
+        sampler: Sampler::new(filter, wrap),
+        min,
+        max,
+        colors: t.colors.map_or(default_colors, |c| c.map(Vec3::from)),
     })
 }
 

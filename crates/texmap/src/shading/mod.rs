@@ -37,7 +37,7 @@ use glam::{Vec3, Vec4};
 
 use crate::geometry::Projection;
 use crate::texture::procedural::Solid;
-use crate::texture::{Sampler, Texture2D, TextureTransform};
+use crate::texture::{Sampler, Texture2D, Texture3D, TextureTransform};
 
 pub use viewer::Viewer;
 
@@ -88,6 +88,19 @@ pub enum Procedural {
     Projected {
         slot: TextureSlot,
         projection: Projection,
+    },
+    /// A 3D texture (the texture engine's [`Texture3D`]) as a solid texture: the object-space
+    /// box `[min, max]` maps onto the texture's unit cube, `uvw = (P − min)/(max − min)`, read
+    /// through `sampler` over the pixel's footprint (∂uvw/∂x, ∂uvw/∂y from the position's
+    /// derivatives: trilinear with mip levels, as [`crate::texture::sample_3d`]). The red
+    /// channel (a scan's value, a baked pattern) is mapped through `colors` (0 → first,
+    /// 1 → second); the ramp is linear, so filtering the values equals filtering the colours.
+    Texture3D {
+        texture: Arc<Texture3D>,
+        sampler: Sampler,
+        min: Vec3,
+        max: Vec3,
+        colors: [Vec3; 2],
     },
 }
 

@@ -10,6 +10,8 @@
 
 use glam::{DVec3, Vec3};
 
+use crate::texture::{ColorSpace, Format, Texture3D};
+
 use super::perlin::{
     fbm, fbm_with_gradient, octaves_for_width, turbulence, turbulence_with_gradient,
 };
@@ -289,6 +291,35 @@ impl Solid {
     #[must_use]
     pub fn color(&self, p: DVec3, extent: DVec3, colors: [Vec3; 2]) -> Vec3 {
         colors[0].lerp(colors[1], self.value(p, extent) as f32)
+    }
+
+    /// The pattern's values over the box `[min, max]` baked into a `size³` 16-bit 3D texture
+    /// (R channel, full mip chain): voxel `i` holds the value at the box point of texture
+    /// coordinate `(i + ½)/size`, box-filtered over one voxel (the pattern's own
+    /// antialiasing), so the texture can stand in for the pattern as a solid texture.
+    ///
+    /// # Errors
+    /// A size outside 1..=512 or a box with a non-positive or non-finite side.
+    pub fn bake(&self, size: u32, min: DVec3, max: DVec3) -> crate::Result<Texture3D> {
+        let side = max - min;
+        if !(1..=512).contains(&size) || !side.is_finite() || !side.cmpgt(DVec3::ZERO).all() {
+            return Err(crate::Error::parameter(format!(
+                "solid texture bake: size {size} must be within 1..=512 and the box {min}..{max} non-empty"
+            )));
+        }
+        let voxel = side / f64::from(size);
+        let n = size as usize;
+        let mut bytes = Vec::with_capacity(n * n * n * 2);
+        for z in 0..n {
+            for y in 0..n {
+                for x in 0..n {
+                    let p = min + (DVec3::new(x as f64, y as f64, z as f64) + 0.5) * voxel;
+                    let v = (self.value(p, voxel).clamp(0.0, 1.0) * 65535.0).round() as u16;
+                    bytes.extend_from_slice(&v.to_le_bytes());
+                }
+            }
+        }
+        Texture3D::from_texels([size; 3], Format::R16, ColorSpace::Linear, &bytes, true)
     }
 }
 
