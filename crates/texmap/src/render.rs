@@ -514,6 +514,15 @@ struct DrawInfo<'a> {
     /// Height map (Phong shading); its scale includes the transform's mean scale, so heights
     /// are in object units.
     bump_map: Option<MapRead<'a>>,
+    /// OBJ `map_Ka`, `map_Ks`, `map_Ns` (Phong shading): the ambient term's colour, the
+    /// specular tint, and a factor on the exponent.
+    ambient_map: Option<MapRead<'a>>,
+    specular_map: Option<MapRead<'a>>,
+    shininess_map: Option<MapRead<'a>>,
+    /// OBJ `map_d`: opacity multiplying alpha (every mode), from the image's alpha channel
+    /// when it has one, else from red (`alpha_from_w`).
+    alpha_map: Option<MapRead<'a>>,
+    alpha_from_w: bool,
     /// Solid textures on the roughness and bump channels (Phong shading).
     solid_roughness: Option<SolidRead<'a>>,
     solid_bump: Option<SolidRead<'a>>,
@@ -646,6 +655,14 @@ impl<'a> DrawInfo<'a> {
         let metal_rough_map = (per_pixel && pbr)
             .then(|| map(MapChannel::MetallicRoughness))
             .flatten();
+        let phong_map = |c: MapChannel| (per_pixel && !pbr).then(|| map(c)).flatten();
+        let (ambient_map, specular_map, shininess_map) = (
+            phong_map(MapChannel::Ambient),
+            phong_map(MapChannel::Specular),
+            phong_map(MapChannel::Shininess),
+        );
+        let alpha_map = map(MapChannel::Alpha);
+        let alpha_from_w = alpha_map.is_some_and(|m| m.tex.format().has_alpha());
         let bump_map = if per_pixel {
             material
                 .map(MapChannel::Bump)
@@ -705,6 +722,9 @@ impl<'a> DrawInfo<'a> {
             || emissive_map.is_some()
             || (per_pixel
                 && (pbr
+                    || ambient_map.is_some()
+                    || specular_map.is_some()
+                    || shininess_map.is_some()
                     || normal_map.is_some()
                     || bump_map.is_some()
                     || solid_roughness.is_some()
@@ -724,6 +744,11 @@ impl<'a> DrawInfo<'a> {
             emissive_map,
             metal_rough_map,
             bump_map,
+            ambient_map,
+            specular_map,
+            shininess_map,
+            alpha_map,
+            alpha_from_w,
             solid_roughness,
             solid_bump,
             uv1_at,
@@ -759,6 +784,10 @@ impl<'a> DrawInfo<'a> {
                 + u32::from(self.emissive_map.is_some())
                 + u32::from(self.metal_rough_map.is_some())
                 + 3 * u32::from(self.bump_map.is_some())
+                + u32::from(self.ambient_map.is_some())
+                + u32::from(self.specular_map.is_some())
+                + u32::from(self.shininess_map.is_some())
+                + u32::from(self.alpha_map.is_some())
                 + u32::from(self.projected.is_some()),
         }
     }
@@ -930,6 +959,7 @@ impl FragmentShader for SceneShader<'_> {
         let mut kept = quad.mask;
         // The quad's texels in one call: one level of detail and format dispatch per quad.
         let texels = d.texture.as_ref().map(|t| t.quad(quad));
+        let opacity = d.alpha_map.as_ref().map(|t| t.quad(quad));
         // Read only for draws with such maps: a plain draw pays one test per quad.
         let maps = if d.surface_maps {
             Some(QuadMaps {
@@ -938,6 +968,9 @@ impl FragmentShader for SceneShader<'_> {
                 emission: d.emissive_map.as_ref().map(|t| t.quad(quad)),
                 metal_rough: d.metal_rough_map.as_ref().map(|t| t.quad(quad)),
                 bumps: d.bump_map.as_ref().map(|t| t.height_slopes(quad)),
+                ambient: d.ambient_map.as_ref().map(|t| t.quad(quad)),
+                specular: d.specular_map.as_ref().map(|t| t.quad(quad)),
+                shininess: d.shininess_map.as_ref().map(|t| t.quad(quad)),
             })
         } else {
             None
@@ -950,6 +983,10 @@ impl FragmentShader for SceneShader<'_> {
             let mut c = d.base;
             if let Some(t) = &texels {
                 c *= t[j];
+            }
+            if let Some(t) = &opacity {
+                // Premultiplied: scaling alpha scales the whole colour.
+                c *= if d.alpha_from_w { t[j].w } else { t[j].x };
             }
             if let Some(k) = d.color_at {
                 let vc = Vec4::new(v[k], v[k + 1], v[k + 2], v[k + 3]);
@@ -1034,6 +1071,9 @@ struct QuadMaps {
     metal_rough: Option<[Vec4; 4]>,
     /// Height slopes `(∂h/∂x, ∂h/∂y)`.
     bumps: Option<[Vec2; 4]>,
+    ambient: Option<[Vec4; 4]>,
+    specular: Option<[Vec4; 4]>,
+    shininess: Option<[Vec4; 4]>,
 }
 
 impl DrawInfo<'_> {
@@ -1075,6 +1115,16 @@ impl DrawInfo<'_> {
         if let Some(texel) = &maps.metal_rough {
             s.roughness *= texel[j].y;
             s.metallic *= texel[j].z;
+        }
+        if let Some(texel) = &maps.ambient {
+            s.ambient_color = Some(straight(texel[j]));
+        }
+        if let Some(texel) = &maps.specular {
+            s.specular_color = straight(texel[j]);
+        }
+        if let Some(texel) = &maps.shininess {
+            // MTL: the map's value multiplies Ns (at least 1, so the lobe stays finite).
+            s.shininess = (s.shininess * texel[j].x).max(1.0);
         }
         if self.model == ShadingModel::MetallicRoughness {
             s.base_color = straight(c);

@@ -228,3 +228,117 @@ fn gouraud_metallic_roughness_stays_close_to_phong() {
         c.psnr_db
     );
 }
+
+/// A 64² linear RGBA32F texture of one value everywhere.
+fn flat_texture(c: Vec4) -> Arc<Texture2D> {
+    Arc::new(Texture2D::from_fn(64, 64, TextureOptions::default(), |_, _| c).unwrap())
+}
+
+/// A Phong material with one map on `channel` reading `texture`.
+fn with_map(mut m: Material, channel: MapChannel, texture: Arc<Texture2D>) -> Material {
+    m.maps.push(MaterialMap {
+        channel,
+        slot: TextureSlot::new(texture, Sampler::new(Filter::TRILINEAR, Wrap::Repeat)),
+        scale: 1.0,
+    });
+    m
+}
+
+/// The OBJ channels `map_d`, `map_Ka`, `map_Ks` and `map_Ns` are drawn: opacity discards
+/// (alpha test) where it is low, the ambient map replaces the surface colour in the ambient
+/// term, the specular map tints the highlight, and the exponent map widens it.
+#[test]
+fn obj_opacity_ambient_specular_and_exponent_maps_are_drawn() {
+    let shiny = Material {
+        base_color: Vec4::new(0.2, 0.2, 0.2, 1.0),
+        specular: 1.0,
+        shininess: 200.0,
+        ..Default::default()
+    };
+    // A light from straight above: the highlight sits at the centre of the view.
+    let centre = |m: Material| {
+        let (mut scene, camera) = plane_scene(m, 1.0);
+        scene.lights = vec![Light::Directional {
+            direction: Vec3::Y,
+            color: Vec3::ONE,
+        }];
+        let f = frame(&scene, &camera, ShadingMode::Phong);
+        (pixel(&f, SIZE / 2, SIZE / 2), f)
+    };
+    // Opacity: a map of 0.3 everywhere (its alpha channel) under MASK 0.5 removes the plane.
+    let masked = Material {
+        alpha_mode: texmap::scene::AlphaMode::Mask(0.5),
+        ..shiny.clone()
+    };
+    let (_, opaque) = centre(with_map(
+        masked.clone(),
+        MapChannel::Alpha,
+        flat_texture(Vec4::splat(0.9)),
+    ));
+    let (_, cut) = centre(with_map(
+        masked,
+        MapChannel::Alpha,
+        flat_texture(Vec4::splat(0.3)),
+    ));
+    let lit = |f: &Frame| {
+        f.color
+            .iter()
+            .filter(|c| c.truncate().max_element() > 0.0)
+            .count()
+    };
+    assert!(
+        lit(&opaque) > (SIZE * SIZE / 2) as usize,
+        "{}",
+        lit(&opaque)
+    );
+    assert_eq!(lit(&cut), 0);
+
+    // Ambient colour: no lights, I_AL = 1, K_A = 0.2: the colour is 0.2·(map) not 0.2·C.
+    let ambient_only = |m: Material| {
+        let (mut scene, camera) = plane_scene(m, 1.0);
+        scene.lights.clear();
+        let f = frame(&scene, &camera, ShadingMode::Phong);
+        pixel(&f, SIZE / 2, SIZE / 2)
+    };
+    let plain = ambient_only(shiny.clone());
+    let tinted = ambient_only(with_map(
+        shiny.clone(),
+        MapChannel::Ambient,
+        flat_texture(Vec4::new(0.0, 1.0, 0.0, 1.0)),
+    ));
+    assert!(
+        (plain - Vec3::splat(0.04)).abs().max_element() < 1e-3,
+        "{plain}"
+    );
+    assert!(
+        (tinted - Vec3::new(0.0, 0.2, 0.0)).abs().max_element() < 1e-3,
+        "{tinted}"
+    );
+
+    // Specular tint and exponent, seen where the highlight is: compare whole frames.
+    let (_, white) = centre(shiny.clone());
+    let (_, red) = centre(with_map(
+        shiny.clone(),
+        MapChannel::Specular,
+        flat_texture(Vec4::new(1.0, 0.0, 0.0, 1.0)),
+    ));
+    let sum = |f: &Frame| f.color.iter().map(|c| c.truncate()).sum::<Vec3>();
+    let (sw, sr) = (sum(&white), sum(&red));
+    assert!(
+        (sr.x - sw.x).abs() < 1e-3 * sw.x,
+        "red channel keeps its highlight"
+    );
+    assert!(sr.y < sw.y - 1.0, "green loses the highlight: {sw} {sr}");
+    let (_, wide) = centre(with_map(
+        shiny,
+        MapChannel::Shininess,
+        flat_texture(Vec4::new(0.1, 0.0, 0.0, 1.0)),
+    ));
+    let bright = |f: &Frame| f.color.iter().filter(|c| c.x > 0.5).count();
+    assert!(
+        bright(&wide) > 2 * bright(&white).max(1),
+        "exponent ×0.1 widens the highlight: {} vs {}",
+        bright(&wide),
+        bright(&white)
+    );
+}

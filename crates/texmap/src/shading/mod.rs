@@ -297,6 +297,11 @@ pub struct Surface {
     pub occlusion: f32,
     /// I_E.
     pub emissive: Vec3,
+    /// Tint of the Phong specular term (OBJ `map_Ks`; white otherwise).
+    pub specular_color: Vec3,
+    /// The ambient term's own colour (OBJ `map_Ka`): when set, the ambient light reflects
+    /// `K_A·O·I_AL·ambient_color` instead of modulating the surface colour `C`.
+    pub ambient_color: Option<Vec3>,
 }
 
 impl Surface {
@@ -316,6 +321,8 @@ impl Surface {
             roughness: m.roughness,
             occlusion: 1.0,
             emissive: m.emissive,
+            specular_color: Vec3::ONE,
+            ambient_color: None,
         }
     }
 }
@@ -497,8 +504,11 @@ pub fn illuminate(
 #[must_use]
 pub fn phong(s: &Surface, lighting: &Lighting, viewer: Viewer) -> (Vec3, Vec3) {
     let (p, n) = (s.position, s.normal);
-    let mut d = lighting.ambient * (s.ambient * s.occlusion);
-    let mut sp = s.emissive;
+    let ambient = lighting.ambient * (s.ambient * s.occlusion);
+    let (mut d, mut sp) = match s.ambient_color {
+        None => (ambient, s.emissive),
+        Some(a) => (Vec3::ZERO, s.emissive + ambient * a),
+    };
     let specular = s.specular > 0.0;
     let v = if specular {
         viewer.towards(p)
@@ -518,7 +528,7 @@ pub fn phong(s: &Surface, lighting: &Lighting, viewer: Viewer) -> (Vec3, Vec3) {
             let r = n * (2.0 * n_dot_l) - l;
             let r_dot_v = r.dot(v);
             if r_dot_v > 0.0 {
-                sp += intensity * (s.specular * r_dot_v.powf(s.shininess));
+                sp += intensity * s.specular_color * (s.specular * r_dot_v.powf(s.shininess));
             }
         }
     }
