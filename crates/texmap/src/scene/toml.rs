@@ -4,7 +4,7 @@
 //!
 //! Every table refuses unknown keys (a typo is an error naming the line), and relative paths
 //! resolve from the scene file's folder. Meshes and volumes are placed alike: scale, rotate,
-//! translate, or a matrix. Room for later features: a mesh may gain `texgen`.
+//! translate, or a matrix; a mesh may generate its texture coordinates (`texgen`).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -327,6 +327,78 @@ struct MeshSpec {
     rotate: Option<[f32; 3]>,
     scale: Option<ScaleSpec>,
     matrix: Option<[f32; 16]>,
+    /// Texture coordinates generated per vertex by a projection (replacing the mesh's own).
+    texgen: Option<TexgenSpec>,
+}
+
+/// `texgen = { projection = "spherical", set = 0, center = [0, 0, 0] }` on a mesh.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TexgenSpec {
+    /// planar-x | planar-y | planar-z | cylindrical | spherical | cube | bounding-sphere.
+    projection: String,
+    /// The uv set written: 0 (default) or 1; a channel reads it with its `tex_coord`.
+    #[serde(default)]
+    set: u32,
+    /// Bounding-sphere centre in object space (default: the mesh's bounding-box centre).
+    center: Option<[f32; 3]>,
+}
+
+/// Replaces uv set `t.set` of `mesh` with per-vertex coordinates from the projection (object
+/// space); seam triangles get their own vertex copies, every other attribute follows them.
+fn apply_texgen(mesh: &mut super::Mesh, t: &TexgenSpec) -> std::result::Result<(), String> {
+    let mut projection = Projection::parse(&t.projection).ok_or_else(|| {
+        format!(
+            "texgen: projection {:?}: expected planar-x, planar-y, planar-z, cylindrical, spherical, cube or bounding-sphere",
+            t.projection
+        )
+    })?;
+    if t.set > 1 {
+        return Err(format!("texgen: set {} is not 0 or 1", t.set));
+    }
+    if let Projection::BoundingSphere { center } = &mut projection {
+        *center = match t.center {
+            Some(c) => Vec3::from(c),
+            None => {
+                let (lo, hi) = mesh.positions.iter().fold(
+                    (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+                    |(lo, hi), &p| (lo.min(p), hi.max(p)),
+                );
+                if lo.cmple(hi).all() {
+                    (lo + hi) * 0.5
+                } else {
+                    Vec3::ZERO
+                }
+            }
+        };
+    }
+    let (uvs, indices, remap) = crate::geometry::texgen::generate_uvs(
+        &projection,
+        &mesh.positions,
+        &mesh.normals,
+        &mesh.indices,
+    );
+    fn follow<T: Copy>(v: &mut Vec<T>, remap: &[u32], n: usize) {
+        if v.len() == n {
+            *v = remap.iter().map(|&i| v[i as usize]).collect();
+        }
+    }
+    let n = mesh.positions.len();
+    follow(&mut mesh.positions, &remap, n);
+    follow(&mut mesh.normals, &remap, n);
+    follow(&mut mesh.uvs, &remap, n);
+    follow(&mut mesh.uvs1, &remap, n);
+    follow(&mut mesh.colors, &remap, n);
+    // Tangents follow set 0; they are regenerated when set 0 changes.
+    if t.set == 0 {
+        mesh.tangents.clear();
+        mesh.uvs = uvs;
+    } else {
+        follow(&mut mesh.tangents, &remap, n);
+        mesh.uvs1 = uvs;
+    }
+    mesh.indices = indices;
+    Ok(())
 }
 
 #[derive(Deserialize)]
@@ -493,6 +565,9 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
                 let offset = scene.materials.len();
                 for (k, mesh) in sub.scene.meshes.into_iter().enumerate() {
                     let mut mesh = mesh;
+                    if let Some(t) = &m.texgen {
+                        apply_texgen(&mut mesh, t).map_err(|e| err(format!("meshes[{i}]: {e}")))?;
+                    }
                     mesh.world_from_object = transform * mesh.world_from_object;
                     mesh.material = named.unwrap_or(mesh.material + offset);
                     info.mesh_names.push(format!(
@@ -515,6 +590,9 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
             (None, Some(kind)) => {
                 let p = primitive(kind, m).map_err(|e| err(format!("meshes[{i}]: {e}")))?;
                 let mut mesh = p.mesh(named.unwrap_or(default_material));
+                if let Some(t) = &m.texgen {
+                    apply_texgen(&mut mesh, t).map_err(|e| err(format!("meshes[{i}]: {e}")))?;
+                }
                 mesh.world_from_object = transform;
                 info.mesh_names.push(kind.clone());
                 scene.meshes.push(mesh);
@@ -1045,6 +1123,49 @@ roughness = 0.5
         ] {
             let e = cam(bad).unwrap_err().to_string();
             assert!(e.contains("cam.toml") && e.contains(says), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn texgen_writes_a_uv_set_from_the_projection() {
+        let p = write(
+            "texgen.toml",
+            r#"
+[[meshes]]
+primitive = "sphere"
+texgen = { projection = "spherical" }
+[[meshes]]
+primitive = "cube"
+texgen = { projection = "cube", set = 1 }
+"#,
+        );
+        let l = load(&p, &LoadOptions::default()).unwrap();
+        let (sphere, cube) = (&l.scene.meshes[0], &l.scene.meshes[1]);
+        assert_eq!(sphere.uvs.len(), sphere.positions.len());
+        // Off the seam copies, each vertex's uv is the projection of its position.
+        let mut matched = 0;
+        for (p, uv) in sphere.positions.iter().zip(&sphere.uvs) {
+            let want = Projection::Spherical.map(*p, Vec3::Y);
+            if (want - *uv).abs().max_element() < 1e-5 {
+                matched += 1;
+            }
+        }
+        assert!(matched * 10 >= sphere.uvs.len() * 9, "{matched}");
+        assert!(sphere
+            .indices
+            .iter()
+            .all(|&i| (i as usize) < sphere.positions.len()));
+        assert_eq!(cube.uvs1.len(), cube.positions.len());
+        for (k, e) in [
+            ("texgen = { projection = \"conic\" }", "conic"),
+            ("texgen = { projection = \"cube\", set = 2 }", "set 2"),
+        ] {
+            let p = write(
+                "bad_texgen.toml",
+                &format!("[[meshes]]\nprimitive = \"cube\"\n{k}\n"),
+            );
+            let msg = load(&p, &LoadOptions::default()).unwrap_err().to_string();
+            assert!(msg.contains(e) && msg.contains("meshes[0]"), "{msg}");
         }
     }
 
