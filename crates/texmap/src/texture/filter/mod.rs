@@ -350,19 +350,40 @@ fn gl<C: Codec>(
 ) -> Vec4 {
     let (dx, dy) = texel_derivatives(tex, fp);
     let lod = s.adjust_lod(s.lod_rule.lod(dx, dy));
-    let ((a, b), linear) = gl_levels(tex, lod, mag, min);
-    let read = |level: usize| {
-        let lv = tex.level(level);
-        if linear {
-            bilinear::<C>(&lv, s, fp.uv)
+    // λ ≤ 0 (or NaN from a degenerate footprint) magnifies.
+    if !(lod > 0.0) {
+        let base = tex.level(0);
+        return match mag {
+            MagFilter::Nearest => nearest::<C>(&base, s, fp.uv),
+            MagFilter::Linear => bilinear::<C>(&base, s, fp.uv),
+        };
+    }
+    let last = tex.levels().len() - 1;
+    let nearest_level = || {
+        if lod <= 0.5 {
+            0
         } else {
-            nearest::<C>(&lv, s, fp.uv)
+            (((lod + 0.5).ceil() as usize) - 1).min(last)
         }
     };
-    let c = read(a);
-    match b {
-        Some((b, f)) => c.lerp(read(b), f),
-        None => c,
+    let between = |read: &dyn Fn(&LevelRef) -> Vec4| {
+        let l = lod.min(last as f32);
+        let d = l.floor();
+        let a = read(&tex.level(d as usize));
+        let f = l - d;
+        if f <= 0.0 {
+            a
+        } else {
+            a.lerp(read(&tex.level(d as usize + 1)), f)
+        }
+    };
+    match min {
+        MinFilter::Nearest => nearest::<C>(&tex.level(0), s, fp.uv),
+        MinFilter::Linear => bilinear::<C>(&tex.level(0), s, fp.uv),
+        MinFilter::NearestMipmapNearest => nearest::<C>(&tex.level(nearest_level()), s, fp.uv),
+        MinFilter::LinearMipmapNearest => bilinear::<C>(&tex.level(nearest_level()), s, fp.uv),
+        MinFilter::NearestMipmapLinear => between(&|lv| nearest::<C>(lv, s, fp.uv)),
+        MinFilter::LinearMipmapLinear => trilinear_at::<C>(tex, s, fp.uv, lod),
     }
 }
 
