@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use texmap::scene::{CameraProjection, LoadOptions, Loaded};
-use texmap::shading::{AlphaMode, ShadingModel, SolidChannel};
+use texmap::shading::{AlphaMode, Procedural, ShadingModel, SolidChannel};
 use texmap::texture::load::{load_texture, Limits};
 use texmap::texture::ColorSpace;
 use texmap::volume::{load_volume, SceneVolume, Volume};
@@ -141,6 +141,26 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
                 map.slot.texture.height(),
                 map.slot.tex_coord
             ));
+        }
+        match &m.procedural {
+            Some(Procedural::Solid {
+                solid, antialias, ..
+            }) => maps.push(format!(
+                "colour solid {solid:?}{}",
+                if *antialias { "" } else { " (not antialiased)" }
+            )),
+            Some(Procedural::Projected { slot, projection }) => maps.push(format!(
+                "colour projected {projection:?} {}x{}",
+                slot.texture.width(),
+                slot.texture.height()
+            )),
+            Some(Procedural::Texture3D {
+                texture, min, max, ..
+            }) => {
+                let [x, y, z] = texture.dims();
+                maps.push(format!("colour 3D texture {x}x{y}x{z} over {min}..{max}"));
+            }
+            None => {}
         }
         for solid in &m.solid_maps {
             maps.push(match solid.channel {

@@ -524,3 +524,21 @@ fn info_reads_a_volume_file() {
     assert!(!info.status.success());
     assert!(String::from_utf8_lossy(&info.stderr).contains("--dims"));
 }
+
+#[test]
+fn info_names_each_materials_colour_source() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let scene = root.join("scenes/solid_texture3d.toml");
+    let info = texmap(&["info", scene.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&info.stdout);
+    assert!(
+        info.status.success(),
+        "{}",
+        String::from_utf8_lossy(&info.stderr)
+    );
+    assert!(
+        text.contains("colour 3D texture 64x64x64 over [-1, -1, -1]..[1, 1, 1]")
+            && text.contains("colour 3D texture 96x96x96"),
+        "{text}"
+    );
+}
