@@ -467,13 +467,7 @@ translate = [11.5, 11.5, 23]
 "#,
     )
     .unwrap();
-    let info = texmap(&["info", scene.to_str().unwrap()]);
-    let text = String::from_utf8_lossy(&info.stdout);
-    assert!(
-        info.status.success(),
-        "{}",
-        String::from_utf8_lossy(&info.stderr)
-    );
+    let text = info_of(&scene);
     assert!(
         text.contains("volumes: 1")
             && text.contains("ball.raw: 24x24x24 u8, spacing (1, 1, 2), values 0 .. 185"),
@@ -541,4 +535,15 @@ fn info_names_each_materials_colour_source() {
             && text.contains("colour 3D texture 96x96x96"),
         "{text}"
     );
+}
+
+/// `texmap info PATH`'s standard output, asserting it succeeded.
+fn info_of(path: &std::path::Path) -> String {
+    let info = texmap(&["info", path.to_str().unwrap()]);
+    assert!(
+        info.status.success(),
+        "{}",
+        String::from_utf8_lossy(&info.stderr)
+    );
+    String::from_utf8_lossy(&info.stdout).into_owned()
 }
