@@ -630,3 +630,40 @@ fn scene_file_with_a_3d_solid_texture() {
     let img = rgb8(&loaded.scene, &camera, 320, 180, 1);
     common::assert_golden("scene_solid_texture3d", 320, 180, &img, MIN_PSNR);
 }
+
+#[test]
+fn a_scan_is_a_solid_texture_too() {
+    // The repository's small synthetic scan (scenes/volumes/cell.nrrd) carved by a sphere:
+    // its value range maps to the two colours, so the surface is not one colour.
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let scan = root.join("scenes/volumes/cell.nrrd");
+    let dir = std::env::temp_dir().join(format!("texmap-scan-solid-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scan.toml");
+    std::fs::write(
+        &path,
+        format!(
+            "[materials.scan]\nsolid_texture = {{ file = {:?}, colors = [[0, 0, 0], [1, 1, 1]], \
+             min = [-0.6, -0.6, -0.6], max = [0.6, 0.6, 0.6], wrap = \"clamp\" }}\n\
+             [[meshes]]\nprimitive = \"sphere\"\nradius = 0.35\nmaterial = \"scan\"\n",
+            scan.display().to_string()
+        ),
+    )
+    .unwrap();
+    let loaded = texmap::scene::load(&path, &Default::default()).unwrap();
+    let Some(Procedural::Texture3D { texture, .. }) = &loaded.scene.materials[0].procedural else {
+        panic!("not a 3D texture");
+    };
+    assert_eq!(texture.dims(), [48, 48, 40]);
+    let mut scene = loaded.scene;
+    scene.lights.clear();
+    scene.ambient_light = Vec3::splat(5.0); // K_A 0.2 × 5: the unlit colour
+    let camera = scene.framing_camera(40.0);
+    let img = rgb8(&scene, &camera, 64, 64, 1);
+    let lit: Vec<u8> = img.chunks(3).map(|p| p[0]).filter(|&r| r > 0).collect();
+    let (lo, hi) = (lit.iter().min().unwrap(), lit.iter().max().unwrap());
+    assert!(
+        hi - lo > 8,
+        "the scan's values vary across the surface: {lo}..{hi}"
+    );
+}
