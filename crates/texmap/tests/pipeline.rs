@@ -1,5 +1,7 @@
 //! Integration tests of the rasterization pipeline and `render`.
 
+mod common;
+
 use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -62,66 +64,6 @@ fn target(w: u32, h: u32, samples: u32) -> Target {
         interpolation: Interpolation::Perspective,
         depth_sort: false,
     }
-}
-
-/// Icosphere of radius 1 with `levels` subdivisions (20·4^levels triangles, outward CCW).
-fn icosphere(levels: u32) -> (Vec<Vec3>, Vec<u32>) {
-    let t = (1.0 + 5f32.sqrt()) / 2.0;
-    let mut v: Vec<Vec3> = [
-        (-1.0, t, 0.0),
-        (1.0, t, 0.0),
-        (-1.0, -t, 0.0),
-        (1.0, -t, 0.0),
-        (0.0, -1.0, t),
-        (0.0, 1.0, t),
-        (0.0, -1.0, -t),
-        (0.0, 1.0, -t),
-        (t, 0.0, -1.0),
-        (t, 0.0, 1.0),
-        (-t, 0.0, -1.0),
-        (-t, 0.0, 1.0),
-    ]
-    .iter()
-    .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
-    .collect();
-    let mut f: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..levels {
-        let mut cache = std::collections::HashMap::new();
-        let mut mid = |a: u32, b: u32, v: &mut Vec<Vec3>| {
-            *cache.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                v.push(((v[a as usize] + v[b as usize]) * 0.5).normalize());
-                v.len() as u32 - 1
-            })
-        };
-        let mut g = Vec::with_capacity(f.len() * 4);
-        for [a, b, c] in f {
-            let (ab, bc, ca) = (mid(a, b, &mut v), mid(b, c, &mut v), mid(c, a, &mut v));
-            g.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-        }
-        f = g;
-    }
-    (v, f.into_iter().flatten().collect())
 }
 
 fn camera(eye: Vec3, target: Vec3) -> Camera {
@@ -189,7 +131,7 @@ fn max_abs_diff(a: &Frame, b: &Frame) -> (f32, usize) {
 
 #[test]
 fn watertight_closed_mesh_inside_covers_every_pixel_once() {
-    let (p, idx) = icosphere(3);
+    let (p, idx) = common::icosphere(3);
     // Many triangles cross the camera plane and are clipped at near; with near = 1e-4 the
     // clipped vertices land far outside the guard band, so those planes clip too.
     let cam = camera(Vec3::new(0.13, -0.21, 0.17), Vec3::new(0.9, 0.37, -1.0));
@@ -208,7 +150,7 @@ fn watertight_closed_mesh_inside_covers_every_pixel_once() {
 
 #[test]
 fn watertight_closed_mesh_outside_covers_pixels_zero_or_two_times() {
-    let (p, idx) = icosphere(3);
+    let (p, idx) = common::icosphere(3);
     let cam = camera(Vec3::new(0.3, 0.4, 2.4), Vec3::ZERO);
     let hits = count_hits(&p, &idx, &cam, 128, 96, 1, CullMode::None);
     assert!(
