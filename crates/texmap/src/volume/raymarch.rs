@@ -440,6 +440,17 @@ struct Ctx<'a> {
     lights: VolumeLights,
 }
 
+/// A depth buffer, if given, holds one distance per pixel (both methods check it).
+pub(crate) fn check_depth(depth: Option<&[f32]>, width: u32, height: u32) -> Result<()> {
+    match depth {
+        Some(d) if d.len() != width as usize * height as usize => Err(Error::parameter(format!(
+            "depth buffer has {} values for a {width}x{height} image",
+            d.len()
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// The checks both methods make: an image size in 1..=16384 and a positive, finite step.
 pub(crate) fn check_frame(width: u32, height: u32, params: &MarchParams) -> Result<()> {
     if width == 0 || height == 0 || width > 16384 || height > 16384 {
@@ -475,14 +486,7 @@ pub fn raymarch(
 ) -> Result<Frame> {
     camera.validate()?;
     check_frame(width, height, params)?;
-    if let Some(d) = depth {
-        if d.len() != (width * height) as usize {
-            return Err(Error::parameter(format!(
-                "depth buffer has {} values for a {width}x{height} image",
-                d.len()
-            )));
-        }
-    }
+    check_depth(depth, width, height)?;
     let mut ctx = Ctx::new(vol, tf, params)?;
     ctx.headlight = Some((camera.target - camera.eye).normalize());
     // Square tiles: a tile's rays stay in a narrow bundle of the volume, so their samples

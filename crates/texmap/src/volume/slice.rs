@@ -190,14 +190,7 @@ pub fn render_slices_until(
     depth: Option<&[f32]>,
 ) -> Result<Frame> {
     camera.validate()?;
-    if let Some(d) = depth {
-        if d.len() != (width as usize) * (height as usize) {
-            return Err(Error::parameter(format!(
-                "depth buffer has {} values for a {width}x{height} image",
-                d.len()
-            )));
-        }
-    }
+    super::raymarch::check_depth(depth, width, height)?;
     if params.mode != Mode::Composite || params.classification != Classification::Post {
         return Err(Error::Unsupported(
             "--method slices renders composite mode with post-classification only".into(),
