@@ -381,9 +381,14 @@ impl LevelRef<'_> {
                 (i00, i10, i01, i11)
             }
         };
+        // One bounds check for the four reads, at the largest index.
+        let hi = i00.max(i10).max(i01).max(i11);
+        let data = &self.data[..(hi + 1) * C::BPP];
         let read = |i: usize| {
             let b = i * C::BPP;
-            let c = C::decode(&self.data[b..b + C::BPP], self.lut);
+            // SAFETY: i ≤ hi, so b + BPP ≤ (hi + 1)·BPP = data.len() (checked by the slice).
+            let bytes = unsafe { data.get_unchecked(b..b + C::BPP) };
+            let c = C::decode(bytes, self.lut);
             if C::HAS_ALPHA {
                 (c.truncate() * c.w).extend(c.w)
             } else {
