@@ -154,8 +154,9 @@ fn gl_levels(
 }
 
 /// [`bilinear`] for the four pixels of a quad on one level, the coordinates in lanes. With
-/// repeat on both axes (the common case) the texel coordinates, weights and wrapping are
-/// computed four at a time; other wraps take [`bilinear`] per pixel.
+/// repeat on both axes (the common case) the texel coordinates and weights are computed four
+/// at a time, then each pixel reads its 2×2 texels (wrapped by a select at the edges); other
+/// wraps take [`bilinear`] per pixel.
 #[inline(always)]
 fn bilinear_quad<C: Codec>(lv: &LevelRef, s: &Sampler, u: Vec4, v: Vec4, mask: u8) -> [Vec4; 4] {
     let mut out = [Vec4::ZERO; 4];
@@ -182,10 +183,7 @@ fn bilinear_quad<C: Codec>(lv: &LevelRef, s: &Sampler, u: Vec4, v: Vec4, mask: u
             lv.quad::<C>(x, y)
         } else {
             let (x, y) = (x.clamp(-1, lv.w - 1), y.clamp(-1, lv.h - 1));
-            let xa = if x < 0 { lv.w - 1 } else { x };
-            let xb = if x + 1 >= lv.w { 0 } else { x + 1 };
-            let ya = if y < 0 { lv.h - 1 } else { y };
-            let yb = if y + 1 >= lv.h { 0 } else { y + 1 };
+            let ((xa, xb), (ya, yb)) = (repeat_pair(x, lv.w), repeat_pair(y, lv.h));
             let t = |x, y| lv.texel::<C>(x, y);
             ((t(xa, ya), t(xb, ya)), (t(xa, yb), t(xb, yb)))
         };
@@ -296,10 +294,7 @@ pub(crate) fn bilinear<C: Codec>(lv: &LevelRef, s: &Sampler, uv: Vec2) -> Vec4 {
         && x0 < lv.w
         && y0 < lv.h
     {
-        let xa = if x0 < 0 { lv.w - 1 } else { x0 };
-        let xb = if x0 + 1 >= lv.w { 0 } else { x0 + 1 };
-        let ya = if y0 < 0 { lv.h - 1 } else { y0 };
-        let yb = if y0 + 1 >= lv.h { 0 } else { y0 + 1 };
+        let ((xa, xb), (ya, yb)) = (repeat_pair(x0, lv.w), repeat_pair(y0, lv.h));
         let t = |x, y| lv.texel::<C>(x, y);
         return t(xa, ya)
             .lerp(t(xb, ya), ax)
@@ -323,6 +318,16 @@ pub(crate) fn bilinear<C: Codec>(lv: &LevelRef, s: &Sampler, uv: Vec2) -> Vec4 {
     let top = t(xa, ya).lerp(t(xb, ya), ax);
     let bottom = t(xa, yb).lerp(t(xb, yb), ax);
     top.lerp(bottom, ay)
+}
+
+/// The two texel indices a bilinear tap at `i ∈ [−1, n − 1]` reads on a repeating axis of
+/// `n` texels: `i` and `i + 1`, wrapped by a select (no division).
+#[inline(always)]
+fn repeat_pair(i: i32, n: i32) -> (i32, i32) {
+    (
+        if i < 0 { n - 1 } else { i },
+        if i + 1 >= n { 0 } else { i + 1 },
+    )
 }
 
 /// Bilinear on the two levels around `lod`, blended (the minification half of trilinear).
