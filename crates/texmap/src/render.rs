@@ -327,7 +327,6 @@ pub fn render_into(
         .collect();
     let shader = SceneShader {
         draws: &draws,
-        directional_only: !lighting.needs_position(),
         lighting,
         viewer: camera.viewer(),
     };
@@ -951,9 +950,6 @@ struct SceneShader<'a> {
     draws: &'a [DrawInfo<'a>],
     lighting: Lighting<'a>,
     viewer: Viewer,
-    /// Every light is directional (every loader's default light): map-free Phong pixels are
-    /// then lit a quad at a time ([`phong_quad`]).
-    directional_only: bool,
 }
 
 impl FragmentShader for SceneShader<'_> {
@@ -979,22 +975,6 @@ impl FragmentShader for SceneShader<'_> {
         } else {
             None
         };
-        // Map-free Phong under directional lights: the quad's four pixels lit in lanes.
-        let back = m.double_sided && !quad.front_facing;
-        let lit = (d.mode == Mode::Phong
-            && maps.is_none()
-            && d.model == ShadingModel::Phong
-            && self.directional_only)
-            .then(|| {
-                phong_quad(
-                    &d.surface,
-                    quad,
-                    d.needs_position,
-                    back,
-                    &self.lighting,
-                    self.viewer,
-                )
-            });
         for j in 0..4 {
             if quad.mask & (1 << j) == 0 {
                 continue;
@@ -1017,7 +997,6 @@ impl FragmentShader for SceneShader<'_> {
             }
             let (df, sp) = match d.mode {
                 Mode::Unlit => (Vec3::ONE, Vec3::ZERO),
-                Mode::Phong if lit.is_some() => lit.map_or((Vec3::ONE, Vec3::ZERO), |l| l[j]),
                 Mode::Phong => {
                     let mut normal = Vec3::new(v[2], v[3], v[4]).normalize_or_zero();
                     let position = if d.needs_position {
@@ -1026,6 +1005,7 @@ impl FragmentShader for SceneShader<'_> {
                         Vec3::ZERO
                     };
                     // Double-sided back faces are lit from their side, after any tilt.
+                    let back = m.double_sided && !quad.front_facing;
                     match &maps {
                         // A Phong material without maps (the model is known): only the normal
                         // and position vary, and this surface stays in registers.
@@ -1081,105 +1061,6 @@ impl FragmentShader for SceneShader<'_> {
         }
         kept
     }
-}
-
-/// [`phong`] of surface `s` for the four pixels of `quad` under directional lights only (one
-/// lane per pixel): the interpolated normals at varyings 2..5 (renormalized, negated for
-/// `back`), positions at 5..8 when `with_position` (for the specular view vector). The same
-/// rule and the same order of operations as the per-pixel path.
-#[inline]
-fn phong_quad(
-    s: &Surface,
-    quad: &Quad,
-    with_position: bool,
-    back: bool,
-    lighting: &Lighting,
-    viewer: Viewer,
-) -> [(Vec3, Vec3); 4] {
-    let lane = |k: usize| Vec4::from_array(std::array::from_fn(|j| quad.varyings[j][k]));
-    let (mut nx, mut ny, mut nz) = (lane(2), lane(3), lane(4));
-    // normalize_or_zero, per lane.
-    let rcp = sqrt4(nx * nx + ny * ny + nz * nz).recip();
-    let ok = rcp.cmplt(Vec4::INFINITY) & rcp.cmpgt(Vec4::ZERO);
-    let rcp = Vec4::select(ok, rcp, Vec4::ZERO) * if back { -1.0 } else { 1.0 };
-    (nx, ny, nz) = (nx * rcp, ny * rcp, nz * rcp);
-    let ambient = lighting.ambient * (s.ambient * s.occlusion);
-    let mut d = [
-        Vec4::splat(ambient.x),
-        Vec4::splat(ambient.y),
-        Vec4::splat(ambient.z),
-    ];
-    let mut sp = [
-        Vec4::splat(s.emissive.x),
-        Vec4::splat(s.emissive.y),
-        Vec4::splat(s.emissive.z),
-    ];
-    let specular = s.specular > 0.0;
-    // The unit view vector per lane (only read for specular).
-    let (vx, vy, vz) = match viewer {
-        _ if !specular => (Vec4::ZERO, Vec4::ZERO, Vec4::ZERO),
-        Viewer::Direction(v) => (Vec4::splat(v.x), Vec4::splat(v.y), Vec4::splat(v.z)),
-        Viewer::Point(eye) => {
-            let (px, py, pz) = if with_position {
-                (lane(5), lane(6), lane(7))
-            } else {
-                (Vec4::ZERO, Vec4::ZERO, Vec4::ZERO)
-            };
-            let (x, y, z) = (
-                Vec4::splat(eye.x) - px,
-                Vec4::splat(eye.y) - py,
-                Vec4::splat(eye.z) - pz,
-            );
-            let r = sqrt4(x * x + y * y + z * z).recip();
-            let r = Vec4::select(r.cmplt(Vec4::INFINITY) & r.cmpgt(Vec4::ZERO), r, Vec4::ZERO);
-            (x * r, y * r, z * r)
-        }
-    };
-    for light in lighting.lights {
-        let Light::Directional {
-            direction: l,
-            color,
-        } = *light
-        else {
-            continue;
-        };
-        let n_dot_l = nx * l.x + ny * l.y + nz * l.z;
-        let facing = n_dot_l.cmpgt(Vec4::ZERO);
-        let diffuse = Vec4::select(facing, n_dot_l * s.diffuse, Vec4::ZERO);
-        for (c, dc) in d.iter_mut().enumerate() {
-            *dc += diffuse * color[c];
-        }
-        if specular {
-            // R·V with R = 2(N·L)N − L.
-            let n_dot_v = nx * vx + ny * vy + nz * vz;
-            let l_dot_v = vx * l.x + vy * l.y + vz * l.z;
-            let r_dot_v = n_dot_l * 2.0 * n_dot_v - l_dot_v;
-            let on = (facing & r_dot_v.cmpgt(Vec4::ZERO)).bitmask();
-            let rv = r_dot_v.to_array();
-            let lobe = Vec4::from_array(std::array::from_fn(|j| {
-                if on & (1 << j) != 0 {
-                    s.specular * rv[j].powf(s.shininess)
-                } else {
-                    0.0
-                }
-            }));
-            for (c, sc) in sp.iter_mut().enumerate() {
-                *sc += lobe * (color[c] * s.specular_color[c]);
-            }
-        }
-    }
-    std::array::from_fn(|j| {
-        (
-            Vec3::new(d[0][j], d[1][j], d[2][j]),
-            Vec3::new(sp[0][j], sp[1][j], sp[2][j]),
-        )
-    })
-}
-
-/// Lane-wise square root.
-#[inline(always)]
-fn sqrt4(v: Vec4) -> Vec4 {
-    Vec4::from_array(v.to_array().map(f32::sqrt))
 }
 
 /// A quad's reads of the maps that feed the [`Surface`] (each `None` when the draw has none).
@@ -1356,77 +1237,6 @@ fn procedural_color(proc: &Procedural, d: &DrawInfo, quad: &Quad, j: usize, k: u
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn quad_lighting_equals_the_per_pixel_rule() {
-        let lights = [
-            Light::Directional {
-                direction: Vec3::new(0.3, 0.8, 0.5).normalize(),
-                color: Vec3::new(1.0, 0.9, 0.8),
-            },
-            Light::Directional {
-                direction: Vec3::new(-0.6, 0.2, 0.77).normalize(),
-                color: Vec3::splat(0.5),
-            },
-        ];
-        let lighting = Lighting {
-            lights: &lights,
-            ambient: Vec3::new(0.3, 0.35, 0.4),
-        };
-        let material = Material {
-            specular: 0.7,
-            shininess: 24.0,
-            emissive: Vec3::new(0.01, 0.02, 0.03),
-            ..Default::default()
-        };
-        let mut surface = Surface::new(&material, Vec3::ZERO, Vec3::ZERO);
-        surface.specular_color = Vec3::new(1.0, 0.5, 0.25);
-        let mut quad = Quad {
-            x: 0,
-            y: 0,
-            mask: 0b1111,
-            front_facing: true,
-            varyings: [[0.0; MAX_VARYINGS]; 4],
-        };
-        // Unnormalized normals (one zero), positions spread out, some facing away.
-        let normals = [
-            Vec3::new(0.1, 2.0, 0.3),
-            Vec3::new(-1.0, 0.2, 0.9),
-            Vec3::ZERO,
-            Vec3::new(0.2, -1.0, 0.1),
-        ];
-        for (j, n) in normals.iter().enumerate() {
-            quad.varyings[j][2..5].copy_from_slice(&n.to_array());
-            let p = Vec3::new(j as f32 - 1.5, 0.1 * j as f32, -2.0 + j as f32);
-            quad.varyings[j][5..8].copy_from_slice(&p.to_array());
-        }
-        for viewer in [
-            Viewer::Point(Vec3::new(0.5, 3.0, 4.0)),
-            Viewer::Direction(Vec3::new(0.0, 0.6, 0.8)),
-        ] {
-            for back in [false, true] {
-                let lit = phong_quad(&surface, &quad, true, back, &lighting, viewer);
-                for (j, n) in normals.iter().enumerate() {
-                    let v = &quad.varyings[j];
-                    let mut normal = n.normalize_or_zero();
-                    if back {
-                        normal = -normal;
-                    }
-                    let s = Surface {
-                        position: Vec3::new(v[5], v[6], v[7]),
-                        normal,
-                        ..surface
-                    };
-                    let (d, sp) = phong(&s, &lighting, viewer);
-                    let (qd, qs) = lit[j];
-                    assert!(
-                        (d - qd).abs().max_element() < 1e-5 && (sp - qs).abs().max_element() < 1e-5,
-                        "pixel {j} {viewer:?} back {back}: {d} {sp} vs {qd} {qs}"
-                    );
-                }
-            }
-        }
-    }
 
     #[test]
     fn srgb8_encoding_rounds_exactly_at_every_threshold() {
