@@ -692,16 +692,8 @@ impl<'a> DrawInfo<'a> {
             Some(Procedural::Projected { slot, projection }) => {
                 let projection = match *projection {
                     Projection::BoundingSphere { center } if !center.is_finite() => {
-                        let (lo, hi) = mesh.positions.iter().fold(
-                            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-                            |(lo, hi), &p| (lo.min(p), hi.max(p)),
-                        );
                         Projection::BoundingSphere {
-                            center: if lo.cmple(hi).all() {
-                                (lo + hi) * 0.5
-                            } else {
-                                Vec3::ZERO
-                            },
+                            center: mesh.object_center(),
                         }
                     }
                     p => p,

@@ -210,6 +210,21 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// The centre of the object-space bounding box of the positions (the origin when there
+    /// are none): the default centre of a bounding-sphere projection.
+    #[must_use]
+    pub fn object_center(&self) -> Vec3 {
+        let (lo, hi) = self.positions.iter().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        );
+        if lo.cmple(hi).all() {
+            (lo + hi) * 0.5
+        } else {
+            Vec3::ZERO
+        }
+    }
+
     /// Number of triangles (`indices.len() / 3`).
     #[must_use]
     pub fn triangle_count(&self) -> usize {

@@ -357,20 +357,7 @@ fn apply_texgen(mesh: &mut super::Mesh, t: &TexgenSpec) -> std::result::Result<(
         return Err(format!("texgen: set {} is not 0 or 1", t.set));
     }
     if let Projection::BoundingSphere { center } = &mut projection {
-        *center = match t.center {
-            Some(c) => Vec3::from(c),
-            None => {
-                let (lo, hi) = mesh.positions.iter().fold(
-                    (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-                    |(lo, hi), &p| (lo.min(p), hi.max(p)),
-                );
-                if lo.cmple(hi).all() {
-                    (lo + hi) * 0.5
-                } else {
-                    Vec3::ZERO
-                }
-            }
-        };
+        *center = t.center.map_or_else(|| mesh.object_center(), Vec3::from);
     }
     let (uvs, indices, remap) = crate::geometry::texgen::generate_uvs(
         &projection,
@@ -868,6 +855,22 @@ fn pattern(name: &str) -> Result<Solid> {
     })
 }
 
+fn parse_filter(f: &str) -> Result<Filter> {
+    Filter::parse(f).ok_or_else(|| {
+        Error::parameter(format!(
+            "filter {f:?}: expected nearest, bilinear, trilinear, aniso1..aniso16, ewa or sat"
+        ))
+    })
+}
+
+fn parse_wrap(w: &str) -> Result<Wrap> {
+    Wrap::parse(w).ok_or_else(|| {
+        Error::parameter(format!(
+            "wrap {w:?}: expected repeat, mirror, clamp, border or mirror-clamp"
+        ))
+    })
+}
+
 /// A `solid_texture` table → [`Procedural::Texture3D`].
 fn solid_texture(dir: &Path, t: &SolidTextureSpec) -> Result<Procedural> {
     let (min, max) = (Vec3::from(t.min), Vec3::from(t.max));
@@ -899,24 +902,23 @@ fn solid_texture(dir: &Path, t: &SolidTextureSpec) -> Result<Procedural> {
             ))
         }
     };
-    let filter = match t.filter.as_deref() {
-        None | Some("trilinear") => Filter::TRILINEAR,
-        Some("bilinear") => Filter::BILINEAR,
-        Some("nearest") => Filter::NEAREST,
-        Some(f) => {
+    // 3D textures filter with OpenGL's filters only (no anisotropic, EWA or SAT path).
+    let filter = match t.filter.as_deref().map(parse_filter).transpose()? {
+        None => Filter::TRILINEAR,
+        Some(f @ Filter::Gl { .. }) => f,
+        Some(_) => {
             return Err(Error::parameter(format!(
-                "solid_texture: filter {f:?}: expected nearest, bilinear or trilinear"
+                "solid_texture: filter {:?}: expected nearest, bilinear or trilinear",
+                t.filter.as_deref().unwrap_or_default()
             )))
         }
     };
-    let wrap = match t.wrap.as_deref() {
-        None => Wrap::Repeat,
-        Some(w) => Wrap::parse(w).ok_or_else(|| {
-            Error::parameter(format!(
-                "solid_texture: wrap {w:?}: expected repeat, mirror, clamp, border or mirror-clamp"
-            ))
-        })?,
-    };
+    let wrap = t
+        .wrap
+        .as_deref()
+        .map(parse_wrap)
+        .transpose()?
+        .unwrap_or(Wrap::Repeat);
     Ok(Procedural::Texture3D {
         texture: std::sync::Arc::new(texture),
         sampler: Sampler::new(filter, wrap),
@@ -932,23 +934,14 @@ fn slot(
     color: bool,
     textures: &mut TextureCache,
 ) -> Result<Option<TextureSlot>> {
-    let filter = match t.filter.as_deref() {
-        None => Filter::TRILINEAR,
-        Some(f) => Filter::parse(f).ok_or_else(|| {
-            Error::parameter(format!(
-                "filter {f:?}: expected nearest, bilinear, trilinear, aniso1..aniso16, ewa or sat"
-            ))
-        })?,
-    };
+    let filter = t
+        .filter
+        .as_deref()
+        .map(parse_filter)
+        .transpose()?
+        .unwrap_or(Filter::TRILINEAR);
     let wrap = |w: Option<&str>, d: Wrap| -> Result<Wrap> {
-        match w {
-            None => Ok(d),
-            Some(w) => Wrap::parse(w).ok_or_else(|| {
-                Error::parameter(format!(
-                    "wrap {w:?}: expected repeat, mirror, clamp, border or mirror-clamp"
-                ))
-            }),
-        }
+        Ok(w.map(parse_wrap).transpose()?.unwrap_or(d))
     };
     let both = wrap(t.wrap.as_deref(), Wrap::Repeat)?;
     let srgb = match t.color_space.as_deref() {

@@ -151,6 +151,17 @@ pub(crate) trait Codec: Copy + Send + Sync + 'static {
     const HAS_ALPHA: bool;
     /// Straight-alpha linear RGBA; `lut` maps unorm codes to linear values.
     fn decode(bytes: &[u8], lut: &[f32]) -> Vec4;
+
+    /// Linear RGBA with alpha premultiplied (what every filter reads).
+    #[inline(always)]
+    fn decode_premultiplied(bytes: &[u8], lut: &[f32]) -> Vec4 {
+        let c = Self::decode(bytes, lut);
+        if Self::HAS_ALPHA {
+            (c.truncate() * c.w).extend(c.w)
+        } else {
+            c
+        }
+    }
 }
 
 macro_rules! codec {

@@ -161,14 +161,7 @@ impl Texture2D {
             let lut = lut_of(format);
             let linear: Vec<Vec4> = with_codec!(format, C => texels
                 .chunks_exact(format.bytes_per_texel())
-                .map(|b| {
-                    let c = C::decode(b, lut);
-                    if C::HAS_ALPHA {
-                        (c.truncate() * c.w).extend(c.w)
-                    } else {
-                        c
-                    }
-                })
+                .map(|b| C::decode_premultiplied(b, lut))
                 .collect());
             let bytes = tex.encode_level(&linear);
             tex.levels.push(tex.store_level(width, height, &bytes));
@@ -388,12 +381,7 @@ impl LevelRef<'_> {
             let b = i * C::BPP;
             // SAFETY: i ≤ hi, so b + BPP ≤ (hi + 1)·BPP = data.len() (checked by the slice).
             let bytes = unsafe { data.get_unchecked(b..b + C::BPP) };
-            let c = C::decode(bytes, self.lut);
-            if C::HAS_ALPHA {
-                (c.truncate() * c.w).extend(c.w)
-            } else {
-                c
-            }
+            C::decode_premultiplied(bytes, self.lut)
         };
         ((read(i00), read(i10)), (read(i01), read(i11)))
     }
@@ -402,12 +390,7 @@ impl LevelRef<'_> {
     #[inline(always)]
     pub fn texel<C: Codec>(&self, x: i32, y: i32) -> Vec4 {
         let i = texel_index(self.layout, self.tiles_x, self.w as u32, x as u32, y as u32) * C::BPP;
-        let c = C::decode(&self.data[i..i + C::BPP], self.lut);
-        if C::HAS_ALPHA {
-            (c.truncate() * c.w).extend(c.w)
-        } else {
-            c
-        }
+        C::decode_premultiplied(&self.data[i..i + C::BPP], self.lut)
     }
 }
 

@@ -103,12 +103,7 @@ impl Texture3D {
     #[inline(always)]
     fn voxel_at<C: Codec>(&self, level: usize, i: usize) -> Vec4 {
         let data = &self.levels[level].data;
-        let c = C::decode(&data[i * C::BPP..(i + 1) * C::BPP], self.lut);
-        if C::HAS_ALPHA {
-            (c.truncate() * c.w).extend(c.w)
-        } else {
-            c
-        }
+        C::decode_premultiplied(&data[i * C::BPP..(i + 1) * C::BPP], self.lut)
     }
 
     /// Linear, premultiplied voxel `(x, y, z)` of `level` (in range).
