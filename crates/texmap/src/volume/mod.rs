@@ -364,21 +364,56 @@ pub(crate) fn trilinear(data: &[u16], dims: [u32; 3], p: Vec3) -> f32 {
     // `data` holds (it checked the length). Unchecked reads: the bounds checks cost
     // 8 compares and branches per sample in the marcher's inner loop.
     let g = |k: usize| f32::from(unsafe { *data.get_unchecked(k) });
-    let c000 = g(i);
-    let c100 = g(i + sx);
-    let c010 = g(i + sy);
-    let c110 = g(i + sx + sy);
-    let c001 = g(i + sz);
-    let c101 = g(i + sx + sz);
-    let c011 = g(i + sy + sz);
-    let c111 = g(i + sx + sy + sz);
-    let c00 = c000 + (c100 - c000) * fx;
-    let c10 = c010 + (c110 - c010) * fx;
-    let c01 = c001 + (c101 - c001) * fx;
-    let c11 = c011 + (c111 - c011) * fx;
-    let c0 = c00 + (c10 - c00) * fy;
-    let c1 = c01 + (c11 - c01) * fy;
-    c0 + (c1 - c0) * fz
+    blend_cell(&cell_corners(i, [sx, sy, sz], g), Vec3::new(fx, fy, fz))
+}
+
+/// The eight corners of the cell at voxel index `i` with the given strides, x fastest:
+/// c000, c100, c010, c110, c001, c101, c011, c111.
+#[inline(always)]
+pub(crate) fn cell_corners<T>(
+    i: usize,
+    [sx, sy, sz]: [usize; 3],
+    g: impl Fn(usize) -> T,
+) -> [T; 8] {
+    [
+        g(i),
+        g(i + sx),
+        g(i + sy),
+        g(i + sx + sy),
+        g(i + sz),
+        g(i + sx + sz),
+        g(i + sy + sz),
+        g(i + sx + sy + sz),
+    ]
+}
+
+/// A value a cell's corners can be blended in (scalars and vectors, each with its own lerp).
+pub(crate) trait CellValue: Copy {
+    fn mix(self, other: Self, t: f32) -> Self;
+}
+
+impl CellValue for f32 {
+    #[inline(always)]
+    fn mix(self, other: f32, t: f32) -> f32 {
+        self + (other - self) * t
+    }
+}
+
+impl CellValue for Vec3 {
+    #[inline(always)]
+    fn mix(self, other: Vec3, t: f32) -> Vec3 {
+        self.lerp(other, t)
+    }
+}
+
+/// Trilinear blend of [`cell_corners`] at fractions `f` (x first, then y, then z).
+#[inline(always)]
+pub(crate) fn blend_cell<T: CellValue>(c: &[T; 8], f: Vec3) -> T {
+    let c00 = c[0].mix(c[1], f.x);
+    let c10 = c[2].mix(c[3], f.x);
+    let c01 = c[4].mix(c[5], f.x);
+    let c11 = c[6].mix(c[7], f.x);
+    c00.mix(c10, f.y).mix(c01.mix(c11, f.y), f.z)
 }
 
 #[cfg(test)]

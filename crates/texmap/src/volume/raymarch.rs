@@ -28,7 +28,7 @@ use rayon::prelude::*;
 
 use super::shade::VolumeLights;
 use super::transfer::{gradient_factor, PreIntegrated, TransferFunction, TransferLut};
-use super::{trilinear, Volume};
+use super::{blend_cell, cell_corners, trilinear, Volume};
 use crate::render::{Frame, FrameStats};
 use crate::scene::{Camera, CameraProjection, Light};
 use crate::{Error, Result};
@@ -223,26 +223,10 @@ impl CellCache {
             // SAFETY: as in `trilinear`: i + sx + sy + sz is a voxel of the grid, and `data`
             // holds every voxel (checked above).
             let g = |k: usize| f32::from(unsafe { *data.get_unchecked(k) });
-            self.corners = [
-                g(i),
-                g(i + sx),
-                g(i + sy),
-                g(i + sx + sy),
-                g(i + sz),
-                g(i + sx + sz),
-                g(i + sy + sz),
-                g(i + sx + sy + sz),
-            ];
+            self.corners = cell_corners(i, [sx, sy, sz], g);
             self.index = i;
         }
-        let c = &self.corners;
-        let c00 = c[0] + (c[1] - c[0]) * f.x;
-        let c10 = c[2] + (c[3] - c[2]) * f.x;
-        let c01 = c[4] + (c[5] - c[4]) * f.x;
-        let c11 = c[6] + (c[7] - c[6]) * f.x;
-        let c0 = c00 + (c10 - c00) * f.y;
-        let c1 = c01 + (c11 - c01) * f.y;
-        c0 + (c1 - c0) * f.z
+        blend_cell(&self.corners, f)
     }
 
     /// The interpolated normal of the cell last passed to [`Self::value`], as
@@ -266,29 +250,10 @@ impl CellCache {
                 let n = unsafe { *data.get_unchecked(k) };
                 Vec3::new(f32::from(n[0]), f32::from(n[1]), f32::from(n[2]))
             };
-            self.normals = [
-                g(i),
-                g(i + sx),
-                g(i + sy),
-                g(i + sx + sy),
-                g(i + sz),
-                g(i + sx + sz),
-                g(i + sy + sz),
-                g(i + sx + sy + sz),
-            ];
+            self.normals = cell_corners(i, [sx, sy, sz], g);
             self.normals_of = i;
         }
-        let c = &self.normals;
-        let c00 = c[0].lerp(c[1], f.x);
-        let c10 = c[2].lerp(c[3], f.x);
-        let c01 = c[4].lerp(c[5], f.x);
-        let c11 = c[6].lerp(c[7], f.x);
-        let v = c00.lerp(c10, f.y).lerp(c01.lerp(c11, f.y), f.z) * (1.0 / 127.0);
-        if v.length_squared() < 0.25 * 0.25 {
-            Vec3::ZERO
-        } else {
-            v
-        }
+        direction_or_zero(blend_cell(&self.normals, f))
     }
 }
 
@@ -314,12 +279,15 @@ pub(crate) fn trilinear_normal(data: &[[i8; 4]], dims: [u32; 3], p: Vec3) -> Vec
         let n = unsafe { *data.get_unchecked(k) };
         Vec3::new(f32::from(n[0]), f32::from(n[1]), f32::from(n[2]))
     };
-    let c00 = g(i).lerp(g(i + sx), fx);
-    let c10 = g(i + sy).lerp(g(i + sx + sy), fx);
-    let c01 = g(i + sz).lerp(g(i + sx + sz), fx);
-    let c11 = g(i + sy + sz).lerp(g(i + sx + sy + sz), fx);
-    let v = c00.lerp(c10, fy).lerp(c01.lerp(c11, fy), fz) * (1.0 / 127.0);
-    // Below half length the neighbours disagree (or are flat): no direction.
+    let corners = cell_corners(i, [sx, sy, sz], g);
+    direction_or_zero(blend_cell(&corners, Vec3::new(fx, fy, fz)))
+}
+
+/// An interpolated normal (×127) as a direction: below half length the neighbours disagree
+/// (or are flat), so there is none.
+#[inline(always)]
+fn direction_or_zero(n127: Vec3) -> Vec3 {
+    let v = n127 * (1.0 / 127.0);
     if v.length_squared() < 0.25 * 0.25 {
         Vec3::ZERO
     } else {
