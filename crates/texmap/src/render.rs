@@ -48,7 +48,7 @@ use crate::shading::{
     MapChannel, Material, Procedural, ShadingModel, SolidMap, Surface, TextureSlot, Viewer,
 };
 use crate::texture::{
-    sample, sample_3d, sample_quad, Filter, Footprint, Footprint3, Sampler, Texture2D, Wrap,
+    sample, sample_3d, sample_quad_lanes, Filter, Footprint, Footprint3, Sampler, Texture2D, Wrap,
 };
 use crate::{Error, Result};
 
@@ -327,6 +327,7 @@ pub fn render_into(
         .collect();
     let shader = SceneShader {
         draws: &draws,
+        directional_only: !lighting.needs_position(),
         lighting,
         viewer: camera.viewer(),
     };
@@ -442,32 +443,36 @@ impl MapRead<'_> {
     /// The quad's four reads. The transform is affine, so applying it per pixel to the raw,
     /// interpolated uv (and its linear part to the derivatives) equals applying it per vertex.
     fn quad(&self, quad: &Quad) -> [Vec4; 4] {
-        let (uvs, dx, dy) = self.coords(quad);
-        sample_quad(self.tex, &self.sampler, &uvs, dx, dy, quad.mask)
+        let ((u, v), dx, dy) = self.coords(quad);
+        sample_quad_lanes(self.tex, &self.sampler, (u, v), dx, dy, quad.mask)
     }
 
-    /// The quad's transformed uvs and their screen derivatives.
+    /// The quad's transformed uvs (one lane per pixel) and their screen derivatives.
     #[inline]
-    fn coords(&self, quad: &Quad) -> ([Vec2; 4], Vec2, Vec2) {
+    fn coords(&self, quad: &Quad) -> ((Vec4, Vec4), Vec2, Vec2) {
         let k = self.uv_at;
         let (m, offset) = (self.linear, self.offset);
-        let uvs = std::array::from_fn(|j| {
-            m * Vec2::new(quad.varyings[j][k], quad.varyings[j][k + 1]) + offset
-        });
+        let (u, v) = (quad.varyings[k], quad.varyings[k + 1]);
+        let uv = (
+            u * m.x_axis.x + v * m.y_axis.x + offset.x,
+            u * m.x_axis.y + v * m.y_axis.y + offset.y,
+        );
         let dx = m * Vec2::new(quad.ddx(k), quad.ddx(k + 1));
         let dy = m * Vec2::new(quad.ddy(k), quad.ddy(k + 1));
-        (uvs, dx, dy)
+        (uv, dx, dy)
     }
 
     /// A height map's screen derivatives `(∂h/∂x, ∂h/∂y)` per pixel, times `scale`: the red
     /// channel read at uv, one pixel footprint further along x (uv + ∂uv/∂x) and along y,
     /// each with the pixel's own footprint (three quad reads).
     fn height_slopes(&self, quad: &Quad) -> [Vec2; 4] {
-        let (uvs, dx, dy) = self.coords(quad);
-        let read = |uvs: &[Vec2; 4]| sample_quad(self.tex, &self.sampler, uvs, dx, dy, quad.mask);
-        let h = read(&uvs);
-        let hx = read(&uvs.map(|uv| uv + dx));
-        let hy = read(&uvs.map(|uv| uv + dy));
+        let ((u, v), dx, dy) = self.coords(quad);
+        let read = |u: Vec4, v: Vec4| {
+            sample_quad_lanes(self.tex, &self.sampler, (u, v), dx, dy, quad.mask)
+        };
+        let h = read(u, v);
+        let hx = read(u + dx.x, v + dx.y);
+        let hy = read(u + dy.x, v + dy.y);
         std::array::from_fn(|j| Vec2::new(hx[j].x - h[j].x, hy[j].x - h[j].x) * self.scale)
     }
 }
@@ -942,6 +947,9 @@ struct SceneShader<'a> {
     draws: &'a [DrawInfo<'a>],
     lighting: Lighting<'a>,
     viewer: Viewer,
+    /// Every light is directional (every loader's default light): map-free Phong pixels are
+    /// then lit a quad at a time ([`phong_quad`]).
+    directional_only: bool,
 }
 
 impl FragmentShader for SceneShader<'_> {
@@ -967,11 +975,27 @@ impl FragmentShader for SceneShader<'_> {
         } else {
             None
         };
+        // Map-free Phong under directional lights: the quad's four pixels lit in lanes.
+        let back = m.double_sided && !quad.front_facing;
+        let lit = (d.mode == Mode::Phong
+            && maps.is_none()
+            && d.model == ShadingModel::Phong
+            && self.directional_only)
+            .then(|| {
+                phong_quad(
+                    &d.surface,
+                    quad,
+                    d.needs_position,
+                    back,
+                    &self.lighting,
+                    self.viewer,
+                )
+            });
         for j in 0..4 {
             if quad.mask & (1 << j) == 0 {
                 continue;
             }
-            let v = &quad.varyings[j];
+            let v = quad.pixel(j);
             let mut c = d.base;
             if let Some(t) = &texels {
                 c *= t[j];
@@ -989,6 +1013,12 @@ impl FragmentShader for SceneShader<'_> {
             }
             let (df, sp) = match d.mode {
                 Mode::Unlit => (Vec3::ONE, Vec3::ZERO),
+                Mode::Phong if lit.is_some() => {
+                    let (dq, sq) = lit
+                        .as_ref()
+                        .map_or((&[Vec4::ONE; 4], &[Vec4::ZERO; 4]), |(d, s)| (d, s));
+                    (dq[j].truncate(), sq[j].truncate())
+                }
                 Mode::Phong => {
                     let mut normal = Vec3::new(v[2], v[3], v[4]).normalize_or_zero();
                     let position = if d.needs_position {
@@ -997,7 +1027,6 @@ impl FragmentShader for SceneShader<'_> {
                         Vec3::ZERO
                     };
                     // Double-sided back faces are lit from their side, after any tilt.
-                    let back = m.double_sided && !quad.front_facing;
                     match &maps {
                         // A Phong material without maps (the model is known): only the normal
                         // and position vary, and this surface stays in registers.
@@ -1055,6 +1084,114 @@ impl FragmentShader for SceneShader<'_> {
     }
 }
 
+/// [`phong`] of surface `s` for the four pixels of `quad` under directional lights only (one
+/// lane per pixel): the interpolated normals at varyings 2..5 (renormalized, negated for
+/// `back`), positions at 5..8 when `with_position` (for the specular view vector). The same
+/// rule and the same order of operations as the per-pixel path.
+#[inline]
+fn phong_quad(
+    s: &Surface,
+    quad: &Quad,
+    with_position: bool,
+    back: bool,
+    lighting: &Lighting,
+    viewer: Viewer,
+) -> ([Vec4; 4], [Vec4; 4]) {
+    let lane = |k: usize| quad.varyings[k];
+    let (mut nx, mut ny, mut nz) = (lane(2), lane(3), lane(4));
+    // normalize_or_zero, per lane.
+    let rcp = sqrt4(nx * nx + ny * ny + nz * nz).recip();
+    let ok = rcp.cmplt(Vec4::INFINITY) & rcp.cmpgt(Vec4::ZERO);
+    let rcp = Vec4::select(ok, rcp, Vec4::ZERO) * if back { -1.0 } else { 1.0 };
+    (nx, ny, nz) = (nx * rcp, ny * rcp, nz * rcp);
+    let ambient = lighting.ambient * (s.ambient * s.occlusion);
+    let mut d = [
+        Vec4::splat(ambient.x),
+        Vec4::splat(ambient.y),
+        Vec4::splat(ambient.z),
+    ];
+    let mut sp = [
+        Vec4::splat(s.emissive.x),
+        Vec4::splat(s.emissive.y),
+        Vec4::splat(s.emissive.z),
+    ];
+    let specular = s.specular > 0.0;
+    // The unit view vector per lane (only read for specular).
+    let (vx, vy, vz) = match viewer {
+        _ if !specular => (Vec4::ZERO, Vec4::ZERO, Vec4::ZERO),
+        Viewer::Direction(v) => (Vec4::splat(v.x), Vec4::splat(v.y), Vec4::splat(v.z)),
+        Viewer::Point(eye) => {
+            let (px, py, pz) = if with_position {
+                (lane(5), lane(6), lane(7))
+            } else {
+                (Vec4::ZERO, Vec4::ZERO, Vec4::ZERO)
+            };
+            let (x, y, z) = (
+                Vec4::splat(eye.x) - px,
+                Vec4::splat(eye.y) - py,
+                Vec4::splat(eye.z) - pz,
+            );
+            let r = sqrt4(x * x + y * y + z * z).recip();
+            let r = Vec4::select(r.cmplt(Vec4::INFINITY) & r.cmpgt(Vec4::ZERO), r, Vec4::ZERO);
+            (x * r, y * r, z * r)
+        }
+    };
+    for light in lighting.lights {
+        let Light::Directional {
+            direction: l,
+            color,
+        } = *light
+        else {
+            continue;
+        };
+        let n_dot_l = nx * l.x + ny * l.y + nz * l.z;
+        let facing = n_dot_l.cmpgt(Vec4::ZERO);
+        let diffuse = Vec4::select(facing, n_dot_l * s.diffuse, Vec4::ZERO);
+        for (c, dc) in d.iter_mut().enumerate() {
+            *dc += diffuse * color[c];
+        }
+        if specular {
+            // R·V with R = 2(N·L)N − L.
+            let n_dot_v = nx * vx + ny * vy + nz * vz;
+            let l_dot_v = vx * l.x + vy * l.y + vz * l.z;
+            let r_dot_v = n_dot_l * 2.0 * n_dot_v - l_dot_v;
+            let on = (facing & r_dot_v.cmpgt(Vec4::ZERO)).bitmask();
+            let rv = r_dot_v.to_array();
+            let lobe = Vec4::from_array(std::array::from_fn(|j| {
+                if on & (1 << j) != 0 {
+                    s.specular * rv[j].powf(s.shininess)
+                } else {
+                    0.0
+                }
+            }));
+            for (c, sc) in sp.iter_mut().enumerate() {
+                *sc += lobe * (color[c] * s.specular_color[c]);
+            }
+        }
+    }
+    // Lanes (one per pixel) to one vector per pixel: a 4×4 transpose (shuffles).
+    let per_pixel = |c: [Vec4; 3]| Mat4::from_cols(c[0], c[1], c[2], Vec4::ZERO).transpose();
+    let (d, sp) = (per_pixel(d), per_pixel(sp));
+    (
+        [d.x_axis, d.y_axis, d.z_axis, d.w_axis],
+        [sp.x_axis, sp.y_axis, sp.z_axis, sp.w_axis],
+    )
+}
+
+/// Lane-wise square root (one `sqrtps`).
+#[inline(always)]
+fn sqrt4(v: Vec4) -> Vec4 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        // SAFETY: SSE is part of x86_64.
+        Vec4::from(unsafe { std::arch::x86_64::_mm_sqrt_ps(v.into()) })
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        Vec4::from_array(v.to_array().map(f32::sqrt))
+    }
+}
+
 /// A quad's reads of the maps that feed the [`Surface`] (each `None` when the draw has none).
 struct QuadMaps {
     normals: Option<[Vec4; 4]>,
@@ -1073,7 +1210,7 @@ impl DrawInfo<'_> {
     /// (world space, before any back-face flip), occlusion, emission, metallic-roughness and
     /// solid textures set the parameters, and metallic-roughness materials take the colour `c`.
     fn apply_maps(&self, maps: &QuadMaps, quad: &Quad, j: usize, c: Vec4, s: &mut Surface) {
-        let v = &quad.varyings[j];
+        let v = quad.pixel(j);
         let n = &mut s.normal;
         if let (Some(k), Some(texel), Some(map)) =
             (self.tangent_at, &maps.normals, &self.normal_map)
@@ -1138,7 +1275,7 @@ fn straight(c: Vec4) -> Vec3 {
 /// footprint extent |∂P/∂x| + |∂P/∂y| of the quad (zero otherwise).
 #[inline]
 fn object_point(quad: &Quad, j: usize, k: usize, antialias: bool) -> (glam::DVec3, glam::DVec3) {
-    let v = &quad.varyings[j];
+    let v = quad.pixel(j);
     let p = Vec3::new(v[k], v[k + 1], v[k + 2]);
     let extent = if antialias {
         let dp_dx = Vec3::new(quad.ddx(k), quad.ddx(k + 1), quad.ddx(k + 2));
@@ -1190,7 +1327,7 @@ fn procedural_color(proc: &Procedural, d: &DrawInfo, quad: &Quad, j: usize, k: u
             let (Some(map), Some(projection)) = (&d.projected, &d.projection) else {
                 return Vec4::ONE;
             };
-            let v = &quad.varyings[j];
+            let v = quad.pixel(j);
             let p = Vec3::new(v[k], v[k + 1], v[k + 2]);
             let dp_dx = Vec3::new(quad.ddx(k), quad.ddx(k + 1), quad.ddx(k + 2));
             let dp_dy = Vec3::new(quad.ddy(k), quad.ddy(k + 1), quad.ddy(k + 2));
@@ -1210,7 +1347,7 @@ fn procedural_color(proc: &Procedural, d: &DrawInfo, quad: &Quad, j: usize, k: u
             max,
             colors,
         } => {
-            let v = &quad.varyings[j];
+            let v = quad.pixel(j);
             let p = Vec3::new(v[k], v[k + 1], v[k + 2]);
             let dp_dx = Vec3::new(quad.ddx(k), quad.ddx(k + 1), quad.ddx(k + 2));
             let dp_dy = Vec3::new(quad.ddy(k), quad.ddy(k + 1), quad.ddy(k + 2));
@@ -1229,6 +1366,79 @@ fn procedural_color(proc: &Procedural, d: &DrawInfo, quad: &Quad, j: usize, k: u
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn quad_lighting_equals_the_per_pixel_rule() {
+        let lights = [
+            Light::Directional {
+                direction: Vec3::new(0.3, 0.8, 0.5).normalize(),
+                color: Vec3::new(1.0, 0.9, 0.8),
+            },
+            Light::Directional {
+                direction: Vec3::new(-0.6, 0.2, 0.77).normalize(),
+                color: Vec3::splat(0.5),
+            },
+        ];
+        let lighting = Lighting {
+            lights: &lights,
+            ambient: Vec3::new(0.3, 0.35, 0.4),
+        };
+        let material = Material {
+            specular: 0.7,
+            shininess: 24.0,
+            emissive: Vec3::new(0.01, 0.02, 0.03),
+            ..Default::default()
+        };
+        let mut surface = Surface::new(&material, Vec3::ZERO, Vec3::ZERO);
+        surface.specular_color = Vec3::new(1.0, 0.5, 0.25);
+        let mut quad = Quad {
+            x: 0,
+            y: 0,
+            mask: 0b1111,
+            front_facing: true,
+            varyings: [Vec4::ZERO; MAX_VARYINGS],
+        };
+        // Unnormalized normals (one zero), positions spread out, some facing away.
+        let normals = [
+            Vec3::new(0.1, 2.0, 0.3),
+            Vec3::new(-1.0, 0.2, 0.9),
+            Vec3::ZERO,
+            Vec3::new(0.2, -1.0, 0.1),
+        ];
+        for (j, n) in normals.iter().enumerate() {
+            let p = Vec3::new(j as f32 - 1.5, 0.1 * j as f32, -2.0 + j as f32);
+            for c in 0..3 {
+                quad.varyings[2 + c][j] = n[c];
+                quad.varyings[5 + c][j] = p[c];
+            }
+        }
+        for viewer in [
+            Viewer::Point(Vec3::new(0.5, 3.0, 4.0)),
+            Viewer::Direction(Vec3::new(0.0, 0.6, 0.8)),
+        ] {
+            for back in [false, true] {
+                let (ld, ls) = phong_quad(&surface, &quad, true, back, &lighting, viewer);
+                for (j, n) in normals.iter().enumerate() {
+                    let v = quad.pixel(j);
+                    let mut normal = n.normalize_or_zero();
+                    if back {
+                        normal = -normal;
+                    }
+                    let s = Surface {
+                        position: Vec3::new(v[5], v[6], v[7]),
+                        normal,
+                        ..surface
+                    };
+                    let (d, sp) = phong(&s, &lighting, viewer);
+                    let (qd, qs) = (ld[j].truncate(), ls[j].truncate());
+                    assert!(
+                        (d - qd).abs().max_element() < 1e-5 && (sp - qs).abs().max_element() < 1e-5,
+                        "pixel {j} {viewer:?} back {back}: {d} {sp} vs {qd} {qs}"
+                    );
+                }
+            }
+        }
+    }
 
     #[test]
     fn srgb8_encoding_rounds_exactly_at_every_threshold() {

@@ -28,7 +28,8 @@ impl FragmentShader for Count {
 struct Uv;
 impl FragmentShader for Uv {
     fn shade(&self, _: u32, q: &Quad, out: &mut [Vec4; 4]) -> u8 {
-        for (o, v) in out.iter_mut().zip(&q.varyings) {
+        for (j, o) in out.iter_mut().enumerate() {
+            let v = q.pixel(j);
             *o = Vec4::new(v[0], v[1], 0.0, 1.0);
         }
         q.mask

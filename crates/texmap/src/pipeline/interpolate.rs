@@ -8,6 +8,8 @@
 //!
 //! Depth is always screen-linear (`z_ndc` is affine in screen space).
 
+use glam::Vec4;
+
 use super::transform::PostVertex;
 use super::{MAX_VARYINGS, SUBPIXEL_ONE};
 
@@ -107,35 +109,23 @@ impl Planes {
     }
 
     /// Evaluates the varyings at the four pixel centres of the quad whose top-left pixel is at
-    /// offset (x, y) from the reference pixel: pixel `j` at `(x + (j & 1), y + (j >> 1))`.
+    /// offset (x, y) from the reference pixel: pixel `j` (lane `j`) at
+    /// `(x + (j & 1), y + (j >> 1))`.
     #[inline]
-    pub fn quad(&self, x: f32, y: f32, out: &mut [[f32; MAX_VARYINGS]; 4]) {
-        let n = self.n;
+    pub fn quad(&self, x: f32, y: f32, out: &mut [Vec4; MAX_VARYINGS]) {
+        // Lane j adds dx when j & 1, then dy when j >> 1 (pixel 3: (b + dx) + dy).
+        let along = |p: &Plane| {
+            let b = Vec4::splat(p.at(x, y));
+            b + Vec4::new(0.0, p.dx, 0.0, p.dx) + Vec4::new(0.0, 0.0, p.dy, p.dy)
+        };
         if self.perspective {
-            let q0 = self.q.at(x, y);
-            let qs = [
-                q0,
-                q0 + self.q.dx,
-                q0 + self.q.dy,
-                q0 + self.q.dx + self.q.dy,
-            ];
-            let w = qs.map(|q| 1.0 / q.max(f32::MIN_POSITIVE));
-            for i in 0..n {
-                let p = &self.a[i];
-                let b = p.at(x, y);
-                out[0][i] = b * w[0];
-                out[1][i] = (b + p.dx) * w[1];
-                out[2][i] = (b + p.dy) * w[2];
-                out[3][i] = (b + p.dx + p.dy) * w[3];
+            let w = Vec4::ONE / along(&self.q).max(Vec4::splat(f32::MIN_POSITIVE));
+            for (o, p) in out.iter_mut().zip(&self.a[..self.n]) {
+                *o = along(p) * w;
             }
         } else {
-            for i in 0..n {
-                let p = &self.a[i];
-                let b = p.at(x, y);
-                out[0][i] = b;
-                out[1][i] = b + p.dx;
-                out[2][i] = b + p.dy;
-                out[3][i] = b + p.dx + p.dy;
+            for (o, p) in out.iter_mut().zip(&self.a[..self.n]) {
+                *o = along(p);
             }
         }
     }
@@ -145,7 +135,6 @@ impl Planes {
 mod tests {
     use super::*;
     use crate::pipeline::Viewport;
-    use glam::Vec4;
 
     #[test]
     fn planes_reproduce_vertex_values() {
@@ -162,12 +151,12 @@ mod tests {
             mk(-0.99, -0.97, 2.0, -2.0),
         ];
         let planes = Planes::new([&v[0], &v[1], &v[2]], 1, true, 0, 0);
-        let mut out = [[0.0; MAX_VARYINGS]; 4];
+        let mut out = [Vec4::ZERO; MAX_VARYINGS];
         planes.quad(0.0, 0.0, &mut out);
-        assert!((out[0][0] - 1.0).abs() < 1e-4, "{}", out[0][0]);
+        assert!((out[0].x - 1.0).abs() < 1e-4, "{}", out[0].x);
         planes.quad(98.0, 0.0, &mut out);
-        assert!((out[0][0] - 5.0).abs() < 1e-4, "{}", out[0][0]);
+        assert!((out[0].x - 5.0).abs() < 1e-4, "{}", out[0].x);
         planes.quad(0.0, 98.0, &mut out);
-        assert!((out[0][0] + 2.0).abs() < 1e-4, "{}", out[0][0]);
+        assert!((out[0].x + 2.0).abs() < 1e-4, "{}", out[0].x);
     }
 }

@@ -142,7 +142,9 @@ pub struct Quad {
     /// Bit `j` set: pixel `j` is covered and passed the depth test.
     pub mask: u8,
     pub front_facing: bool,
-    pub varyings: [[f32; MAX_VARYINGS]; 4],
+    /// Varying `k` of the four pixels, one lane per pixel (structure of arrays, so a shader
+    /// can work on the four pixels at once): `varyings[k][j]`.
+    pub varyings: [Vec4; MAX_VARYINGS],
 }
 
 impl Quad {
@@ -150,14 +152,39 @@ impl Quad {
     #[inline]
     #[must_use]
     pub fn ddx(&self, i: usize) -> f32 {
-        self.varyings[1][i] - self.varyings[0][i]
+        self.varyings[i].y - self.varyings[i].x
     }
 
     /// ∂/∂y of varying `i` (coarse: the quad's left column).
     #[inline]
     #[must_use]
     pub fn ddy(&self, i: usize) -> f32 {
-        self.varyings[2][i] - self.varyings[0][i]
+        self.varyings[i].z - self.varyings[i].x
+    }
+
+    /// Pixel `j`'s varyings: `quad.pixel(j)[k]` is varying `k`.
+    #[inline]
+    #[must_use]
+    pub fn pixel(&self, j: usize) -> PixelVaryings<'_> {
+        PixelVaryings {
+            varyings: &self.varyings,
+            j,
+        }
+    }
+}
+
+/// One pixel's varyings of a [`Quad`], indexed by varying.
+#[derive(Clone, Copy)]
+pub struct PixelVaryings<'a> {
+    varyings: &'a [Vec4; MAX_VARYINGS],
+    j: usize,
+}
+
+impl std::ops::Index<usize> for PixelVaryings<'_> {
+    type Output = f32;
+    #[inline(always)]
+    fn index(&self, k: usize) -> &f32 {
+        &self.varyings[k][self.j]
     }
 }
 

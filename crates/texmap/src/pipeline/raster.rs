@@ -195,7 +195,7 @@ fn raster_prims<const S: usize, O: ColorSamples>(
         y: 0,
         mask: 0,
         front_facing: true,
-        varyings: [[0.0; MAX_VARYINGS]; 4],
+        varyings: [Vec4::ZERO; MAX_VARYINGS],
     };
     let mut colors = [Vec4::ZERO; 4];
     for &pi in prims {

@@ -386,6 +386,21 @@ impl LevelRef<'_> {
         ((read(i00), read(i10)), (read(i01), read(i11)))
     }
 
+    /// The texels of a [`Layout::Tiled4x4`] level of 8-byte texels and its tiles per row,
+    /// checked to hold every tile (`tiles_x · ⌈h/4⌉ · 16` texels).
+    ///
+    /// # Panics
+    /// If the level is not so laid out (callers check the texture's layout and format).
+    #[inline]
+    pub fn tiled_texels(&self) -> (&[u8], u32) {
+        let tiles = self.tiles_x as usize * (self.h as usize).div_ceil(4);
+        assert!(
+            self.layout == Layout::Tiled4x4 && self.data.len() >= tiles * 16 * 8,
+            "not a tiled level of 8-byte texels"
+        );
+        (self.data, self.tiles_x)
+    }
+
     /// Linear, premultiplied texel at in-range `(x, y)`.
     #[inline(always)]
     pub fn texel<C: Codec>(&self, x: i32, y: i32) -> Vec4 {

@@ -108,7 +108,7 @@ impl FragmentShader for SliceShader<'_> {
             if quad.mask & (1 << j) == 0 {
                 continue;
             }
-            let vy = &quad.varyings[j];
+            let vy = quad.pixel(j);
             let q = Vec3::new(vy[0], vy[1], vy[2]);
             let world = Vec3::new(vy[3], vy[4], vy[5]);
             if let Some((depth, width)) = self.depth {

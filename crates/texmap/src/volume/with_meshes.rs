@@ -33,7 +33,7 @@ struct DistanceShader {
 impl FragmentShader for DistanceShader {
     fn shade(&self, _draw: u32, quad: &Quad, out: &mut [Vec4; 4]) -> u8 {
         for (j, o) in out.iter_mut().enumerate() {
-            let v = &quad.varyings[j];
+            let v = quad.pixel(j);
             let d = self.camera.ray_distance(Vec3::new(v[0], v[1], v[2]));
             *o = Vec4::new(d, 0.0, 0.0, 1.0);
         }

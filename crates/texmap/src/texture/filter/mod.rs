@@ -7,6 +7,7 @@
 
 pub(crate) mod anisotropic;
 pub(crate) mod ewa;
+mod fixed16;
 pub(crate) mod summed_area;
 
 use glam::{Vec2, Vec4};
@@ -63,17 +64,34 @@ pub fn sample_quad(
     duv_dy: Vec2,
     mask: u8,
 ) -> [Vec4; 4] {
-    with_codec!(texture.storage_format(), C => sample_quad_with::<C>(texture, sampler, uvs, duv_dx, duv_dy, mask))
+    let u = Vec4::from_array(uvs.map(|uv| uv.x));
+    let v = Vec4::from_array(uvs.map(|uv| uv.y));
+    sample_quad_lanes(texture, sampler, (u, v), duv_dx, duv_dy, mask)
+}
+
+/// [`sample_quad`] with the four pixels' coordinates in lanes: `u` and `v` hold pixel `j`'s
+/// in lane `j`.
+#[must_use]
+pub fn sample_quad_lanes(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    uv: (Vec4, Vec4),
+    duv_dx: Vec2,
+    duv_dy: Vec2,
+    mask: u8,
+) -> [Vec4; 4] {
+    with_codec!(texture.storage_format(), C => sample_quad_with::<C>(texture, sampler, uv, duv_dx, duv_dy, mask))
 }
 
 fn sample_quad_with<C: Codec>(
     tex: &Texture2D,
     s: &Sampler,
-    uvs: &[Vec2; 4],
+    (u, v): (Vec4, Vec4),
     duv_dx: Vec2,
     duv_dy: Vec2,
     mask: u8,
 ) -> [Vec4; 4] {
+    let uvs: [Vec2; 4] = std::array::from_fn(|j| Vec2::new(u[j], v[j]));
     let Filter::Gl { mag, min } = s.filter else {
         let mut out = [Vec4::ZERO; 4];
         for (j, o) in out.iter_mut().enumerate() {
@@ -89,8 +107,11 @@ fn sample_quad_with<C: Codec>(
     let (dx, dy) = texel_derivatives(tex, &fp);
     let lod = s.adjust_lod(s.lod_rule.lod(dx, dy));
     let (levels, linear) = gl_levels(tex, lod, mag, min);
-    let u = Vec4::from_array(uvs.map(|uv| uv.x));
-    let v = Vec4::from_array(uvs.map(|uv| uv.y));
+    if linear {
+        if let Some(out) = fixed16::linear_quad(tex, s, levels, u, v, mask) {
+            return out;
+        }
+    }
     let read = |level: usize| {
         let lv = tex.level(level);
         if linear {
