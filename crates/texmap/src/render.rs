@@ -550,6 +550,10 @@ struct DrawInfo<'a> {
     projection: Option<Projection>,
     varyings: usize,
     mirrored: bool,
+    /// An opaque draw whose colour is the base colour (times its texture) and whose lighting
+    /// is the material's own, with no map, vertex colour or procedural texture: its quads take
+    /// [`SceneShader::shade_plain`], the four pixels in lanes with no per-pixel branch.
+    plain: bool,
 }
 
 impl<'a> DrawInfo<'a> {
@@ -758,6 +762,12 @@ impl<'a> DrawInfo<'a> {
             projection,
             varyings,
             mirrored: Mat3::from_mat4(mesh.world_from_object).determinant() < 0.0,
+            plain: !surface_maps
+                && alpha_map.is_none()
+                && color_at.is_none()
+                && material.procedural.is_none()
+                && material.alpha_mode == AlphaMode::Opaque
+                && model == ShadingModel::Phong,
         }
     }
 
@@ -955,6 +965,9 @@ struct SceneShader<'a> {
 impl FragmentShader for SceneShader<'_> {
     fn shade(&self, draw: u32, quad: &Quad, out: &mut [Vec4; 4]) -> u8 {
         let d = &self.draws[draw as usize];
+        if d.plain && (d.mode != Mode::Phong || self.directional_only) {
+            return self.shade_plain(d, quad, out);
+        }
         let m = d.material;
         let mut kept = quad.mask;
         // The quad's texels in one call: one level of detail and format dispatch per quad.
@@ -1169,13 +1182,7 @@ fn phong_quad(
             }
         }
     }
-    // Lanes (one per pixel) to one vector per pixel: a 4×4 transpose (shuffles).
-    let per_pixel = |c: [Vec4; 3]| Mat4::from_cols(c[0], c[1], c[2], Vec4::ZERO).transpose();
-    let (d, sp) = (per_pixel(d), per_pixel(sp));
-    (
-        [d.x_axis, d.y_axis, d.z_axis, d.w_axis],
-        [sp.x_axis, sp.y_axis, sp.z_axis, sp.w_axis],
-    )
+    (per_pixel(d), per_pixel(sp))
 }
 
 /// Lane-wise square root (one `sqrtps`).
@@ -1190,6 +1197,61 @@ fn sqrt4(v: Vec4) -> Vec4 {
     {
         Vec4::from_array(v.to_array().map(f32::sqrt))
     }
+}
+
+impl SceneShader<'_> {
+    /// A [`DrawInfo::plain`] draw's quad (under directional lights only when Phong-shaded):
+    /// the same rule as [`FragmentShader::shade`] (`combine` for an opaque colour), the
+    /// factors D and S of the four pixels from lanes.
+    #[inline]
+    fn shade_plain(&self, d: &DrawInfo, quad: &Quad, out: &mut [Vec4; 4]) -> u8 {
+        let texels = d.texture.as_ref().map(|t| t.quad(quad));
+        let (df, sp) = match d.mode {
+            Mode::Unlit => ([Vec4::ONE; 4], [Vec4::ZERO; 4]),
+            Mode::Phong => {
+                let back = d.material.double_sided && !quad.front_facing;
+                phong_quad(
+                    &d.surface,
+                    quad,
+                    d.needs_position,
+                    back,
+                    &self.lighting,
+                    self.viewer,
+                )
+            }
+            Mode::Interpolated => {
+                // Double-sided back faces read the factors lit with −N.
+                let k = d.back_at.filter(|_| !quad.front_facing).unwrap_or(2);
+                let v = &quad.varyings;
+                (
+                    per_pixel([v[k], v[k + 1], v[k + 2]]),
+                    per_pixel([v[k + 3], v[k + 4], v[k + 5]]),
+                )
+            }
+        };
+        for j in 0..4 {
+            let mut c = d.base;
+            if let Some(t) = &texels {
+                c *= t[j];
+            }
+            // `combine` for an opaque colour: straight = c / a (unless a is 0 or 1), then
+            // straight·D + S with alpha 1 (D's fourth lane is 0, S's is 1).
+            let a = c.w;
+            let straight = if a > 0.0 && a != 1.0 { c / a } else { c };
+            out[j] = (straight * df[j] + sp[j].truncate().extend(0.0))
+                .truncate()
+                .extend(1.0);
+        }
+        quad.mask
+    }
+}
+
+/// Three lanes of factors (R, G and B, one pixel per lane) as one vector per pixel, its
+/// fourth component zero: a 4×4 transpose (shuffles).
+#[inline(always)]
+fn per_pixel(c: [Vec4; 3]) -> [Vec4; 4] {
+    let m = Mat4::from_cols(c[0], c[1], c[2], Vec4::ZERO).transpose();
+    [m.x_axis, m.y_axis, m.z_axis, m.w_axis]
 }
 
 /// A quad's reads of the maps that feed the [`Surface`] (each `None` when the draw has none).
