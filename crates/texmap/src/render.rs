@@ -48,7 +48,8 @@ use crate::shading::{
     MapChannel, Material, Procedural, ShadingModel, SolidMap, Surface, TextureSlot, Viewer,
 };
 use crate::texture::{
-    sample, sample_3d, sample_quad_lanes, Filter, Footprint, Footprint3, Sampler, Texture2D, Wrap,
+    sample, sample_3d, sample_quad_lanes, sample_quads_lanes, Filter, Footprint, Footprint3,
+    QuadCoords, Sampler, Texture2D, Wrap,
 };
 use crate::{Error, Result};
 
@@ -445,6 +446,28 @@ impl MapRead<'_> {
     fn quad(&self, quad: &Quad) -> [Vec4; 4] {
         let ((u, v), dx, dy) = self.coords(quad);
         sample_quad_lanes(self.tex, &self.sampler, (u, v), dx, dy, quad.mask)
+    }
+
+    /// [`MapRead::quad`] for several quads (`out[i]` for `quads[i]`), the reads staged by
+    /// [`sample_quads_lanes`].
+    fn quads(&self, quads: &[Quad], out: &mut [[Vec4; 4]]) {
+        const CHUNK: usize = 16;
+        for (quads, out) in quads.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
+            let mut coords = [QuadCoords::default(); CHUNK];
+            let mut masks = [0u8; CHUNK];
+            for ((c, m), q) in coords.iter_mut().zip(masks.iter_mut()).zip(quads) {
+                let ((u, v), duv_dx, duv_dy) = self.coords(q);
+                *c = QuadCoords {
+                    u,
+                    v,
+                    duv_dx,
+                    duv_dy,
+                };
+                *m = q.mask;
+            }
+            let n = quads.len();
+            sample_quads_lanes(self.tex, &self.sampler, &coords[..n], &masks[..n], out);
+        }
     }
 
     /// The quad's transformed uvs (one lane per pixel) and their screen derivatives.
@@ -963,10 +986,30 @@ struct SceneShader<'a> {
 }
 
 impl FragmentShader for SceneShader<'_> {
+    fn shade_batch(&self, draw: u32, quads: &[Quad], out: &mut [[Vec4; 4]], kept: &mut [u8]) {
+        let d = &self.draws[draw as usize];
+        match d.texture.as_ref().filter(|_| self.is_plain(d)) {
+            // Plain textured quads: all the texture reads first (staged across quads).
+            Some(t) => {
+                t.quads(quads, out);
+                for ((quad, o), k) in quads.iter().zip(out.iter_mut()).zip(kept.iter_mut()) {
+                    let texels = *o;
+                    *k = self.shade_plain(d, quad, Some(&texels), o);
+                }
+            }
+            None => {
+                for ((quad, o), k) in quads.iter().zip(out.iter_mut()).zip(kept.iter_mut()) {
+                    *k = self.shade(draw, quad, o);
+                }
+            }
+        }
+    }
+
     fn shade(&self, draw: u32, quad: &Quad, out: &mut [Vec4; 4]) -> u8 {
         let d = &self.draws[draw as usize];
-        if d.plain && (d.mode != Mode::Phong || self.directional_only) {
-            return self.shade_plain(d, quad, out);
+        if self.is_plain(d) {
+            let texels = d.texture.as_ref().map(|t| t.quad(quad));
+            return self.shade_plain(d, quad, texels.as_ref(), out);
         }
         let m = d.material;
         let mut kept = quad.mask;
@@ -1200,12 +1243,23 @@ fn sqrt4(v: Vec4) -> Vec4 {
 }
 
 impl SceneShader<'_> {
+    /// Whether draw `d` takes [`Self::shade_plain`].
+    #[inline]
+    fn is_plain(&self, d: &DrawInfo) -> bool {
+        d.plain && (d.mode != Mode::Phong || self.directional_only)
+    }
+
     /// A [`DrawInfo::plain`] draw's quad (under directional lights only when Phong-shaded):
     /// the same rule as [`FragmentShader::shade`] (`combine` for an opaque colour), the
     /// factors D and S of the four pixels from lanes.
     #[inline]
-    fn shade_plain(&self, d: &DrawInfo, quad: &Quad, out: &mut [Vec4; 4]) -> u8 {
-        let texels = d.texture.as_ref().map(|t| t.quad(quad));
+    fn shade_plain(
+        &self,
+        d: &DrawInfo,
+        quad: &Quad,
+        texels: Option<&[Vec4; 4]>,
+        out: &mut [Vec4; 4],
+    ) -> u8 {
         let (df, sp) = match d.mode {
             Mode::Unlit => ([Vec4::ONE; 4], [Vec4::ZERO; 4]),
             Mode::Phong => {
@@ -1231,7 +1285,7 @@ impl SceneShader<'_> {
         };
         for j in 0..4 {
             let mut c = d.base;
-            if let Some(t) = &texels {
+            if let Some(t) = texels {
                 c *= t[j];
             }
             // `combine` for an opaque colour: straight = c / a (unless a is 0 or 1), then

@@ -193,6 +193,15 @@ pub trait FragmentShader: Sync {
     /// Writes premultiplied linear RGBA for the pixels in `quad.mask` (of draw `draw`) to
     /// `out`, and returns the pixels kept (a subset of `quad.mask`; clear a bit to discard).
     fn shade(&self, draw: u32, quad: &Quad, out: &mut [Vec4; 4]) -> u8;
+
+    /// [`FragmentShader::shade`] for several quads of draw `draw` (disjoint pixels of one
+    /// primitive): `out[i]` and `kept[i]` for `quads[i]`. The default shades them one by one;
+    /// a shader may interleave their work.
+    fn shade_batch(&self, draw: u32, quads: &[Quad], out: &mut [[Vec4; 4]], kept: &mut [u8]) {
+        for ((quad, o), k) in quads.iter().zip(out.iter_mut()).zip(kept.iter_mut()) {
+            *k = self.shade(draw, quad, o);
+        }
+    }
 }
 
 /// The render target of [`draw`].

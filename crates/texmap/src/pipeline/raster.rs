@@ -17,7 +17,7 @@
 use glam::Vec4;
 
 use super::bin::{Bins, TileRect};
-use super::framebuffer::{over, TileBuffer};
+use super::framebuffer::{over, stream_fence, stream_fill, TileBuffer};
 use super::interpolate::Planes;
 use super::setup::{Edges, EXTRA_VERTEX};
 use super::transform::PostVertex;
@@ -103,25 +103,18 @@ pub fn rasterize_tile(
     let prims = bins.tile_prims(t);
     if prims.is_empty() {
         for row in rows.iter_mut() {
-            row.fill(ctx.target.clear_color);
+            stream_fill(row, ctx.target.clear_color);
         }
+        stream_fence();
         return stats;
     }
-    if buf.samples == 1 {
-        // One sample: colour goes straight to the target's rows (no tile copy to clear and
-        // resolve); only depth lives in the tile buffer.
-        for row in rows.iter_mut() {
-            row.fill(ctx.target.clear_color);
-        }
-        buf.depth.fill(1.0);
-        let mut out = RowsColor(rows);
-        raster_prims::<1, _>(ctx, rect, prims, &mut buf.depth, &mut out, &mut stats);
-        return stats;
-    }
+    // Colour and depth live in the tile buffer (in cache) and go to the target's rows once,
+    // with streaming stores.
     buf.clear(ctx.target.clear_color);
     let (color, depth) = (&mut buf.color, &mut buf.depth);
     let mut out = TileColor(color);
     match buf.samples {
+        1 => raster_prims::<1, _>(ctx, rect, prims, depth, &mut out, &mut stats),
         2 => raster_prims::<2, _>(ctx, rect, prims, depth, &mut out, &mut stats),
         4 => raster_prims::<4, _>(ctx, rect, prims, depth, &mut out, &mut stats),
         8 => raster_prims::<8, _>(ctx, rect, prims, depth, &mut out, &mut stats),
@@ -130,6 +123,7 @@ pub fn rasterize_tile(
     for (ly, row) in rows.iter_mut().enumerate() {
         buf.resolve_row(ly, row);
     }
+    stream_fence();
     stats
 }
 
@@ -155,22 +149,6 @@ impl ColorSamples for TileColor<'_> {
     }
 }
 
-/// The target's own rows (one sample per pixel).
-struct RowsColor<'a, 'b>(&'a mut [&'b mut [Vec4]]);
-
-impl ColorSamples for RowsColor<'_, '_> {
-    #[inline(always)]
-    fn write<const S: usize>(
-        &mut self,
-        (lx, ly): (usize, usize),
-        _s: usize,
-        src: Vec4,
-        blend: bool,
-    ) {
-        over(&mut self.0[ly][lx], src, blend);
-    }
-}
-
 /// The sample count a target asks for, as the rasterizer runs it (1, 2, 4, 8 or 16).
 #[must_use]
 pub fn sample_count(target: &Target) -> usize {
@@ -190,14 +168,7 @@ fn raster_prims<const S: usize, O: ColorSamples>(
 ) {
     let positions = sample_positions(S as u32);
     let tile = super::bin::TILE as usize;
-    let mut quad = Quad {
-        x: 0,
-        y: 0,
-        mask: 0,
-        front_facing: true,
-        varyings: [Vec4::ZERO; MAX_VARYINGS],
-    };
-    let mut colors = [Vec4::ZERO; 4];
+    let mut batch = Batch::new();
     for &pi in prims {
         let prim = &ctx.prims[pi as usize];
         let call = &ctx.calls[prim.call as usize];
@@ -328,29 +299,17 @@ fn raster_prims<const S: usize, O: ColorSamples>(
                         qmask |= u8::from(ok != 0) << j;
                     }
                     if qmask != 0 {
+                        let n = batch.len;
+                        let quad = &mut batch.quads[n];
                         quad.x = qx as u32;
                         quad.y = qy as u32;
                         quad.mask = qmask;
                         quad.front_facing = prim.front_facing;
                         pl.quad(fx, fy, &mut quad.varyings);
-                        let kept = ctx.shader.shade(prim.call, &quad, &mut colors) & qmask;
-                        let shaded = u64::from(qmask.count_ones());
-                        stats.pixels_shaded += shaded;
-                        stats.texture_samples += shaded * u64::from(state.texture_reads);
-                        for j in 0..4 {
-                            if kept & (1 << j) == 0 {
-                                continue;
-                            }
-                            let base = ((ly + (j >> 1)) * tile + lx + (j & 1)) * S;
-                            for s in 0..S {
-                                if pass[j] & (1 << s) != 0 {
-                                    let p = (lx + (j & 1), ly + (j >> 1));
-                                    out.write::<S>(p, s, colors[j], state.blend);
-                                    if state.depth_write {
-                                        depth[base + s] = zp[j] + zoff[s];
-                                    }
-                                }
-                            }
+                        batch.pending[n] = Pending { lx, ly, pass, zp };
+                        batch.len += 1;
+                        if batch.len == BATCH {
+                            batch.flush::<S, O>(ctx, prim.call, &zoff, depth, out, stats);
                         }
                     }
                 }
@@ -363,6 +322,99 @@ fn raster_prims<const S: usize, O: ColorSamples>(
                 row[k] += step_y[k];
             }
             qy += 2;
+        }
+        batch.flush::<S, O>(ctx, prim.call, &zoff, depth, out, stats);
+    }
+}
+
+/// Quads shaded in one call: up to this many covered quads of one primitive, so the
+/// shader's per-quad chains (level of detail, texel addresses, loads) of neighbouring quads
+/// sit close enough in the instruction stream to overlap.
+const BATCH: usize = 8;
+
+/// A quad waiting in a [`Batch`]: its tile position, the samples that passed the depth test
+/// per pixel, and the pixels' depths.
+#[derive(Clone, Copy, Default)]
+struct Pending {
+    lx: usize,
+    ly: usize,
+    pass: [u32; 4],
+    zp: [f32; 4],
+}
+
+/// Covered quads of one primitive, depth-tested, waiting to be shaded and written. They are
+/// disjoint, so testing all before writing any gives what quad-by-quad would.
+struct Batch {
+    len: usize,
+    quads: [Quad; BATCH],
+    pending: [Pending; BATCH],
+    colors: [[Vec4; 4]; BATCH],
+    kept: [u8; BATCH],
+}
+
+impl Batch {
+    fn new() -> Self {
+        Batch {
+            len: 0,
+            quads: std::array::from_fn(|_| Quad {
+                x: 0,
+                y: 0,
+                mask: 0,
+                front_facing: true,
+                varyings: [Vec4::ZERO; MAX_VARYINGS],
+            }),
+            pending: [Pending::default(); BATCH],
+            colors: [[Vec4::ZERO; 4]; BATCH],
+            kept: [0; BATCH],
+        }
+    }
+
+    /// Shades the waiting quads of draw `call` and writes their colours and depths.
+    fn flush<const S: usize, O: ColorSamples>(
+        &mut self,
+        ctx: &RasterContext,
+        call: u32,
+        zoff: &[f32; S],
+        depth: &mut [f32],
+        out: &mut O,
+        stats: &mut TileStats,
+    ) {
+        let n = std::mem::take(&mut self.len);
+        if n == 0 {
+            return;
+        }
+        let state = ctx.calls[call as usize].state;
+        let tile = super::bin::TILE as usize;
+        ctx.shader.shade_batch(
+            call,
+            &self.quads[..n],
+            &mut self.colors[..n],
+            &mut self.kept[..n],
+        );
+        for ((quad, p), (colors, &kept)) in self.quads[..n]
+            .iter()
+            .zip(&self.pending[..n])
+            .zip(self.colors[..n].iter().zip(&self.kept[..n]))
+        {
+            let shaded = u64::from(quad.mask.count_ones());
+            stats.pixels_shaded += shaded;
+            stats.texture_samples += shaded * u64::from(state.texture_reads);
+            let kept = kept & quad.mask;
+            for j in 0..4 {
+                if kept & (1 << j) == 0 {
+                    continue;
+                }
+                let (x, y) = (p.lx + (j & 1), p.ly + (j >> 1));
+                let base = (y * tile + x) * S;
+                for s in 0..S {
+                    if p.pass[j] & (1 << s) != 0 {
+                        out.write::<S>((x, y), s, colors[j], state.blend);
+                        if state.depth_write {
+                            depth[base + s] = p.zp[j] + zoff[s];
+                        }
+                    }
+                }
+            }
         }
     }
 }

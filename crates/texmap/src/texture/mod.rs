@@ -17,7 +17,9 @@ mod transform;
 mod wrap;
 
 pub use cube::{sample_cube, CubeFace, TextureCube};
-pub use filter::{sample, sample_batch, sample_quad, sample_quad_lanes};
+pub use filter::{
+    sample, sample_batch, sample_quad, sample_quad_lanes, sample_quads_lanes, QuadCoords,
+};
 pub use footprint::{CubeFootprint, Footprint, Footprint3, LodRule};
 pub use format::{f16_to_f32, f32_to_f16, ColorSpace, Format};
 pub use mip::level_count;

@@ -80,38 +80,97 @@ pub fn sample_quad_lanes(
     duv_dy: Vec2,
     mask: u8,
 ) -> [Vec4; 4] {
-    with_codec!(texture.storage_format(), C => sample_quad_with::<C>(texture, sampler, uv, duv_dx, duv_dy, mask))
-}
-
-fn sample_quad_with<C: Codec>(
-    tex: &Texture2D,
-    s: &Sampler,
-    (u, v): (Vec4, Vec4),
-    duv_dx: Vec2,
-    duv_dy: Vec2,
-    mask: u8,
-) -> [Vec4; 4] {
-    let uvs: [Vec2; 4] = std::array::from_fn(|j| Vec2::new(u[j], v[j]));
-    let Filter::Gl { mag, min } = s.filter else {
-        let mut out = [Vec4::ZERO; 4];
-        for (j, o) in out.iter_mut().enumerate() {
-            if mask & (1 << j) != 0 {
-                *o = sample_with::<C>(tex, s, &Footprint::new(uvs[j], duv_dx, duv_dy));
-            }
-        }
-        return out;
+    let Filter::Gl { mag, min } = sampler.filter else {
+        return with_codec!(texture.storage_format(), C => {
+            std::array::from_fn(|j| {
+                if mask & (1 << j) == 0 {
+                    return Vec4::ZERO;
+                }
+                let fp = Footprint::new(Vec2::new(uv.0[j], uv.1[j]), duv_dx, duv_dy);
+                sample_with::<C>(texture, sampler, &fp)
+            })
+        });
     };
     // OpenGL filtering: λ depends on the derivatives only, so it is the same for the four
     // pixels — one level choice per quad, as GPUs make it.
-    let fp = Footprint::new(uvs[0], duv_dx, duv_dy);
-    let (dx, dy) = texel_derivatives(tex, &fp);
-    let lod = s.adjust_lod(s.lod_rule.lod(dx, dy));
-    let (levels, linear) = gl_levels(tex, lod, mag, min);
+    let size = Vec2::new(texture.width() as f32, texture.height() as f32);
+    let lod = sampler.adjust_lod(sampler.lod_rule.lod(duv_dx * size, duv_dy * size));
+    let (levels, linear) = gl_levels(texture, lod, mag, min);
     if linear {
-        if let Some(out) = fixed16::linear_quad(tex, s, levels, u, v, mask) {
+        if let Some(out) = fixed16::linear_quad(texture, sampler, levels, uv.0, uv.1, mask) {
             return out;
         }
     }
+    with_codec!(texture.storage_format(), C => gl_quad::<C>(texture, sampler, uv, levels, linear, mask))
+}
+
+/// One quad's coordinates for [`sample_quads_lanes`]: pixel `j`'s `(u, v)` in lane `j`, and the
+/// derivatives the quad shares.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct QuadCoords {
+    pub u: Vec4,
+    pub v: Vec4,
+    pub duv_dx: Vec2,
+    pub duv_dy: Vec2,
+}
+
+/// [`sample_quad_lanes`] for several quads (`out[i]` for `coords[i]` and `masks[i]`), in
+/// stages: every quad's level of detail first, then the reads, so the quads' independent
+/// chains of dependent operations overlap instead of running one after another.
+///
+/// # Panics
+/// If `masks` or `out` is shorter than `coords`.
+pub fn sample_quads_lanes(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    coords: &[QuadCoords],
+    masks: &[u8],
+    out: &mut [[Vec4; 4]],
+) {
+    assert!(masks.len() >= coords.len() && out.len() >= coords.len());
+    let Filter::Gl { mag, min } = sampler.filter else {
+        for ((c, &m), o) in coords.iter().zip(masks).zip(out.iter_mut()) {
+            *o = sample_quad_lanes(texture, sampler, (c.u, c.v), c.duv_dx, c.duv_dy, m);
+        }
+        return;
+    };
+    const CHUNK: usize = 16;
+    let size = Vec2::new(texture.width() as f32, texture.height() as f32);
+    for ((coords, masks), out) in coords
+        .chunks(CHUNK)
+        .zip(masks.chunks(CHUNK))
+        .zip(out.chunks_mut(CHUNK))
+    {
+        let mut levels = [((0, None), false); CHUNK];
+        for (l, c) in levels.iter_mut().zip(coords) {
+            let lod = sampler.lod_rule.lod(c.duv_dx * size, c.duv_dy * size);
+            *l = gl_levels(texture, sampler.adjust_lod(lod), mag, min);
+        }
+        for (((c, &m), o), &(lv, linear)) in
+            coords.iter().zip(masks).zip(out.iter_mut()).zip(&levels)
+        {
+            let fixed = linear
+                .then(|| fixed16::linear_quad(texture, sampler, lv, c.u, c.v, m))
+                .flatten();
+            *o = match fixed {
+                Some(read) => read,
+                None => {
+                    with_codec!(texture.storage_format(), C => gl_quad::<C>(texture, sampler, (c.u, c.v), lv, linear, m))
+                }
+            };
+        }
+    }
+}
+
+/// OpenGL filtering of a quad's four pixels on the chosen levels (see [`gl_levels`]).
+fn gl_quad<C: Codec>(
+    tex: &Texture2D,
+    s: &Sampler,
+    (u, v): (Vec4, Vec4),
+    levels: (usize, Option<(usize, f32)>),
+    linear: bool,
+    mask: u8,
+) -> [Vec4; 4] {
     let read = |level: usize| {
         let lv = tex.level(level);
         if linear {
@@ -119,7 +178,7 @@ fn sample_quad_with<C: Codec>(
         } else {
             std::array::from_fn(|j| {
                 if mask & (1 << j) != 0 {
-                    nearest::<C>(&lv, s, uvs[j])
+                    nearest::<C>(&lv, s, Vec2::new(u[j], v[j]))
                 } else {
                     Vec4::ZERO
                 }
