@@ -991,10 +991,28 @@ impl FragmentShader for SceneShader<'_> {
         match d.texture.as_ref().filter(|_| self.is_plain(d)) {
             // Plain textured quads: all the texture reads first (staged across quads).
             Some(t) => {
-                t.quads(quads, out);
-                for ((quad, o), k) in quads.iter().zip(out.iter_mut()).zip(kept.iter_mut()) {
-                    let texels = *o;
-                    *k = self.shade_plain(d, quad, Some(&texels), o);
+                // The lighting of every quad, then every texture read, then the colours.
+                const CHUNK: usize = 8;
+                for ((quads, out), kept) in quads
+                    .chunks(CHUNK)
+                    .zip(out.chunks_mut(CHUNK))
+                    .zip(kept.chunks_mut(CHUNK))
+                {
+                    let mut factors = [([Vec4::ZERO; 4], [Vec4::ZERO; 4]); CHUNK];
+                    for (f, quad) in factors.iter_mut().zip(quads) {
+                        *f = self.plain_factors(d, quad);
+                    }
+                    t.quads(quads, out);
+                    for (((quad, o), k), (df, sp)) in quads
+                        .iter()
+                        .zip(out.iter_mut())
+                        .zip(kept.iter_mut())
+                        .zip(&factors)
+                    {
+                        let texels = *o;
+                        plain_colors(d, df, sp, Some(&texels), o);
+                        *k = quad.mask;
+                    }
                 }
             }
             None => {
@@ -1260,8 +1278,16 @@ impl SceneShader<'_> {
         texels: Option<&[Vec4; 4]>,
         out: &mut [Vec4; 4],
     ) -> u8 {
-        let (df, sp) = match d.mode {
-            Mode::Unlit => ([Vec4::ONE; 4], [Vec4::ZERO; 4]),
+        let (df, sp) = self.plain_factors(d, quad);
+        plain_colors(d, &df, &sp, texels, out);
+        quad.mask
+    }
+
+    /// The factors D and S of a plain draw's quad, one vector per pixel (fourth lanes 0).
+    #[inline]
+    fn plain_factors(&self, d: &DrawInfo, quad: &Quad) -> ([Vec4; 4], [Vec4; 4]) {
+        match d.mode {
+            Mode::Unlit => ([Vec4::new(1.0, 1.0, 1.0, 0.0); 4], [Vec4::ZERO; 4]),
             Mode::Phong => {
                 let back = d.material.double_sided && !quad.front_facing;
                 phong_quad(
@@ -1282,21 +1308,29 @@ impl SceneShader<'_> {
                     per_pixel([v[k + 3], v[k + 4], v[k + 5]]),
                 )
             }
-        };
-        for j in 0..4 {
-            let mut c = d.base;
-            if let Some(t) = texels {
-                c *= t[j];
-            }
-            // `combine` for an opaque colour: straight = c / a (unless a is 0 or 1), then
-            // straight·D + S with alpha 1 (D's fourth lane is 0, S's is 1).
-            let a = c.w;
-            let straight = if a > 0.0 && a != 1.0 { c / a } else { c };
-            out[j] = (straight * df[j] + sp[j].truncate().extend(0.0))
-                .truncate()
-                .extend(1.0);
         }
-        quad.mask
+    }
+}
+
+/// A plain draw's colours from the factors and texels: `combine` for an opaque colour,
+/// straight = c / a (unless a is 0 or 1), then straight·D + S with alpha 1 (the factors'
+/// fourth lanes are 0).
+#[inline(always)]
+fn plain_colors(
+    d: &DrawInfo,
+    df: &[Vec4; 4],
+    sp: &[Vec4; 4],
+    texels: Option<&[Vec4; 4]>,
+    out: &mut [Vec4; 4],
+) {
+    for j in 0..4 {
+        let mut c = d.base;
+        if let Some(t) = texels {
+            c *= t[j];
+        }
+        let a = c.w;
+        let straight = if a > 0.0 && a != 1.0 { c / a } else { c };
+        out[j] = straight * df[j] + sp[j] + Vec4::W;
     }
 }
 

@@ -141,10 +141,21 @@ pub fn sample_quads_lanes(
         .zip(masks.chunks(CHUNK))
         .zip(out.chunks_mut(CHUNK))
     {
+        // λ four quads at a time (one per lane), then each quad's levels.
         let mut levels = [((0, None), false); CHUNK];
-        for (l, c) in levels.iter_mut().zip(coords) {
-            let lod = sampler.lod_rule.lod(c.duv_dx * size, c.duv_dy * size);
-            *l = gl_levels(texture, sampler.adjust_lod(lod), mag, min);
+        for (levels, coords) in levels.chunks_mut(4).zip(coords.chunks(4)) {
+            let lane = |f: &dyn Fn(&QuadCoords) -> f32| {
+                Vec4::from_array(std::array::from_fn(|i| coords.get(i).map_or(0.0, f)))
+            };
+            let lod = sampler.lod_rule.lod4(
+                lane(&|c| c.duv_dx.x * size.x),
+                lane(&|c| c.duv_dx.y * size.y),
+                lane(&|c| c.duv_dy.x * size.x),
+                lane(&|c| c.duv_dy.y * size.y),
+            );
+            for (i, l) in levels.iter_mut().enumerate().take(coords.len()) {
+                *l = gl_levels(texture, sampler.adjust_lod(lod[i]), mag, min);
+            }
         }
         for (((c, &m), o), &(lv, linear)) in
             coords.iter().zip(masks).zip(out.iter_mut()).zip(&levels)
