@@ -281,8 +281,23 @@ fn raster_prims<const S: usize, O: ColorSamples>(
                     let zp = [z0, z0 + pl.z.dx, z0 + pl.z.dy, z0 + pl.z.dx + pl.z.dy];
                     let mut pass = [0u32; 4];
                     let mut qmask = 0u8;
+                    if S == 1 {
+                        // One sample: the quad's four depths compared at once (the sample
+                        // offset is zero; the tile buffer holds whole quads, so the reads
+                        // stay inside it at the tile's edges).
+                        let i = ly * tile + lx;
+                        let stored =
+                            Vec4::new(depth[i], depth[i + 1], depth[i + tile], depth[i + tile + 1]);
+                        let nearer = if state.depth_test {
+                            Vec4::from_array(zp).cmplt(stored).bitmask() as u8
+                        } else {
+                            0b1111
+                        };
+                        qmask = pmask & nearer;
+                        pass = std::array::from_fn(|j| u32::from(qmask >> j) & 1);
+                    }
                     for j in 0..4 {
-                        if pmask & (1 << j) == 0 {
+                        if S == 1 || pmask & (1 << j) == 0 {
                             continue;
                         }
                         let base = ((ly + (j >> 1)) * tile + lx + (j & 1)) * S;

@@ -61,9 +61,10 @@ pub(super) fn linear_quad(
 #[cfg(target_arch = "x86_64")]
 mod sse2 {
     use std::arch::x86_64::{
-        __m128i, _mm_add_epi32, _mm_and_si128, _mm_cvtepi32_ps, _mm_cvtps_epi32, _mm_cvttps_epi32,
-        _mm_loadl_epi64, _mm_madd_epi16, _mm_or_si128, _mm_set1_epi32, _mm_setzero_si128,
-        _mm_slli_epi32, _mm_srli_epi16, _mm_srli_epi32, _mm_sub_epi32, _mm_unpacklo_epi16,
+        __m128i, _mm_add_epi32, _mm_and_si128, _mm_andnot_si128, _mm_cmpeq_epi32, _mm_cvtepi32_ps,
+        _mm_cvtps_epi32, _mm_cvttps_epi32, _mm_loadl_epi64, _mm_madd_epi16, _mm_or_si128,
+        _mm_set1_epi32, _mm_setzero_si128, _mm_slli_epi32, _mm_srli_epi16, _mm_srli_epi32,
+        _mm_sub_epi32, _mm_unpacklo_epi16,
     };
 
     use glam::Vec4;
@@ -142,39 +143,55 @@ mod sse2 {
     }
 
     /// The texel positions a bilinear read at `t` (one lane per pixel) takes on an axis of `n`
-    /// texels: the two indices, both in `[0, n − 1]` whatever `t` is (NaN reads index 0), and
-    /// the second one's weight in `[0, 1]`.
+    /// texels: the two indices, both in `[0, n − 1]` whatever `t` is (NaN reads index 0 when
+    /// clamping, `n − 1` when repeating), and the second one's weight in `[0, 1]`.
     #[inline(always)]
     fn axis(wrap: Wrap, t: Vec4, n: i32) -> (__m128i, __m128i, Vec4) {
         let nf = n as f32;
-        let last = Vec4::splat(nf - 1.0);
         let p = if wrap == Wrap::Repeat {
             (t - floor4(t)) * nf - 0.5
         } else {
             t * nf - 0.5
         };
         let i = floor4(p);
-        let frac = p - i;
-        let (lo, hi) = if wrap == Wrap::Repeat {
-            // t − ⌊t⌋ ∈ [0, 1] puts i in [−1, n − 1]: the pair wraps by a select.
-            let j = i + 1.0;
-            (
-                Vec4::select(i.cmplt(Vec4::ZERO), last, i),
-                Vec4::select(j.cmpge(Vec4::splat(nf)), Vec4::ZERO, j),
-            )
-        } else {
-            (i, i + 1.0)
-        };
-        // `max` first: it returns its second operand (0) for a NaN lane.
-        let clamp = |x: Vec4| x.max(Vec4::ZERO).min(last);
-        let frac = frac.max(Vec4::ZERO).min(Vec4::ONE);
+        let frac = (p - i).max(Vec4::ZERO).min(Vec4::ONE);
         // SAFETY: SSE2 is part of x86_64.
         unsafe {
-            (
-                _mm_cvttps_epi32(clamp(lo).into()),
-                _mm_cvttps_epi32(clamp(hi).into()),
-                frac,
-            )
+            if wrap == Wrap::Repeat {
+                // t − ⌊t⌋ ∈ [0, 1] puts i in [−1, n − 1] (a NaN lane converts to i32::MIN): as
+                // unsigned, the minimum with n − 1 wraps −1 to n − 1 and keeps the rest; i + 1
+                // wraps n to 0 by a compare.
+                let last = _mm_set1_epi32(n - 1);
+                let lo = _mm_cvttps_epi32(i.into());
+                let hi = _mm_add_epi32(lo, _mm_set1_epi32(1));
+                let hi = _mm_andnot_si128(_mm_cmpeq_epi32(hi, _mm_set1_epi32(n)), hi);
+                (min_u32(lo, last), min_u32(hi, last), frac)
+            } else {
+                // `max` first: it returns its second operand (0) for a NaN lane.
+                let clamp = |x: Vec4| x.max(Vec4::ZERO).min(Vec4::splat(nf - 1.0));
+                (
+                    _mm_cvttps_epi32(clamp(i).into()),
+                    _mm_cvttps_epi32(clamp(i + 1.0).into()),
+                    frac,
+                )
+            }
+        }
+    }
+
+    /// The unsigned minimum per lane: one `pminud` with SSE4.1.
+    #[inline(always)]
+    fn min_u32(a: __m128i, b: __m128i) -> __m128i {
+        #[cfg(target_feature = "sse4.1")]
+        {
+            // SAFETY: SSE4.1 is enabled for this build.
+            unsafe { std::arch::x86_64::_mm_min_epu32(a, b) }
+        }
+        #[cfg(not(target_feature = "sse4.1"))]
+        {
+            let (a, b) = (lanes(a), lanes(b));
+            let m: [i32; 4] = std::array::from_fn(|k| (a[k] as u32).min(b[k] as u32) as i32);
+            // SAFETY: same size, every bit pattern valid for both.
+            unsafe { std::mem::transmute::<[i32; 4], __m128i>(m) }
         }
     }
 
