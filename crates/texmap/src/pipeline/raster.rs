@@ -9,7 +9,10 @@
 //! one edge there is skipped, and one inside all three (a large triangle over the tile) skips
 //! the per-quad edge tests. Depth is tested per sample
 //! before shading; the shader runs once per pixel per triangle (at the pixel centre) and its
-//! colour goes to every covered sample that passed.
+//! colour goes to every covered sample that passed. Covered quads wait in a [`Batch`] of up
+//! to 8 (one primitive's, so disjoint) and are shaded together, which lets the shader overlap
+//! their work. Colour and depth live in the tile buffer; the finished tile goes to the
+//! target's rows with streaming stores.
 //!
 //! MSAA sample positions are Direct3D's standard patterns (in 1/16 pixel from the centre),
 //! exact in the 1/256-pixel fixed-point grid.

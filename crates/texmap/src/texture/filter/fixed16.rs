@@ -11,13 +11,16 @@
 //!   reads back its (15-bit) value.
 //!
 //! The float filters ([`super::bilinear`] on each level, blended) give the same value within
-//! 1.6·10⁻⁴ (eight weights off by at most half a step of 1/32767, plus the dropped bit), a
-//! quarter of the smallest step an 8-bit sRGB output can show (3·10⁻⁴, at black). GPUs filter
-//! with 8-bit weights; these are 15-bit. It takes about half the instructions of the float
-//! filter: two loads, an interleave, a shift, a multiply-add and an add per pair of taps.
+//! 1.6·10⁻⁴ (eight weights off by at most half a step of 1/32767, plus the dropped bit), about
+//! half the smallest step an 8-bit sRGB output can show (3·10⁻⁴, at black): the trilinear
+//! plane at 1080p is 79.9 dB PSNR from the float filter's image (RMSE 0.026 of an 8-bit
+//! level). GPUs filter with 8-bit weights; these are 15-bit. It takes
+//! about half the instructions of the float filter: two loads, an interleave, a shift, a
+//! multiply-add and an add per pair of taps.
 //!
-//! Only the repeat and clamp-to-edge wraps are handled here (indices by selects and clamps);
-//! other wraps, other formats and other targets return `None` and the float filter serves.
+//! Only the repeat and clamp-to-edge wraps are handled here (indices by integer wrapping and
+//! float clamps); other wraps, other formats and other targets return `None` and the float
+//! filter serves.
 
 use glam::Vec4;
 
