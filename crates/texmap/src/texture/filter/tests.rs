@@ -332,6 +332,28 @@ proptest! {
     }
 
     #[test]
+    fn batched_quads_equal_quads_read_one_by_one(fps in proptest::collection::vec(footprint_strategy(), 1..7), f in 0usize..21, w in 0usize..5) {
+        let tex = noisy(13, 9);
+        let s = Sampler::new(every_filter()[f], WRAPS[w]);
+        let coords: Vec<crate::texture::QuadCoords> = fps
+            .iter()
+            .map(|fp| crate::texture::QuadCoords {
+                u: Vec4::new(fp.uv.x, fp.uv.x + 0.01, fp.uv.x, fp.uv.x + 0.02),
+                v: Vec4::new(fp.uv.y, fp.uv.y, fp.uv.y + 0.03, fp.uv.y + 0.01),
+                duv_dx: fp.duv_dx,
+                duv_dy: fp.duv_dy,
+            })
+            .collect();
+        let masks: Vec<u8> = (0..coords.len()).map(|i| [0b1111, 0b0110, 0b1001][i % 3]).collect();
+        let mut out = vec![[Vec4::ZERO; 4]; coords.len()];
+        crate::texture::sample_quads_lanes(&tex, &s, &coords, &masks, &mut out);
+        for ((c, &m), got) in coords.iter().zip(&masks).zip(&out) {
+            let want = crate::texture::sample_quad_lanes(&tex, &s, (c.u, c.v), c.duv_dx, c.duv_dy, m);
+            prop_assert_eq!(got, &want, "{:?}", s.filter);
+        }
+    }
+
+    #[test]
     fn quad_sampling_of_a_constant_texture_reads_the_constant(fp in footprint_strategy(), f in 0usize..21, w in 0usize..5) {
         // Every 8-bit value: the fixed-point weights of a read sum to exactly one.
         for c in [0u8, 1, 17, 128, 254, 255] {
