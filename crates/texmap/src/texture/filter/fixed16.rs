@@ -1,6 +1,7 @@
 //! Bilinear and trilinear reads of a quad's four pixels on the default storage (16-bit
 //! linear premultiplied texels, 4×4 tiles) in fixed point, with SSE2: the path that the
-//! plain textured triangle takes, and so most of a frame's texels.
+//! plain textured triangle takes, and so most of a frame's texels. Nearest reads share the
+//! lane-wise addressing and return exactly the float path's values.
 //!
 //! A pixel's taps (four per level, at most eight) are summed as `Σ t·w` with `pmaddwd`:
 //! - each texel enters as 15 bits (its 16-bit value shifted right once), two texels' channels
@@ -30,33 +31,52 @@ use super::super::{Format, Layout, Sampler, Texture2D, Wrap};
 #[cfg(target_arch = "x86_64")]
 const ONE: i32 = 32767;
 
-/// Bilinear reads at `(u, v)` (one pixel per lane, pixels whose `mask` bit is clear left zero)
-/// on level `levels.0`, blended with level `b` by weight `f` when `levels.1 = Some((b, f))`.
-/// `None` when this texture or sampler is not one the fixed-point path handles.
+/// Whether these reads serve `tex` through `s`: the default storage, tiled, repeat or clamp
+/// to edge on both axes.
 #[inline]
-pub(super) fn linear_quad(
+fn handles(tex: &Texture2D, s: &Sampler) -> bool {
+    let wrap = |w: Wrap| matches!(w, Wrap::Repeat | Wrap::ClampToEdge);
+    tex.storage_format() == Format::Rgba16Premultiplied
+        && tex.layout() == Layout::Tiled4x4
+        && wrap(s.wrap_u)
+        && wrap(s.wrap_v)
+}
+
+/// A quad's reads at `(u, v)` (one pixel per lane, pixels whose `mask` bit is clear left
+/// zero) on level `levels.0`, blended with level `b` by weight `f` when
+/// `levels.1 = Some((b, f))`: bilinear in fixed point when `linear`, else nearest — the same
+/// texels and values as the float path's `nearest` (its wrap of an index that rounds up to
+/// the size, its index 0 for NaN), with the index arithmetic in lanes. `None` when this
+/// texture or sampler is not one this path handles.
+#[inline]
+pub(super) fn read_quad(
     tex: &Texture2D,
     s: &Sampler,
-    levels: (usize, Option<(usize, f32)>),
+    (levels, linear): ((usize, Option<(usize, f32)>), bool),
     u: Vec4,
     v: Vec4,
     mask: u8,
 ) -> Option<[Vec4; 4]> {
-    let handled = |w: Wrap| matches!(w, Wrap::Repeat | Wrap::ClampToEdge);
-    if tex.storage_format() != Format::Rgba16Premultiplied
-        || tex.layout() != Layout::Tiled4x4
-        || !handled(s.wrap_u)
-        || !handled(s.wrap_v)
-    {
+    if !handles(tex, s) {
         return None;
     }
     #[cfg(target_arch = "x86_64")]
     {
-        Some(sse2::linear_quad(tex, s, levels, u, v, mask))
+        if linear {
+            return Some(sse2::linear_quad(tex, s, levels, u, v, mask));
+        }
+        let a = sse2::nearest_level(tex.level(levels.0), s, u, v, mask);
+        Some(match levels.1 {
+            Some((b, f)) => {
+                let b = sse2::nearest_level(tex.level(b), s, u, v, mask);
+                std::array::from_fn(|j| a[j].lerp(b[j], f))
+            }
+            None => a,
+        })
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        let _ = (levels, u, v, mask);
+        let _ = (levels, linear, u, v, mask);
         None
     }
 }
@@ -105,6 +125,73 @@ mod sse2 {
             // A tap whose rounded weight came out −1 can leave a sum a hair below zero.
             (sum * scale).max(Vec4::ZERO)
         })
+    }
+
+    /// The nearest texels to `(u, v)` on `lv` (pixels outside `mask` zero).
+    #[inline(always)]
+    pub(super) fn nearest_level(
+        lv: LevelRef,
+        s: &Sampler,
+        u: Vec4,
+        v: Vec4,
+        mask: u8,
+    ) -> [Vec4; 4] {
+        let (data, tiles_x) = lv.tiled_texels();
+        let (x, y) = (
+            nearest_axis(s.wrap_u, u, lv.w),
+            nearest_axis(s.wrap_v, v, lv.h),
+        );
+        // SAFETY: SSE2 is part of x86_64 (SSE4.1 where `times` uses it); both indices are in
+        // range, so the texel index is below tiles_x·tiles_y·16 (see `taps`).
+        let offsets = unsafe {
+            let three = _mm_set1_epi32(3);
+            let col = _mm_or_si128(
+                _mm_slli_epi32(_mm_srli_epi32(x, 2), 4),
+                _mm_and_si128(x, three),
+            );
+            let row = _mm_add_epi32(
+                times(_mm_srli_epi32(y, 2), 16 * tiles_x as i32),
+                _mm_slli_epi32(_mm_and_si128(y, three), 2),
+            );
+            lanes(_mm_slli_epi32(_mm_add_epi32(col, row), 3))
+        };
+        let base = data.as_ptr();
+        std::array::from_fn(|j| {
+            if mask & (1 << j) == 0 {
+                return Vec4::ZERO;
+            }
+            // SAFETY: as above; the load reads the texel's 8 bytes. The decode is the
+            // codec's (`decode_rgba16`): zero-extend, convert, scale.
+            unsafe {
+                let q = _mm_loadl_epi64(base.add(offsets[j] as usize).cast());
+                let f = _mm_cvtepi32_ps(_mm_unpacklo_epi16(q, _mm_setzero_si128()));
+                Vec4::from(f) * (1.0 / 65535.0)
+            }
+        })
+    }
+
+    /// The nearest texel's index on an axis of `n` texels at `t` (one lane per pixel), in
+    /// `[0, n − 1]`: the float path's rule (`nearest`, `Wrap::index`) lane-wise.
+    #[inline(always)]
+    fn nearest_axis(wrap: Wrap, t: Vec4, n: i32) -> __m128i {
+        let nf = n as f32;
+        // SAFETY: SSE2 is part of x86_64.
+        unsafe {
+            if wrap == Wrap::Repeat {
+                // ⌊(t − ⌊t⌋)·n⌋ ∈ [0, n]: n (by rounding) wraps to 0, as a NaN lane (i32::MIN
+                // from the conversion) reads 0.
+                let i = _mm_cvttps_epi32(floor4((t - floor4(t)) * nf).into());
+                let wrapped = _mm_or_si128(
+                    _mm_cmpeq_epi32(i, _mm_set1_epi32(n)),
+                    _mm_cmpeq_epi32(i, _mm_set1_epi32(i32::MIN)),
+                );
+                min_u32(_mm_andnot_si128(wrapped, i), _mm_set1_epi32(n - 1))
+            } else {
+                // `max` first: it returns its second operand (0) for a NaN lane.
+                let i = floor4(t * nf).max(Vec4::ZERO).min(Vec4::splat(nf - 1.0));
+                _mm_cvttps_epi32(i.into())
+            }
+        }
     }
 
     /// The four lanes of `v`.

@@ -96,10 +96,8 @@ pub fn sample_quad_lanes(
     let size = Vec2::new(texture.width() as f32, texture.height() as f32);
     let lod = sampler.adjust_lod(sampler.lod_rule.lod(duv_dx * size, duv_dy * size));
     let (levels, linear) = gl_levels(texture, lod, mag, min);
-    if linear {
-        if let Some(out) = fixed16::linear_quad(texture, sampler, levels, uv.0, uv.1, mask) {
-            return out;
-        }
+    if let Some(out) = fixed16::read_quad(texture, sampler, (levels, linear), uv.0, uv.1, mask) {
+        return out;
     }
     with_codec!(texture.storage_format(), C => gl_quad::<C>(texture, sampler, uv, levels, linear, mask))
 }
@@ -160,9 +158,7 @@ pub fn sample_quads_lanes(
         for (((c, &m), o), &(lv, linear)) in
             coords.iter().zip(masks).zip(out.iter_mut()).zip(&levels)
         {
-            let fixed = linear
-                .then(|| fixed16::linear_quad(texture, sampler, lv, c.u, c.v, m))
-                .flatten();
+            let fixed = fixed16::read_quad(texture, sampler, (lv, linear), c.u, c.v, m);
             *o = match fixed {
                 Some(read) => read,
                 None => {
