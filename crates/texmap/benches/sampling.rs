@@ -4,14 +4,18 @@
 //! Footprints come from a 64×64 pixel grid walking the texture as a rasterizer would (each
 //! pixel's uv = origin + x·∂uv/∂x + y·∂uv/∂y), so cache behaviour is that of a real frame.
 //!
+//! `quads/*` reads the same grid as the rasterizer does: 2×2 quads sharing their derivatives,
+//! eight quads per `sample_quads_lanes` call (the GL filters; for the others it reads
+//! pixel by pixel).
+//!
 //! `cargo bench --bench sampling` (criterion reports time per batch of 4096 samples and
 //! elements/s; ns/sample = time / 4096).
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use glam::Vec2;
 use texmap::texture::{
-    sample_batch, ColorSpace, Filter, Footprint, Format, Layout, Sampler, Texture2D,
-    TextureOptions, Wrap,
+    sample_batch, sample_quads_lanes, ColorSpace, Filter, Footprint, Format, Layout, QuadCoords,
+    Sampler, Texture2D, TextureOptions, Wrap,
 };
 
 const N: u32 = 2048;
@@ -88,6 +92,47 @@ fn filters(c: &mut Criterion) {
     }
 }
 
+/// The grid's footprints as 2×2 quads (pixel j of a quad in lane j).
+fn quads(fps: &[Footprint]) -> Vec<QuadCoords> {
+    let g = GRID as usize;
+    let mut out = Vec::new();
+    for qy in (0..g).step_by(2) {
+        for qx in (0..g).step_by(2) {
+            let px = |j: usize| &fps[(qy + (j >> 1)) * g + qx + (j & 1)];
+            out.push(QuadCoords {
+                u: glam::Vec4::from_array(std::array::from_fn(|j| px(j).uv.x)),
+                v: glam::Vec4::from_array(std::array::from_fn(|j| px(j).uv.y)),
+                duv_dx: px(0).duv_dx,
+                duv_dy: px(0).duv_dy,
+            });
+        }
+    }
+    out
+}
+
+fn quad_reads(c: &mut Criterion) {
+    let tex = texture(Layout::Tiled4x4);
+    for (case, fps) in cases() {
+        let coords = quads(&fps);
+        let masks = vec![0b1111u8; coords.len()];
+        let mut out = vec![[glam::Vec4::ZERO; 4]; coords.len()];
+        let mut g = c.benchmark_group(format!("quads/{case}"));
+        g.throughput(Throughput::Elements(fps.len() as u64));
+        for name in ["nearest", "bilinear", "trilinear"] {
+            let s = Sampler::new(Filter::parse(name).unwrap(), Wrap::Repeat);
+            g.bench_function(BenchmarkId::from_parameter(name), |b| {
+                b.iter(|| {
+                    for ((c, m), o) in coords.chunks(8).zip(masks.chunks(8)).zip(out.chunks_mut(8))
+                    {
+                        sample_quads_lanes(&tex, &s, c, m, o);
+                    }
+                })
+            });
+        }
+        g.finish();
+    }
+}
+
 fn layout(c: &mut Criterion) {
     let mut out = vec![glam::Vec4::ZERO; (GRID * GRID) as usize];
     // Footprints walking down the texture (v fastest), where row-major order hurts most.
@@ -109,6 +154,6 @@ fn layout(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).warm_up_time(std::time::Duration::from_millis(500)).measurement_time(std::time::Duration::from_secs(2));
-    targets = filters, layout
+    targets = filters, quad_reads, layout
 }
 criterion_main!(benches);
