@@ -519,25 +519,28 @@ fn shading_modes_all_render_and_agree_on_a_flat_surface() {
 fn same_image_whatever_the_thread_count() {
     let scene = builtin::demo();
     let cam = scene.camera.unwrap();
-    let s = Settings {
-        width: 200,
-        height: 120,
-        msaa: 4,
-        ..Default::default()
-    };
-    let run = |threads| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| render(&scene, &cam, &s)).unwrap()
-    };
-    let (a, b, c) = (run(1), run(2), run(3));
-    assert!(
-        a.color == b.color && b.color == c.color,
-        "images differ between thread counts"
-    );
-    assert_eq!(a.stats, b.stats);
+    // One sample (colour streamed from the tile buffer) and MSAA (resolved).
+    for msaa in [1, 4] {
+        let s = Settings {
+            width: 200,
+            height: 120,
+            msaa,
+            ..Default::default()
+        };
+        let run = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| render(&scene, &cam, &s)).unwrap()
+        };
+        let (a, b, c) = (run(1), run(2), run(3));
+        assert!(
+            a.color == b.color && b.color == c.color,
+            "msaa {msaa}: images differ between thread counts"
+        );
+        assert_eq!(a.stats, b.stats);
+    }
 }
 
 #[test]
