@@ -1230,10 +1230,7 @@ mod tests {
             enc(&png),
             enc(&b)
         );
-        let dir = std::env::temp_dir().join(format!("texmap-gltf-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join("data.gltf");
-        std::fs::write(&p, json).unwrap();
+        let p = crate::scene::test_file("gltf", "data.gltf", json);
         let l = load(&p, &LoadOptions::default()).unwrap();
         let m = &l.scene.meshes[0];
         assert_eq!(m.indices, [0, 1, 2, 1, 3, 2]);
@@ -1276,10 +1273,7 @@ mod tests {
   "materials": [{"extensions": {"KHR_materials_unlit": {}}}],
   "nodes": [{"extensions": {"KHR_lights_punctual": {"light": 0}}},
             {"translation": [0, 2, 0], "extensions": {"KHR_lights_punctual": {"light": 1}}}]}"#;
-        let dir = std::env::temp_dir().join(format!("texmap-gltf-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join("lights.gltf");
-        std::fs::write(&p, json).unwrap();
+        let p = crate::scene::test_file("gltf", "lights.gltf", json);
         let l = load(&p, &LoadOptions::default()).unwrap();
         match l.scene.lights[..] {
             [Light::Directional { direction, color }, Light::Point {

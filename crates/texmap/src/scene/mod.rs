@@ -17,6 +17,17 @@ pub mod tangents;
 pub mod toml;
 mod toml_volume;
 
+/// Writes `body` to file `name` in this test process's scratch directory for loader `kind`
+/// (`texmap-{kind}-{pid}` under the system's temporary directory) and returns its path.
+#[cfg(test)]
+pub(crate) fn test_file(kind: &str, name: &str, body: impl AsRef<[u8]>) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("texmap-{kind}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, body).unwrap();
+    p
+}
+
 pub use load::{load, AssetInfo, LoadOptions, Loaded, TextureInfo};
 
 use glam::{Mat4, Vec2, Vec3, Vec4};

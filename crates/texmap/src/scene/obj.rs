@@ -443,11 +443,7 @@ mod tests {
     }
 
     fn tmp(name: &str, body: &str) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("texmap-obj-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join(name);
-        std::fs::write(&p, body).unwrap();
-        p
+        crate::scene::test_file("obj", name, body)
     }
 
     #[test]

@@ -992,11 +992,7 @@ mod tests {
     use super::*;
 
     fn write(name: &str, body: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("texmap-toml-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join(name);
-        std::fs::write(&p, body).unwrap();
-        p
+        crate::scene::test_file("toml", name, body)
     }
 
     #[test]
