@@ -1015,9 +1015,29 @@ impl FragmentShader for SceneShader<'_> {
                     }
                 }
             }
-            None => {
+            None if self.is_plain(d) => {
                 for ((quad, o), k) in quads.iter().zip(out.iter_mut()).zip(kept.iter_mut()) {
                     *k = self.shade(draw, quad, o);
+                }
+            }
+            // Every texture read of the batch first, map by map, then each quad's colours.
+            None => {
+                const CHUNK: usize = 8;
+                let mut reads = [QuadReads::default(); CHUNK];
+                for ((quads, out), kept) in quads
+                    .chunks(CHUNK)
+                    .zip(out.chunks_mut(CHUNK))
+                    .zip(kept.chunks_mut(CHUNK))
+                {
+                    read_batch(d, quads, &mut reads[..quads.len()]);
+                    for (((quad, o), k), r) in quads
+                        .iter()
+                        .zip(out.iter_mut())
+                        .zip(kept.iter_mut())
+                        .zip(&reads)
+                    {
+                        *k = self.shade_read(d, quad, r, o);
+                    }
                 }
             }
         }
@@ -1029,26 +1049,22 @@ impl FragmentShader for SceneShader<'_> {
             let texels = d.texture.as_ref().map(|t| t.quad(quad));
             return self.shade_plain(d, quad, texels.as_ref(), out);
         }
+        let mut reads = [QuadReads::default()];
+        read_batch(d, std::slice::from_ref(quad), &mut reads);
+        self.shade_read(d, quad, &reads[0], out)
+    }
+}
+
+impl SceneShader<'_> {
+    /// The general path's colours of one quad of draw `d`, its texture reads made.
+    fn shade_read(&self, d: &DrawInfo, quad: &Quad, reads: &QuadReads, out: &mut [Vec4; 4]) -> u8 {
         let m = d.material;
         let mut kept = quad.mask;
-        // The quad's texels in one call: one level of detail and format dispatch per quad.
-        let texels = d.texture.as_ref().map(|t| t.quad(quad));
-        let opacity = d.alpha_map.as_ref().map(|t| t.quad(quad));
-        // Read only for draws with such maps: a plain draw pays one test per quad.
-        let maps = if d.surface_maps {
-            Some(QuadMaps {
-                normals: d.normal_map.as_ref().map(|t| t.quad(quad)),
-                occlusion: d.occlusion_map.as_ref().map(|t| t.quad(quad)),
-                emission: d.emissive_map.as_ref().map(|t| t.quad(quad)),
-                metal_rough: d.metal_rough_map.as_ref().map(|t| t.quad(quad)),
-                bumps: d.bump_map.as_ref().map(|t| t.height_slopes(quad)),
-                ambient: d.ambient_map.as_ref().map(|t| t.quad(quad)),
-                specular: d.specular_map.as_ref().map(|t| t.quad(quad)),
-                shininess: d.shininess_map.as_ref().map(|t| t.quad(quad)),
-            })
-        } else {
-            None
-        };
+        let QuadReads {
+            texels,
+            opacity,
+            maps,
+        } = reads;
         // Map-free Phong under directional lights: the quad's four pixels lit in lanes.
         let back = m.double_sided && !quad.front_facing;
         let lit = (d.mode == Mode::Phong
@@ -1342,7 +1358,69 @@ fn per_pixel(c: [Vec4; 3]) -> [Vec4; 4] {
     [m.x_axis, m.y_axis, m.z_axis, m.w_axis]
 }
 
+/// A quad's texture reads on the general path: the base colour texture, the opacity map, and
+/// (for draws with any) the maps that feed the [`Surface`].
+#[derive(Clone, Copy, Default)]
+struct QuadReads {
+    texels: Option<[Vec4; 4]>,
+    opacity: Option<[Vec4; 4]>,
+    maps: Option<QuadMaps>,
+}
+
+/// The texture reads of `quads` (of draw `d`) into `out`, map by map across the quads, so each
+/// map's reads are staged ([`MapRead::quads`]).
+fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
+    for (o, quad) in out.iter_mut().zip(quads) {
+        // Read only for draws with such maps: a plain draw pays one test per quad.
+        *o = QuadReads {
+            maps: d.surface_maps.then(|| QuadMaps {
+                bumps: d.bump_map.as_ref().map(|t| t.height_slopes(quad)),
+                ..QuadMaps::default()
+            }),
+            ..QuadReads::default()
+        };
+    }
+    let mut buf = [[Vec4::ZERO; 4]; 8];
+    let mut fill = |t: &MapRead, set: &dyn Fn(&mut QuadReads, [Vec4; 4])| {
+        for (quads, out) in quads.chunks(8).zip(out.chunks_mut(8)) {
+            t.quads(quads, &mut buf[..quads.len()]);
+            for (o, b) in out.iter_mut().zip(&buf) {
+                set(o, *b);
+            }
+        }
+    };
+    if let Some(t) = &d.texture {
+        fill(t, &|r, v| r.texels = Some(v));
+    }
+    if let Some(t) = &d.alpha_map {
+        fill(t, &|r, v| r.opacity = Some(v));
+    }
+    if !d.surface_maps {
+        return;
+    }
+    type Field = fn(&mut QuadMaps) -> &mut Option<[Vec4; 4]>;
+    let maps: [(Option<&MapRead>, Field); 7] = [
+        (d.normal_map.as_ref(), |m| &mut m.normals),
+        (d.occlusion_map.as_ref(), |m| &mut m.occlusion),
+        (d.emissive_map.as_ref(), |m| &mut m.emission),
+        (d.metal_rough_map.as_ref(), |m| &mut m.metal_rough),
+        (d.ambient_map.as_ref(), |m| &mut m.ambient),
+        (d.specular_map.as_ref(), |m| &mut m.specular),
+        (d.shininess_map.as_ref(), |m| &mut m.shininess),
+    ];
+    for (map, field) in maps {
+        if let Some(t) = map {
+            fill(t, &|r, v| {
+                if let Some(m) = r.maps.as_mut() {
+                    *field(m) = Some(v);
+                }
+            });
+        }
+    }
+}
+
 /// A quad's reads of the maps that feed the [`Surface`] (each `None` when the draw has none).
+#[derive(Clone, Copy, Default)]
 struct QuadMaps {
     normals: Option<[Vec4; 4]>,
     occlusion: Option<[Vec4; 4]>,
