@@ -1071,16 +1071,7 @@ impl SceneShader<'_> {
             && maps.is_none()
             && d.model == ShadingModel::Phong
             && self.directional_only)
-            .then(|| {
-                phong_quad(
-                    &d.surface,
-                    quad,
-                    d.needs_position,
-                    back,
-                    &self.lighting,
-                    self.viewer,
-                )
-            });
+            .then(|| self.phong_lanes(d, quad));
         for j in 0..4 {
             if quad.mask & (1 << j) == 0 {
                 continue;
@@ -1299,22 +1290,27 @@ impl SceneShader<'_> {
         quad.mask
     }
 
+    /// [`phong_quad`] of draw `d`'s own surface at `quad` (double-sided back faces lit from
+    /// their side).
+    #[inline]
+    fn phong_lanes(&self, d: &DrawInfo, quad: &Quad) -> ([Vec4; 4], [Vec4; 4]) {
+        let back = d.material.double_sided && !quad.front_facing;
+        phong_quad(
+            &d.surface,
+            quad,
+            d.needs_position,
+            back,
+            &self.lighting,
+            self.viewer,
+        )
+    }
+
     /// The factors D and S of a plain draw's quad, one vector per pixel (fourth lanes 0).
     #[inline]
     fn plain_factors(&self, d: &DrawInfo, quad: &Quad) -> ([Vec4; 4], [Vec4; 4]) {
         match d.mode {
             Mode::Unlit => ([Vec4::new(1.0, 1.0, 1.0, 0.0); 4], [Vec4::ZERO; 4]),
-            Mode::Phong => {
-                let back = d.material.double_sided && !quad.front_facing;
-                phong_quad(
-                    &d.surface,
-                    quad,
-                    d.needs_position,
-                    back,
-                    &self.lighting,
-                    self.viewer,
-                )
-            }
+            Mode::Phong => self.phong_lanes(d, quad),
             Mode::Interpolated => {
                 // Double-sided back faces read the factors lit with −N.
                 let k = d.back_at.filter(|_| !quad.front_facing).unwrap_or(2);
