@@ -39,7 +39,8 @@ use rayon::prelude::*;
 
 use crate::geometry::Projection;
 use crate::pipeline::{
-    self, DrawCall, DrawState, FragmentShader, PostVertex, Quad, Target, Viewport, MAX_VARYINGS,
+    self, DrawCall, DrawState, FragmentShader, PostVertex, Quad, Target, Viewport, BATCH,
+    MAX_VARYINGS,
 };
 pub use crate::pipeline::{CullMode, Interpolation};
 use crate::scene::{Camera, Mesh, Scene};
@@ -451,10 +452,9 @@ impl MapRead<'_> {
     /// [`MapRead::quad`] for several quads (`out[i]` for `quads[i]`), the reads staged by
     /// [`sample_quads_lanes`].
     fn quads(&self, quads: &[Quad], out: &mut [[Vec4; 4]]) {
-        const CHUNK: usize = 16;
-        for (quads, out) in quads.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
-            let mut coords = [QuadCoords::default(); CHUNK];
-            let mut masks = [0u8; CHUNK];
+        for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
+            let mut coords = [QuadCoords::default(); BATCH];
+            let mut masks = [0u8; BATCH];
             for ((c, m), q) in coords.iter_mut().zip(masks.iter_mut()).zip(quads) {
                 let ((u, v), duv_dx, duv_dy) = self.coords(q);
                 *c = QuadCoords {
@@ -992,13 +992,12 @@ impl FragmentShader for SceneShader<'_> {
             // Plain textured quads: all the texture reads first (staged across quads).
             Some(t) => {
                 // The lighting of every quad, then every texture read, then the colours.
-                const CHUNK: usize = 8;
                 for ((quads, out), kept) in quads
-                    .chunks(CHUNK)
-                    .zip(out.chunks_mut(CHUNK))
-                    .zip(kept.chunks_mut(CHUNK))
+                    .chunks(BATCH)
+                    .zip(out.chunks_mut(BATCH))
+                    .zip(kept.chunks_mut(BATCH))
                 {
-                    let mut factors = [([Vec4::ZERO; 4], [Vec4::ZERO; 4]); CHUNK];
+                    let mut factors = [([Vec4::ZERO; 4], [Vec4::ZERO; 4]); BATCH];
                     for (f, quad) in factors.iter_mut().zip(quads) {
                         *f = self.plain_factors(d, quad);
                     }
@@ -1022,12 +1021,11 @@ impl FragmentShader for SceneShader<'_> {
             }
             // Every texture read of the batch first, map by map, then each quad's colours.
             None => {
-                const CHUNK: usize = 8;
-                let mut reads = [QuadReads::default(); CHUNK];
+                let mut reads = [QuadReads::default(); BATCH];
                 for ((quads, out), kept) in quads
-                    .chunks(CHUNK)
-                    .zip(out.chunks_mut(CHUNK))
-                    .zip(kept.chunks_mut(CHUNK))
+                    .chunks(BATCH)
+                    .zip(out.chunks_mut(BATCH))
+                    .zip(kept.chunks_mut(BATCH))
                 {
                     read_batch(d, quads, &mut reads[..quads.len()]);
                     for (((quad, o), k), r) in quads
@@ -1376,9 +1374,9 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
             ..QuadReads::default()
         };
     }
-    let mut buf = [[Vec4::ZERO; 4]; 8];
+    let mut buf = [[Vec4::ZERO; 4]; BATCH];
     let mut fill = |t: &MapRead, set: &dyn Fn(&mut QuadReads, [Vec4; 4])| {
-        for (quads, out) in quads.chunks(8).zip(out.chunks_mut(8)) {
+        for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
             t.quads(quads, &mut buf[..quads.len()]);
             for (o, b) in out.iter_mut().zip(&buf) {
                 set(o, *b);

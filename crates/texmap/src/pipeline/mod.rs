@@ -46,7 +46,7 @@ pub use bin::{bin_prims, Bins, TILE};
 pub use clip::{clip_polygon, ClipPolygon};
 pub use framebuffer::{downsample_box, TileBuffer};
 pub use interpolate::Planes;
-pub use raster::{rasterize_tile, TileStats};
+pub use raster::{rasterize_tile, TileStats, BATCH};
 pub use setup::{assemble_triangle, Prim};
 pub use transform::{PostVertex, Viewport};
 

@@ -9,7 +9,7 @@
 //! one edge there is skipped, and one inside all three (a large triangle over the tile) skips
 //! the per-quad edge tests. Depth is tested per sample
 //! before shading; the shader runs once per pixel per triangle (at the pixel centre) and its
-//! colour goes to every covered sample that passed. Covered quads wait in a [`Batch`] of up
+//! colour goes to every covered sample that passed. Covered quads wait in a `Batch` of up
 //! to 8 (one primitive's, so disjoint) and are shaded together, which lets the shader overlap
 //! their work. Colour and depth live in the tile buffer; the finished tile goes to the
 //! target's rows with streaming stores.
@@ -114,42 +114,19 @@ pub fn rasterize_tile(
     // Colour and depth live in the tile buffer (in cache) and go to the target's rows once,
     // with streaming stores.
     buf.clear(ctx.target.clear_color);
-    let (color, depth) = (&mut buf.color, &mut buf.depth);
-    let mut out = TileColor(color);
+    let (color, depth) = (&mut buf.color[..], &mut buf.depth[..]);
     match buf.samples {
-        1 => raster_prims::<1, _>(ctx, rect, prims, depth, &mut out, &mut stats),
-        2 => raster_prims::<2, _>(ctx, rect, prims, depth, &mut out, &mut stats),
-        4 => raster_prims::<4, _>(ctx, rect, prims, depth, &mut out, &mut stats),
-        8 => raster_prims::<8, _>(ctx, rect, prims, depth, &mut out, &mut stats),
-        _ => raster_prims::<16, _>(ctx, rect, prims, depth, &mut out, &mut stats),
+        1 => raster_prims::<1>(ctx, rect, prims, color, depth, &mut stats),
+        2 => raster_prims::<2>(ctx, rect, prims, color, depth, &mut stats),
+        4 => raster_prims::<4>(ctx, rect, prims, color, depth, &mut stats),
+        8 => raster_prims::<8>(ctx, rect, prims, color, depth, &mut stats),
+        _ => raster_prims::<16>(ctx, rect, prims, color, depth, &mut stats),
     }
     for (ly, row) in rows.iter_mut().enumerate() {
         buf.resolve_row(ly, row);
     }
     stream_fence();
     stats
-}
-
-/// Where the rasterizer writes colour samples: sample `s` of tile pixel `p = ly·TILE + lx`.
-trait ColorSamples {
-    fn write<const S: usize>(&mut self, p: (usize, usize), s: usize, src: Vec4, blend: bool);
-}
-
-/// The tile buffer's colour, `S` samples per pixel, resolved afterwards.
-struct TileColor<'a>(&'a mut [Vec4]);
-
-impl ColorSamples for TileColor<'_> {
-    #[inline(always)]
-    fn write<const S: usize>(
-        &mut self,
-        (lx, ly): (usize, usize),
-        s: usize,
-        src: Vec4,
-        blend: bool,
-    ) {
-        let i = (ly * super::bin::TILE as usize + lx) * S + s;
-        over(&mut self.0[i], src, blend);
-    }
 }
 
 /// The sample count a target asks for, as the rasterizer runs it (1, 2, 4, 8 or 16).
@@ -161,12 +138,14 @@ pub fn sample_count(target: &Target) -> usize {
     }
 }
 
-fn raster_prims<const S: usize, O: ColorSamples>(
+/// Rasterizes `prims` into the tile's samples: sample `s` of tile pixel `(x, y)` is at
+/// `(y·TILE + x)·S + s` in `color` and `depth`.
+fn raster_prims<const S: usize>(
     ctx: &RasterContext,
     rect: TileRect,
     prims: &[u32],
+    color: &mut [Vec4],
     depth: &mut [f32],
-    out: &mut O,
     stats: &mut TileStats,
 ) {
     let positions = sample_positions(S as u32);
@@ -327,7 +306,7 @@ fn raster_prims<const S: usize, O: ColorSamples>(
                         batch.pending[n] = Pending { lx, ly, pass, zp };
                         batch.len += 1;
                         if batch.len == BATCH {
-                            batch.flush::<S, O>(ctx, prim.call, &zoff, depth, out, stats);
+                            batch.flush::<S>(ctx, prim.call, &zoff, color, depth, stats);
                         }
                     }
                 }
@@ -341,14 +320,16 @@ fn raster_prims<const S: usize, O: ColorSamples>(
             }
             qy += 2;
         }
-        batch.flush::<S, O>(ctx, prim.call, &zoff, depth, out, stats);
+        batch.flush::<S>(ctx, prim.call, &zoff, color, depth, stats);
     }
 }
 
 /// Quads shaded in one call: up to this many covered quads of one primitive, so the
 /// shader's per-quad chains (level of detail, texel addresses, loads) of neighbouring quads
-/// sit close enough in the instruction stream to overlap.
-const BATCH: usize = 8;
+/// sit close enough in the instruction stream to overlap. The most quads one
+/// [`FragmentShader::shade_batch`](super::FragmentShader::shade_batch) call receives, so
+/// shaders size their scratch arrays by it.
+pub const BATCH: usize = 8;
 
 /// A quad waiting in a [`Batch`]: its tile position, the samples that passed the depth test
 /// per pixel, and the pixels' depths.
@@ -388,13 +369,13 @@ impl Batch {
     }
 
     /// Shades the waiting quads of draw `call` and writes their colours and depths.
-    fn flush<const S: usize, O: ColorSamples>(
+    fn flush<const S: usize>(
         &mut self,
         ctx: &RasterContext,
         call: u32,
         zoff: &[f32; S],
+        color: &mut [Vec4],
         depth: &mut [f32],
-        out: &mut O,
         stats: &mut TileStats,
     ) {
         let n = std::mem::take(&mut self.len);
@@ -426,7 +407,7 @@ impl Batch {
                 let base = (y * tile + x) * S;
                 for s in 0..S {
                     if p.pass[j] & (1 << s) != 0 {
-                        out.write::<S>((x, y), s, colors[j], state.blend);
+                        over(&mut color[base + s], colors[j], state.blend);
                         if state.depth_write {
                             depth[base + s] = p.zp[j] + zoff[s];
                         }

@@ -172,26 +172,19 @@ pub fn render_with_volumes(
         Some(render(scene, camera, settings)?)
     };
     for v in order {
-        let f = match v.method {
-            Method::Raymarch => raymarch(
-                &v.volume,
-                &v.transfer,
-                camera,
-                w,
-                h,
-                &v.params,
-                depth.as_deref(),
-            )?,
-            Method::Slices => render_slices_until(
-                &v.volume,
-                &v.transfer,
-                camera,
-                w,
-                h,
-                &v.params,
-                depth.as_deref(),
-            )?,
+        let method = match v.method {
+            Method::Raymarch => raymarch,
+            Method::Slices => render_slices_until,
         };
+        let f = method(
+            &v.volume,
+            &v.transfer,
+            camera,
+            w,
+            h,
+            &v.params,
+            depth.as_deref(),
+        )?;
         frame = Some(match frame {
             None => {
                 // The farthest volume over the background.

@@ -95,11 +95,28 @@ pub fn sample_quad_lanes(
     // pixels — one level choice per quad, as GPUs make it.
     let size = Vec2::new(texture.width() as f32, texture.height() as f32);
     let lod = sampler.adjust_lod(sampler.lod_rule.lod(duv_dx * size, duv_dy * size));
-    let (levels, linear) = gl_levels(texture, lod, mag, min);
-    if let Some(out) = fixed16::read_quad(texture, sampler, (levels, linear), uv.0, uv.1, mask) {
-        return out;
-    }
-    with_codec!(texture.storage_format(), C => gl_quad::<C>(texture, sampler, uv, levels, linear, mask))
+    gl_read(
+        texture,
+        sampler,
+        uv,
+        gl_levels(texture, lod, mag, min),
+        mask,
+    )
+}
+
+/// A quad's OpenGL reads on the chosen levels ([`gl_levels`]): the default storage's fast
+/// path ([`fixed16::read_quad`]) when it serves, else the float filters for the format.
+#[inline]
+fn gl_read(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    uv: (Vec4, Vec4),
+    (levels, linear): ((usize, Option<(usize, f32)>), bool),
+    mask: u8,
+) -> [Vec4; 4] {
+    fixed16::read_quad(texture, sampler, (levels, linear), uv.0, uv.1, mask).unwrap_or_else(
+        || with_codec!(texture.storage_format(), C => gl_quad::<C>(texture, sampler, uv, levels, linear, mask)),
+    )
 }
 
 /// One quad's coordinates for [`sample_quads_lanes`]: pixel `j`'s `(u, v)` in lane `j`, and the
@@ -155,16 +172,8 @@ pub fn sample_quads_lanes(
                 *l = gl_levels(texture, sampler.adjust_lod(lod[i]), mag, min);
             }
         }
-        for (((c, &m), o), &(lv, linear)) in
-            coords.iter().zip(masks).zip(out.iter_mut()).zip(&levels)
-        {
-            let fixed = fixed16::read_quad(texture, sampler, (lv, linear), c.u, c.v, m);
-            *o = match fixed {
-                Some(read) => read,
-                None => {
-                    with_codec!(texture.storage_format(), C => gl_quad::<C>(texture, sampler, (c.u, c.v), lv, linear, m))
-                }
-            };
+        for (((c, &m), o), &levels) in coords.iter().zip(masks).zip(out.iter_mut()).zip(&levels) {
+            *o = gl_read(texture, sampler, (c.u, c.v), levels, m);
         }
     }
 }
