@@ -3,7 +3,8 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use texmap::scene::{CameraProjection, LoadOptions, Loaded};
+use texmap::camera::CameraProjection;
+use texmap::scene::{LoadOptions, Loaded};
 use texmap::shading::{AlphaMode, Procedural, ShadingModel, SolidChannel};
 use texmap::texture::load::{load_texture, Limits};
 use texmap::texture::ColorSpace;

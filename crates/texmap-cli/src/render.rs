@@ -7,13 +7,15 @@ use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 use glam::Vec3;
+use texmap::camera::{Camera, CameraProjection};
+use texmap::render::render_with_volumes;
 use texmap::render::{
     render_into, CullMode, Frame, FrameStats, Interpolation, Settings, ShadingMode, Visibility,
 };
-use texmap::scene::{builtin, Camera, CameraProjection, LoadOptions, Scene, TextureSlot};
+use texmap::scene::{builtin, LoadOptions, Scene, TextureSlot};
 use texmap::texture::load::{load_texture, Limits};
 use texmap::texture::{ColorSpace, Filter, LodRule, Sampler, Texture2D, Wrap};
-use texmap::volume::{render_with_volumes, SceneVolume};
+use texmap::volume::SceneVolume;
 use texmap::Error;
 
 #[derive(Args)]

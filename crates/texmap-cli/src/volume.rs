@@ -5,7 +5,8 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 use glam::{Mat4, Vec3};
-use texmap::scene::{Camera, LoadOptions, Scene};
+use texmap::camera::Camera;
+use texmap::scene::{LoadOptions, Scene};
 use texmap::volume::{
     load_volume, vtk_camera_for_bounds, Classification, Method, Mode, RawDesc, ScalarType,
     SceneVolume, TransferFunction2D,

@@ -26,8 +26,10 @@
 // and NaN inputs must take the safe branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod camera;
 pub mod color;
 mod error;
+pub mod frame;
 pub mod geometry;
 pub mod metrics;
 pub mod pipeline;

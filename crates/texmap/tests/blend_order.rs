@@ -7,8 +7,9 @@
 //! the order: red over blue is (0.5, 0, 0.25), blue over red (0.25, 0, 0.5).
 
 use glam::{Vec3, Vec4};
+use texmap::camera::{Camera, CameraProjection};
 use texmap::render::{render, Settings, Visibility};
-use texmap::scene::{AlphaMode, Camera, CameraProjection, Material, Mesh, Scene};
+use texmap::scene::{AlphaMode, Material, Mesh, Scene};
 
 const RED: Vec4 = Vec4::new(1.0, 0.0, 0.0, 0.5);
 const BLUE: Vec4 = Vec4::new(0.0, 0.0, 1.0, 0.5);

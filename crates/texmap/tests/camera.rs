@@ -8,13 +8,12 @@
 use std::path::PathBuf;
 
 use glam::{Mat4, Vec3, Vec4};
+use texmap::camera::{Camera, CameraProjection};
 use texmap::metrics::compare_rgb8;
-use texmap::render::{render, Frame, Settings, ShadingMode};
+use texmap::render::{render, surface_distances, Frame, Settings, ShadingMode};
 use texmap::scene::primitives::Primitive;
-use texmap::scene::{self, Camera, CameraProjection, Light, LoadOptions, Material, Mesh, Scene};
-use texmap::volume::{
-    raymarch, render_slices, surface_distances, MarchParams, Mode, TransferFunction, Volume,
-};
+use texmap::scene::{self, Light, LoadOptions, Material, Mesh, Scene};
+use texmap::volume::{raymarch, render_slices, MarchParams, Mode, TransferFunction, Volume};
 
 fn ortho(eye: Vec3, target: Vec3, half_height: f32) -> Camera {
     Camera {
@@ -436,7 +435,8 @@ fn orthographic_surface_distances_are_measured_along_the_view_direction() {
 fn orthographic_rays_and_slices_stop_at_a_surface_alike() {
     // A translucent ball with an opaque square through its middle plane y = 0 over the left
     // half, seen with parallel rays along +y: both methods stop at the square and agree.
-    use texmap::volume::{render_with_volumes, Method, SceneVolume};
+    use texmap::render::render_with_volumes;
+    use texmap::volume::{Method, SceneVolume};
     let mut sv = SceneVolume::new(sphere_volume(48, 20.0), std::path::Path::new("ball"));
     sv.transfer = TransferFunction::parse("0:1,0.8,0.6,0.02;1:1,0.8,0.6,0.05").unwrap();
     sv.params.jitter = false;

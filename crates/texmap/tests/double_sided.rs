@@ -5,11 +5,10 @@
 use std::sync::Arc;
 
 use glam::{Vec2, Vec3, Vec4};
+use texmap::camera::{Camera, CameraProjection};
 use texmap::geometry::Projection;
 use texmap::render::{render, Settings, ShadingMode};
-use texmap::scene::{
-    Camera, CameraProjection, Light, Material, Mesh, Procedural, Scene, TextureSlot,
-};
+use texmap::scene::{Light, Material, Mesh, Procedural, Scene, TextureSlot};
 use texmap::texture::{ColorSpace, Sampler, Texture2D};
 
 /// A 2×2 square in the plane z = 0, counter-clockwise seen from +z (its front), with vertex

@@ -5,12 +5,13 @@ mod common;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
+use texmap::camera::{Camera, CameraProjection};
 use texmap::pipeline::{
     self, CullMode, DrawCall, DrawState, FragmentShader, Interpolation, PostVertex, Quad, Target,
     Viewport, MAX_VARYINGS,
 };
 use texmap::render::{render, Frame, Settings, ShadingMode, Visibility};
-use texmap::scene::{builtin, AlphaMode, Camera, CameraProjection, Material, Mesh, Scene};
+use texmap::scene::{builtin, AlphaMode, Material, Mesh, Scene};
 use texmap::texture::Sampler;
 
 // ---- helpers -------------------------------------------------------------------------------

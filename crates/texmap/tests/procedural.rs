@@ -8,11 +8,12 @@ mod common;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
+use texmap::camera::{Camera, CameraProjection};
 use texmap::geometry::Projection;
 use texmap::render::{render, Settings};
 use texmap::scene::{
-    builtin, Camera, CameraProjection, Light, Material, Mesh, Procedural, Scene, ShadingModel,
-    SolidChannel, SolidMap, TextureSlot,
+    builtin, Light, Material, Mesh, Procedural, Scene, ShadingModel, SolidChannel, SolidMap,
+    TextureSlot,
 };
 use texmap::texture::procedural::Solid;
 use texmap::texture::{ColorSpace, Filter, Sampler, Texture2D, TextureOptions, Wrap};

@@ -6,12 +6,12 @@
 use std::sync::Arc;
 
 use glam::{Mat4, Vec3, Vec4};
+use texmap::camera::{Camera, CameraProjection};
 use texmap::metrics::compare_rgb8;
 use texmap::render::{render, Frame, Settings, ShadingMode};
 use texmap::scene::primitives::Primitive;
 use texmap::scene::{
-    builtin, Camera, CameraProjection, Light, Material, Scene, ShadingModel, SolidChannel,
-    SolidMap, TextureSlot,
+    builtin, Light, Material, Scene, ShadingModel, SolidChannel, SolidMap, TextureSlot,
 };
 use texmap::shading::{MapChannel, MaterialMap};
 use texmap::texture::procedural::Solid;

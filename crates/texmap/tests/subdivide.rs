@@ -5,11 +5,11 @@
 mod common;
 
 use glam::{Mat4, Vec3, Vec4};
+use texmap::camera::{Camera, CameraProjection};
 use texmap::pipeline::{
     self, CullMode, DrawCall, DrawState, FragmentShader, Interpolation, PostVertex, Quad, Target,
     Viewport, MAX_VARYINGS,
 };
-use texmap::scene::{Camera, CameraProjection};
 
 /// Adds (1, 0, 0, 0) per covered sample: with premultiplied "over" and alpha 0 this counts.
 struct Count;

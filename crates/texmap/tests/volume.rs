@@ -13,8 +13,8 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
+use texmap::camera::{Camera, CameraProjection};
 use texmap::metrics::compare_rgb8;
-use texmap::scene::{Camera, CameraProjection};
 use texmap::volume::{
     iso_hit, load_volume, raymarch, render_slices, Classification, MarchParams, Mode, RawDesc,
     ScalarType, TransferFunction, Volume,

@@ -14,12 +14,12 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
-use texmap::render::Frame;
+use texmap::render::{render_with_volumes, Frame};
 use texmap::scene::{load, Light, LoadOptions};
 use texmap::volume::transfer::PRESETS;
 use texmap::volume::{
-    raymarch, render_slices, render_with_volumes, Classification, MarchParams, Method, Mode,
-    ScalarType, SceneVolume, TransferFunction, Volume,
+    raymarch, render_slices, Classification, MarchParams, Method, Mode, ScalarType, SceneVolume,
+    TransferFunction, Volume,
 };
 
 /// The string literals of `vtk_volume.py`'s `PRESETS = { "name": "…" "…", … }` (adjacent

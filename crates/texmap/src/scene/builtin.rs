@@ -8,7 +8,8 @@ use std::sync::{Arc, OnceLock};
 
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 
-use super::{Camera, CameraProjection, Light, Material, Mesh, Procedural, Scene, TextureSlot};
+use super::{Light, Material, Mesh, Procedural, Scene, TextureSlot};
+use crate::camera::{Camera, CameraProjection};
 use crate::shading::AlphaMode;
 use crate::texture::procedural::Solid;
 use crate::texture::{ColorSpace, Filter, Sampler, Texture2D, TextureTransform, Wrap};

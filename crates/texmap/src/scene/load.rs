@@ -18,7 +18,8 @@ use std::collections::HashMap;
 use std::path::{Component, Path, PathBuf};
 use std::sync::Arc;
 
-use super::{Camera, Scene};
+use super::Scene;
+use crate::camera::Camera;
 use image::DynamicImage;
 
 use crate::texture::load::{decode_image, decode_image_bytes, texture_from_image, Limits};

@@ -16,7 +16,6 @@ pub mod scene_volume;
 mod shade;
 pub mod slice;
 pub mod transfer;
-pub mod with_meshes;
 
 use glam::{Mat4, Vec3, Vec4};
 
@@ -29,7 +28,6 @@ pub use slice::{render_slices, render_slices_until};
 
 pub use scene_volume::{Method, SceneVolume};
 pub use transfer::{PreIntegrated, TransferFunction, TransferFunction2D, TransferLut};
-pub use with_meshes::{render_with_meshes, render_with_volumes, surface_distances};
 
 /// A scalar volume: a 3D texture of values, its grid and its placement in the world.
 #[derive(Clone, Debug)]
@@ -240,7 +238,7 @@ impl Volume {
     /// The camera `vtk_volume.py` starts from, framing this volume's box (see
     /// [`vtk_camera_for_bounds`]).
     #[must_use]
-    pub fn vtk_camera(&self, dolly: f32, azimuth_deg: f32) -> crate::scene::Camera {
+    pub fn vtk_camera(&self, dolly: f32, azimuth_deg: f32) -> crate::camera::Camera {
         let (lo, hi) = self.world_bounds();
         vtk_camera_for_bounds(lo, hi, dolly, azimuth_deg)
     }
@@ -283,7 +281,7 @@ pub fn vtk_camera_for_bounds(
     hi: Vec3,
     dolly: f32,
     azimuth_deg: f32,
-) -> crate::scene::Camera {
+) -> crate::camera::Camera {
     let centre = (lo + hi) * 0.5;
     let radius = {
         let r = ((hi - lo) * 0.5).length();
@@ -295,11 +293,11 @@ pub fn vtk_camera_for_bounds(
     };
     let view_angle = 30.0f32;
     let distance = radius / (view_angle.to_radians() * 0.5).sin() / dolly;
-    let cam = crate::scene::Camera {
+    let cam = crate::camera::Camera {
         eye: centre - Vec3::Y * distance,
         target: centre,
         up: Vec3::Z,
-        projection: crate::scene::CameraProjection::Perspective {
+        projection: crate::camera::CameraProjection::Perspective {
             fov_y_deg: view_angle,
         },
         near: (distance - radius).max(distance * 1e-3),

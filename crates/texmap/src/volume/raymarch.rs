@@ -29,8 +29,9 @@ use rayon::prelude::*;
 use super::shade::VolumeLights;
 use super::transfer::{gradient_factor, PreIntegrated, TransferFunction, TransferLut};
 use super::{blend_cell, cell_corners, trilinear, Volume};
-use crate::render::{Frame, FrameStats};
-use crate::scene::{Camera, CameraProjection, Light};
+use crate::camera::{Camera, CameraProjection};
+use crate::frame::{Frame, FrameStats};
+use crate::shading::Light;
 use crate::{Error, Result};
 
 /// What a ray computes.
@@ -1091,4 +1092,39 @@ pub fn ray_distances_from_depth(
             view_z / d.dot(fwd)
         })
         .collect()
+}
+
+#[cfg(test)]
+mod depth_tests {
+    use super::{camera_ray, ray_distances_from_depth};
+    use crate::camera::{Camera, CameraProjection};
+    use glam::Vec3;
+
+    #[test]
+    fn window_depth_converts_back_to_the_ray_distance() {
+        let cam = Camera {
+            eye: Vec3::new(1.0, 2.0, 30.0),
+            target: Vec3::new(0.0, 0.0, 0.0),
+            up: Vec3::Y,
+            projection: CameraProjection::Perspective { fov_y_deg: 40.0 },
+            near: 0.5,
+            far: 200.0,
+        };
+        let (w, h) = (8u32, 6u32);
+        let clip_from_world = cam.clip_from_view(w as f32 / h as f32) * cam.view_from_world();
+        let mut window = Vec::new();
+        let mut expected = Vec::new();
+        for i in 0..(w * h) {
+            let (o, d) = camera_ray(&cam, w, h, (i % w) as f32 + 0.5, (i / w) as f32 + 0.5);
+            let t = 10.0 + i as f32;
+            let c = clip_from_world * (o + d * t).extend(1.0);
+            window.push(c.z / c.w * 0.5 + 0.5);
+            expected.push(t);
+        }
+        let got = ray_distances_from_depth(&cam, w, h, &window);
+        for (g, e) in got.iter().zip(&expected) {
+            assert!((g - e).abs() < 1e-2 * e, "{g} vs {e}");
+        }
+        assert!(ray_distances_from_depth(&cam, 1, 1, &[1.0])[0].is_infinite());
+    }
 }

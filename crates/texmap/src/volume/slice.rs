@@ -19,12 +19,13 @@ use super::raymarch::{Classification, MarchParams, Mode};
 use super::shade::VolumeLights;
 use super::transfer::{correct_opacity, gradient_factor, TransferFunction};
 use super::Volume;
+use crate::camera::Camera;
+use crate::frame::{Frame, FrameStats};
 use crate::pipeline::{
     self, DrawCall, DrawState, FragmentShader, Interpolation, PostVertex, Quad, Target, Viewport,
     MAX_VARYINGS,
 };
-use crate::render::{Frame, FrameStats};
-use crate::scene::{Camera, Viewer};
+use crate::shading::Viewer;
 use crate::texture::{sample_3d, Filter, Footprint3, Sampler, Wrap};
 use crate::{Error, Result};
 

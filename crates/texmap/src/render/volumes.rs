@@ -13,17 +13,16 @@
 
 use glam::{Vec3, Vec4};
 
-use super::raymarch::{raymarch, MarchParams};
-use super::scene_volume::{Method, SceneVolume};
-use super::slice::render_slices_until;
-use super::transfer::TransferFunction;
-use super::Volume;
+use super::{render, Frame, Settings};
+use crate::camera::Camera;
 use crate::pipeline::{
     self, DrawCall, DrawState, FragmentShader, Interpolation, PostVertex, Quad, Target, Viewport,
     MAX_VARYINGS,
 };
-use crate::render::{render, Frame, Settings};
-use crate::scene::{Camera, Scene};
+use crate::scene::Scene;
+use crate::volume::{
+    raymarch, render_slices_until, MarchParams, Method, SceneVolume, TransferFunction, Volume,
+};
 use crate::{Error, Result};
 
 struct DistanceShader {
@@ -146,7 +145,7 @@ pub fn render_with_meshes(
 /// background, and no surface pass is drawn.
 ///
 /// # Errors
-/// As [`render`], [`raymarch`] and [`super::render_slices`].
+/// As [`render`], [`raymarch`] and [`crate::volume::render_slices`].
 pub fn render_with_volumes(
     scene: &Scene,
     volumes: &[SceneVolume],
@@ -256,7 +255,7 @@ mod tests {
         for (i, &di) in depth.iter().enumerate() {
             if di.is_finite() {
                 // The surface is at the eye distance of the plane y = 15.5 along this ray.
-                let (o, d) = super::super::raymarch::camera_ray(
+                let (o, d) = crate::volume::raymarch::camera_ray(
                     &cam,
                     w,
                     h,
@@ -293,40 +292,5 @@ mod tests {
         let f = render_with_meshes(&scene, &vol, &tf, &cam, &s, &p).unwrap();
         let i = depth.iter().position(|d| d.is_finite()).unwrap();
         assert!(f.color[i].w > 0.99, "{}", f.color[i]);
-    }
-}
-
-#[cfg(test)]
-mod depth_tests {
-    use super::super::raymarch::{camera_ray, ray_distances_from_depth};
-    use crate::scene::{Camera, CameraProjection};
-    use glam::Vec3;
-
-    #[test]
-    fn window_depth_converts_back_to_the_ray_distance() {
-        let cam = Camera {
-            eye: Vec3::new(1.0, 2.0, 30.0),
-            target: Vec3::new(0.0, 0.0, 0.0),
-            up: Vec3::Y,
-            projection: CameraProjection::Perspective { fov_y_deg: 40.0 },
-            near: 0.5,
-            far: 200.0,
-        };
-        let (w, h) = (8u32, 6u32);
-        let clip_from_world = cam.clip_from_view(w as f32 / h as f32) * cam.view_from_world();
-        let mut window = Vec::new();
-        let mut expected = Vec::new();
-        for i in 0..(w * h) {
-            let (o, d) = camera_ray(&cam, w, h, (i % w) as f32 + 0.5, (i / w) as f32 + 0.5);
-            let t = 10.0 + i as f32;
-            let c = clip_from_world * (o + d * t).extend(1.0);
-            window.push(c.z / c.w * 0.5 + 0.5);
-            expected.push(t);
-        }
-        let got = ray_distances_from_depth(&cam, w, h, &window);
-        for (g, e) in got.iter().zip(&expected) {
-            assert!((g - e).abs() < 1e-2 * e, "{g} vs {e}");
-        }
-        assert!(ray_distances_from_depth(&cam, 1, 1, &[1.0])[0].is_infinite());
     }
 }

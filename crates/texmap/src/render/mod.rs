@@ -37,13 +37,15 @@
 use glam::{Mat2, Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
+use crate::camera::Camera;
+pub use crate::frame::{Frame, FrameStats};
 use crate::geometry::Projection;
 use crate::pipeline::{
     self, DrawCall, DrawState, FragmentShader, PostVertex, Quad, Target, Viewport, BATCH,
     MAX_VARYINGS,
 };
 pub use crate::pipeline::{CullMode, Interpolation};
-use crate::scene::{Camera, Mesh, Scene};
+use crate::scene::{Mesh, Scene};
 use crate::shading::{
     bump, combine, illuminate, phong, shininess_from_roughness, AlphaMode, Light, Lighting,
     MapChannel, Material, Procedural, ShadingModel, SolidMap, Surface, TextureSlot, Viewer,
@@ -53,6 +55,9 @@ use crate::texture::{
     QuadCoords, Sampler, Texture2D, Wrap,
 };
 use crate::{Error, Result};
+
+mod volumes;
+pub use volumes::{render_with_meshes, render_with_volumes, surface_distances};
 
 /// Where lighting is evaluated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -153,75 +158,6 @@ impl Settings {
     }
 }
 
-/// What a frame cost.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct FrameStats {
-    pub triangles_submitted: u64,
-    /// Triangles rasterized: after rejection, culling, clipping (a clipped triangle may become
-    /// several) and subdivision.
-    pub triangles_after_clip: u64,
-    /// Fragment shader invocations (pixels × triangles, at the supersampled size).
-    pub pixels_shaded: u64,
-    pub texture_samples: u64,
-}
-
-/// A rendered image.
-#[derive(Clone, Debug)]
-pub struct Frame {
-    pub width: u32,
-    pub height: u32,
-    /// Linear, premultiplied RGBA, row-major, top row first.
-    pub color: Vec<Vec4>,
-    pub stats: FrameStats,
-}
-
-impl Frame {
-    /// RGB8 rows, sRGB-encoded (the premultiplied colour, i.e. composited over black).
-    #[must_use]
-    pub fn to_srgb8(&self) -> Vec<u8> {
-        let mut out = Vec::with_capacity(self.color.len() * 3);
-        for c in &self.color {
-            out.extend([c.x, c.y, c.z].map(linear_to_srgb8_exact));
-        }
-        out
-    }
-}
-
-/// The 8-bit sRGB code of linear `v`, exactly rounded: code k for v in
-/// [lin((k − ½)/255), lin((k + ½)/255)), without a powf. A 4096-bucket table gives the code at
-/// the bucket's start; at most two thresholds fall inside a bucket, so a short walk finishes.
-#[inline]
-fn linear_to_srgb8_exact(v: f32) -> u8 {
-    const BUCKETS: usize = 4096;
-    struct Table {
-        thresholds: [f32; 255],
-        start: Vec<u8>,
-    }
-    static TABLE: std::sync::OnceLock<Table> = std::sync::OnceLock::new();
-    let t = TABLE.get_or_init(|| {
-        let thresholds =
-            std::array::from_fn(|k| crate::color::srgb_to_linear((k as f32 + 0.5) / 255.0));
-        let start = (0..BUCKETS)
-            .map(|i| {
-                let v = i as f32 / BUCKETS as f32;
-                thresholds.partition_point(|&x| x <= v) as u8
-            })
-            .collect();
-        Table { thresholds, start }
-    });
-    if !(v > 0.0) {
-        return 0;
-    }
-    if v >= 1.0 {
-        return 255;
-    }
-    let mut k = t.start[((v * BUCKETS as f32) as usize).min(BUCKETS - 1)] as usize;
-    while k < 255 && t.thresholds[k] <= v {
-        k += 1;
-    }
-    k as u8
-}
-
 /// Renders `scene` seen by `camera`, in rayon's current thread pool.
 ///
 /// The image does not depend on the number of threads.
@@ -245,12 +181,7 @@ fn linear_to_srgb8_exact(v: f32) -> u8 {
 /// [`Error::Parameter`] for invalid settings or camera (zero or absurd size, non-finite
 /// camera, `near ≤ 0`, `far ≤ near`) or a mesh naming a material that does not exist.
 pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Frame> {
-    let mut frame = Frame {
-        width: 0,
-        height: 0,
-        color: Vec::new(),
-        stats: FrameStats::default(),
-    };
+    let mut frame = Frame::default();
     render_into(scene, camera, settings, &mut frame)?;
     Ok(frame)
 }
@@ -1659,29 +1590,6 @@ mod tests {
                     );
                 }
             }
-        }
-    }
-
-    #[test]
-    fn srgb8_encoding_rounds_exactly_at_every_threshold() {
-        let lin = |c: f32| crate::color::srgb_to_linear(c / 255.0);
-        let code = |v: f32| {
-            // The definition: the number of thresholds lin((k + ½)/255) at or below v.
-            (0..255).filter(|&k| lin(k as f32 + 0.5) <= v).count() as u8
-        };
-        let mut values = vec![f32::NAN, -1.0, 0.0, 1.0, 2.0, f32::INFINITY];
-        for k in 0..255 {
-            let t = lin(k as f32 + 0.5);
-            let (below, above) = (
-                f32::from_bits(t.to_bits() - 1),
-                f32::from_bits(t.to_bits() + 1),
-            );
-            values.extend([t, below, above, lin(k as f32)]);
-        }
-        values.extend((0..10_000).map(|i| i as f32 / 10_000.0));
-        for v in values {
-            let want = if v.is_nan() { 0 } else { code(v) };
-            assert_eq!(linear_to_srgb8_exact(v), want, "v = {v:e}");
         }
     }
 }
