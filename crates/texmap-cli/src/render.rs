@@ -6,15 +6,17 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use clap::{Args, ValueEnum};
-use glam::Vec3;
-use texmap::camera::{Camera, CameraProjection};
-use texmap::render::render_with_volumes;
+use glam::{Vec3, Vec4};
+use texmap::camera::CameraProjection;
+use texmap::render::framing::{choose_camera, CameraRequest, ProjectionRequest};
 use texmap::render::{
-    render_into, CullMode, Frame, FrameStats, Interpolation, Settings, ShadingMode, Visibility,
+    render_into, render_with_volumes, CullMode, Frame, Interpolation, Settings, ShadingMode,
+    TextureOverrides, Visibility,
 };
-use texmap::scene::{builtin, LoadOptions, Scene, TextureSlot};
+use texmap::scene::builtin::Builtin;
+use texmap::scene::{LoadOptions, Scene};
 use texmap::texture::load::{load_texture, Limits};
-use texmap::texture::{ColorSpace, Filter, LodRule, Sampler, Texture2D, Wrap};
+use texmap::texture::{ColorSpace, Filter, LodRule, Wrap};
 use texmap::volume::SceneVolume;
 use texmap::Error;
 
@@ -61,48 +63,64 @@ pub struct RenderArgs {
         conflicts_with = "fov"
     )]
     ortho: Option<Option<f32>>,
-    /// nearest | bilinear | trilinear | aniso2 | aniso4 | aniso8 | aniso16 | ewa | sat.
+    /// nearest | bilinear | trilinear | aniso2 | aniso4 | aniso8 | aniso16 | ewa | sat:
+    /// replaces every texture's filter.
     #[arg(long, value_parser = parse_filter)]
     filter: Option<Filter>,
-    /// repeat | mirror | clamp | border | mirror-clamp.
+    /// repeat | mirror | clamp | border | mirror-clamp: replaces every texture's wrap modes.
     #[arg(long, value_parser = parse_wrap)]
     wrap: Option<Wrap>,
-    /// Texture coordinate scale (default 64 for the plane, 1 otherwise).
+    /// Texture coordinate scale: multiplies every texture's coordinates (the plane's repeat
+    /// count, 64 by default, as in gl_render.py).
     #[arg(long)]
     uv_scale: Option<f32>,
-    /// Replace the scene's base-colour texture with this image.
+    /// An image that becomes every material's base-colour texture (materials with a
+    /// procedural colour keep theirs).
     #[arg(long)]
     texture: Option<PathBuf>,
-    /// What --texture's 8/16-bit channels hold.
-    #[arg(long, value_enum, default_value = "srgb")]
-    color_space: ColorSpaceArg,
-    /// LOD rule: gl (longer derivative) or rss (root of the sum of squares, the article's).
-    #[arg(long, value_enum, default_value = "gl")]
-    lod_rule: LodRuleArg,
-    /// Added to every level of detail.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    lod_bias: f32,
-    /// perspective | affine | subdivide.
-    #[arg(long, value_enum, default_value = "perspective")]
-    interp: InterpArg,
-    /// Largest affine error in pixels before --interp subdivide splits a triangle.
-    #[arg(long, default_value_t = 0.5)]
-    subdivide_error: f32,
-    /// flat | gouraud | phong.
-    #[arg(long, value_enum, default_value = "phong")]
-    shading: ShadingArg,
-    /// zbuffer | depth-sort.
-    #[arg(long, value_enum, default_value = "zbuffer")]
-    visibility: VisibilityArg,
-    /// none | back | front.
-    #[arg(long, value_enum, default_value = "none")]
-    cull: CullArg,
-    /// Multisample anti-aliasing: 1, 2, 4, 8 or 16 samples per pixel.
-    #[arg(long, default_value_t = 1)]
-    msaa: u32,
-    /// Supersampling: render N×N samples per pixel and average.
-    #[arg(long, default_value_t = 1)]
-    ssaa: u32,
+    /// What --texture's 8/16-bit channels hold [default: srgb].
+    #[arg(long, value_enum)]
+    color_space: Option<ColorSpaceArg>,
+    /// LOD rule of every texture: gl (longer derivative) or rss (root of the sum of squares,
+    /// the article's).
+    #[arg(long, value_enum)]
+    lod_rule: Option<LodRuleArg>,
+    /// Added to every texture's level of detail.
+    #[arg(long, allow_hyphen_values = true)]
+    lod_bias: Option<f32>,
+    /// The lowest level of detail any texture read uses (GL's TEXTURE_MIN_LOD).
+    #[arg(long, allow_hyphen_values = true)]
+    min_lod: Option<f32>,
+    /// The highest level of detail any texture read uses (GL's TEXTURE_MAX_LOD; 0 reads the
+    /// full-size image only).
+    #[arg(long, allow_hyphen_values = true)]
+    max_lod: Option<f32>,
+    /// Border colour r,g,b,a (linear, straight alpha, each in 0..1) read outside the image
+    /// with --wrap border.
+    #[arg(long, value_parser = parse_rgba)]
+    border: Option<Vec4>,
+    /// perspective | affine | subdivide [default: perspective].
+    #[arg(long, value_enum)]
+    interp: Option<InterpArg>,
+    /// Largest affine error in pixels before --interp subdivide splits a triangle
+    /// [default: 0.5].
+    #[arg(long)]
+    subdivide_error: Option<f32>,
+    /// flat | gouraud | phong [default: phong].
+    #[arg(long, value_enum)]
+    shading: Option<ShadingArg>,
+    /// zbuffer | depth-sort [default: zbuffer].
+    #[arg(long, value_enum)]
+    visibility: Option<VisibilityArg>,
+    /// none | back | front [default: none].
+    #[arg(long, value_enum)]
+    cull: Option<CullArg>,
+    /// Multisample anti-aliasing of the meshes: 1, 2, 4, 8 or 16 samples per pixel.
+    #[arg(long)]
+    msaa: Option<u32>,
+    /// Supersampling of the meshes: render N×N samples per pixel and average.
+    #[arg(long)]
+    ssaa: Option<u32>,
     /// Texture colour only, no lighting.
     #[arg(long)]
     unlit: bool,
@@ -112,9 +130,9 @@ pub struct RenderArgs {
     /// Turntable frames: the camera orbits the target by 360/N degrees per frame.
     #[arg(long, default_value_t = 1)]
     frames: u32,
-    /// Triangle count of builtin:sphere.
-    #[arg(long, default_value_t = 199_200)]
-    tris: usize,
+    /// Triangle count of builtin:sphere [default: 199200].
+    #[arg(long)]
+    tris: Option<usize>,
     /// Print statistics as JSON on stdout.
     #[arg(long)]
     stats: bool,
@@ -194,19 +212,31 @@ fn parse_wrap(s: &str) -> Result<Wrap, String> {
     Wrap::parse(s).ok_or_else(|| "expected repeat, mirror, clamp, border or mirror-clamp".into())
 }
 
+fn parse_rgba(s: &str) -> Result<Vec4, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| e.to_string())?;
+    if v.len() != 4 || v.iter().any(|x| !(0.0..=1.0).contains(x)) {
+        return Err("expected four numbers r,g,b,a in 0..1".into());
+    }
+    Ok(Vec4::new(v[0], v[1], v[2], v[3]))
+}
+
 /// What `render` draws.
 struct Built {
     scene: Scene,
     volumes: Vec<SceneVolume>,
     /// The default output name's stem.
     short: String,
-    /// Read from a file (not built in).
-    from_file: bool,
+    /// A built-in scene (not read from a file).
+    builtin: Option<Builtin>,
 }
 
 /// The scene, its volumes (a volume file's, or a TOML scene's with the volume flags laid
 /// over them), and `--mesh` files added.
-fn build(args: &RenderArgs, sampler: Sampler) -> Result<Built, Error> {
+fn build(args: &RenderArgs) -> Result<Built, Error> {
     let options = LoadOptions {
         allow_outside_paths: args.allow_outside_paths,
         lenient: args.lenient,
@@ -226,10 +256,10 @@ fn build(args: &RenderArgs, sampler: Sampler) -> Result<Built, Error> {
                 scene,
                 volumes: vec![sv],
                 short: crate::volume::short_name(path),
-                from_file: true,
+                builtin: None,
             }
         }
-        None => build_scene(args, sampler, &options)?,
+        None => build_scene(args, &options)?,
     };
     let own_lights = crate::volume::add_meshes(v, &mut built.scene, &options, args.quiet)?;
     if volume_file.is_some() {
@@ -261,90 +291,148 @@ fn build(args: &RenderArgs, sampler: Sampler) -> Result<Built, Error> {
 }
 
 /// A built-in scene or a scene file (without `--mesh` files).
-fn build_scene(args: &RenderArgs, sampler: Sampler, options: &LoadOptions) -> Result<Built, Error> {
+fn build_scene(args: &RenderArgs, options: &LoadOptions) -> Result<Built, Error> {
     let name = args.scene.as_deref().unwrap_or("builtin:demo");
-    let texture: Option<Arc<Texture2D>> = match &args.texture {
-        Some(p) => {
-            let cs = match args.color_space {
-                ColorSpaceArg::Srgb => ColorSpace::Srgb,
-                ColorSpaceArg::Linear => ColorSpace::Linear,
-            };
-            Some(Arc::new(load_texture(p, cs, &Limits::default())?))
-        }
-        None => None,
-    };
-    let scene = match name {
-        "builtin:demo" => builtin::demo(),
-        "builtin:marble" => builtin::marble(),
-        "builtin:plane" => builtin::plane(texture.clone(), args.uv_scale.unwrap_or(64.0), sampler),
-        "builtin:sphere" => {
-            if args.tris < 8 || args.tris > 50_000_000 {
-                return Err(Error::parameter(format!(
-                    "--tris {} is outside 8..50000000",
-                    args.tris
-                )));
-            }
-            builtin::sphere(args.tris, texture.clone(), sampler)
-        }
-        other if other.starts_with("builtin:") => {
-            return Err(Error::parameter(format!(
-                "{other}: unknown built-in scene (builtin:demo, builtin:plane, builtin:sphere, builtin:marble)"
-            )))
-        }
-        other => {
-            let (scene, volumes) = load_file(args, Path::new(other), texture, options)?;
-            let short = Path::new(other)
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_else(|| "scene".into());
-            return Ok(Built {
-                scene,
-                volumes,
-                short,
-                from_file: true,
-            });
-        }
-    };
-    Ok(Built {
-        scene,
-        volumes: Vec::new(),
-        short: name.trim_start_matches("builtin:").to_string(),
-        from_file: false,
-    })
-}
-
-/// Loads a scene file, prints its warnings, and applies `--texture`, `--uv-scale` and
-/// `--auto-camera`.
-fn load_file(
-    args: &RenderArgs,
-    path: &Path,
-    texture: Option<Arc<Texture2D>>,
-    options: &LoadOptions,
-) -> Result<(Scene, Vec<SceneVolume>), Error> {
+    if let Some(builtin) = Builtin::parse(name)? {
+        let scene = builtin.build(args.tris).map_err(|e| match e {
+            Error::Parameter(m) => Error::parameter(format!("--tris: {m}")),
+            other => other,
+        })?;
+        return Ok(Built {
+            scene,
+            volumes: Vec::new(),
+            short: name.trim_start_matches("builtin:").to_string(),
+            builtin: Some(builtin),
+        });
+    }
+    if args.tris.is_some() {
+        return Err(Error::parameter(
+            "--tris applies to builtin:sphere, not a scene file",
+        ));
+    }
+    let path = Path::new(name);
     let loaded = texmap::scene::load(path, options)?;
     if !args.quiet {
         for w in &loaded.warnings {
             eprintln!("texmap: warning: {w}");
         }
     }
-    let mut scene = loaded.scene;
-    for m in &mut scene.materials {
-        if let Some(t) = &texture {
-            match &mut m.base_color_texture {
-                Some(slot) => slot.texture = t.clone(),
-                None => {
-                    m.base_color_texture = Some(TextureSlot::new(t.clone(), Sampler::default()))
-                }
-            }
+    let short = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
+    Ok(Built {
+        scene: loaded.scene,
+        volumes: loaded.volumes,
+        short,
+        builtin: None,
+    })
+}
+
+/// The user's sampler flags, laid over every texture read.
+fn texture_overrides(args: &RenderArgs) -> TextureOverrides {
+    let mut o = TextureOverrides::default();
+    o.filter = args.filter;
+    o.wrap = args.wrap;
+    o.lod_bias = args.lod_bias;
+    o.lod_rule = args.lod_rule.map(|r| match r {
+        LodRuleArg::Gl => LodRule::GlMax,
+        LodRuleArg::Rss => LodRule::RootSumSquares,
+    });
+    o.min_lod = args.min_lod;
+    o.max_lod = args.max_lod;
+    // Given straight; the sampler holds it premultiplied.
+    o.border = args.border.map(|b| (b.truncate() * b.w).extend(b.w));
+    o
+}
+
+/// Refuses every flag that would change nothing in this scene, naming it: texture flags on a
+/// scene that reads no image texture, mesh flags on a scene without meshes, volume flags on a
+/// scene without volumes, load flags on a built-in scene.
+fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error> {
+    let name = args.scene.as_deref().unwrap_or("builtin:demo");
+    let given = |flags: &[(&'static str, bool)]| -> Vec<&'static str> {
+        flags.iter().filter(|(_, g)| *g).map(|(f, _)| *f).collect()
+    };
+    let refuse = |flags: Vec<&str>, why: String| -> Result<(), Error> {
+        match flags.first() {
+            None => Ok(()),
+            Some(_) => Err(Error::parameter(format!("{}: {why}", flags.join(", ")))),
         }
-        if let (Some(s), Some(slot)) = (args.uv_scale, &mut m.base_color_texture) {
-            slot.uv_scale *= s;
-        }
+    };
+    if built.scene.meshes.is_empty() {
+        refuse(
+            given(&[
+                ("--texture", args.texture.is_some()),
+                ("--interp", args.interp.is_some()),
+                ("--subdivide-error", args.subdivide_error.is_some()),
+                ("--shading", args.shading.is_some()),
+                ("--visibility", args.visibility.is_some()),
+                ("--cull", args.cull.is_some()),
+                ("--msaa", args.msaa.is_some()),
+                ("--ssaa", args.ssaa.is_some()),
+                ("--unlit", args.unlit),
+            ]),
+            format!("{name} has no meshes to draw (these flags act on meshes)"),
+        )?;
     }
-    if args.auto_camera {
-        scene.camera = None;
+    // --texture gives the scene image textures, so sampler flags then act.
+    if !built.scene.reads_image_textures() && args.texture.is_none() {
+        refuse(
+            given(&[
+                ("--filter", args.filter.is_some()),
+                ("--wrap", args.wrap.is_some()),
+                ("--uv-scale", args.uv_scale.is_some()),
+                ("--lod-rule", args.lod_rule.is_some()),
+                ("--lod-bias", args.lod_bias.is_some()),
+                ("--min-lod", args.min_lod.is_some()),
+                ("--max-lod", args.max_lod.is_some()),
+                ("--border", args.border.is_some()),
+            ]),
+            format!("{name} reads no image texture (its colours are procedural or constant)"),
+        )?;
     }
-    Ok((scene, loaded.volumes))
+    refuse(
+        given(&[(
+            "--color-space",
+            args.color_space.is_some() && args.texture.is_none(),
+        )]),
+        "applies to the image given with --texture".into(),
+    )?;
+    let subdivide = matches!(args.interp, Some(InterpArg::Subdivide));
+    refuse(
+        given(&[(
+            "--subdivide-error",
+            args.subdivide_error.is_some() && !subdivide,
+        )]),
+        "applies with --interp subdivide".into(),
+    )?;
+    if built.builtin.is_some() && args.volume.meshes.is_empty() {
+        refuse(
+            given(&[
+                ("--lenient", args.lenient),
+                ("--allow-outside-paths", args.allow_outside_paths),
+            ]),
+            format!("{name} is built in: these flags apply to loading files"),
+        )?;
+    }
+    if built.volumes.is_empty() {
+        refuse(
+            args.volume.given_volume_flags(),
+            format!("{name} has no volumes (these flags act on volumes)"),
+        )?;
+    }
+    let framed_by_volumes =
+        !built.volumes.is_empty() && (built.scene.camera.is_none() || args.auto_camera);
+    if !framed_by_volumes {
+        refuse(
+            args.volume.given_framing_flags(),
+            format!(
+                "{name}: --dolly and --azimuth move the default camera of a scene with volumes"
+            ),
+        )?;
+    }
+    Ok(())
 }
 
 pub fn run(args: RenderArgs) -> Result<(), Error> {
@@ -352,84 +440,73 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
     if args.frames == 0 {
         return Err(Error::parameter("--frames must be at least 1"));
     }
-    if ![1, 2, 4, 8, 16].contains(&args.msaa) {
+    let msaa = args.msaa.unwrap_or(1);
+    if ![1, 2, 4, 8, 16].contains(&msaa) {
         return Err(Error::parameter(format!(
-            "--msaa {} is not one of 1, 2, 4, 8, 16",
-            args.msaa
+            "--msaa {msaa} is not one of 1, 2, 4, 8, 16"
         )));
     }
-    if !(1..=8).contains(&args.ssaa) {
-        return Err(Error::parameter(format!(
-            "--ssaa {} is outside 1..8",
-            args.ssaa
-        )));
+    let ssaa = args.ssaa.unwrap_or(1);
+    if !(1..=8).contains(&ssaa) {
+        return Err(Error::parameter(format!("--ssaa {ssaa} is outside 1..8")));
+    }
+    let textures = texture_overrides(&args);
+    textures.validate().map_err(|e| match e {
+        Error::Parameter(m) => Error::parameter(format!("texture flags: {m}")),
+        other => other,
+    })?;
+    if let Some(s) = args.uv_scale {
+        if !(s.is_finite() && s != 0.0) {
+            return Err(Error::parameter(format!(
+                "--uv-scale {s} must be finite and non-zero"
+            )));
+        }
     }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()
         .map_err(|e| Error::parameter(format!("--threads: {e}")))?;
-    let mut sampler = Sampler::new(
-        args.filter.unwrap_or(Filter::TRILINEAR),
-        args.wrap.unwrap_or(Wrap::Repeat),
-    );
-    sampler.lod_bias = args.lod_bias;
-    sampler.lod_rule = match args.lod_rule {
-        LodRuleArg::Gl => LodRule::GlMax,
-        LodRuleArg::Rss => LodRule::RootSumSquares,
-    };
     let progress = crate::progress::Progress::new(args.frames, args.quiet);
     progress.message("loading");
     let Built {
-        scene,
+        mut scene,
         volumes,
         short,
-        from_file,
-    } = pool.install(|| build(&args, sampler))?;
-    let fov = args.fov.unwrap_or(60.0);
-    // With volumes and no camera in the file: vtk_volume.py's camera over everything.
-    let volume_camera = scene.camera.is_none() && !volumes.is_empty();
-    let base = match scene.camera {
-        Some(c) => c,
-        None if volume_camera => crate::volume::default_camera(&scene, &volumes, &args.volume),
-        None => scene.framing_camera(fov),
-    };
-    // --ortho, else --fov, else a file's camera (and the volume camera) keeps its projection.
-    let projection = match (args.ortho, from_file, scene.camera) {
-        (Some(Some(height)), ..) => CameraProjection::Orthographic {
-            half_height: 0.5 * height,
-        },
-        // VTK's parallel scale: the bounding radius over --dolly.
-        (Some(None), ..) if volume_camera => CameraProjection::Orthographic {
-            half_height: crate::volume::bounding_radius(&scene, &volumes) / args.volume.dolly,
-        },
-        (Some(None), ..) => scene.framing_camera_orthographic().projection,
-        (None, true, Some(c)) => {
-            args.fov
-                .map_or(c.projection, |fov_y_deg| CameraProjection::Perspective {
-                    fov_y_deg,
-                })
+        ..
+    } = pool.install(|| {
+        let built = build(&args)?;
+        check_flags(&args, &built)?;
+        Ok::<_, Error>(built)
+    })?;
+    if let Some(p) = &args.texture {
+        let cs = match args.color_space.unwrap_or(ColorSpaceArg::Srgb) {
+            ColorSpaceArg::Srgb => ColorSpace::Srgb,
+            ColorSpaceArg::Linear => ColorSpace::Linear,
+        };
+        let texture = Arc::new(load_texture(p, cs, &Limits::default())?);
+        if scene.set_base_color_texture(texture) == 0 {
+            let name = args.scene.as_deref().unwrap_or("builtin:demo");
+            return Err(Error::parameter(format!(
+                "--texture: no material of {name} takes an image (their colours are procedural)"
+            )));
         }
-        (None, ..) if volume_camera => {
-            args.fov
-                .map_or(base.projection, |fov_y_deg| CameraProjection::Perspective {
-                    fov_y_deg,
-                })
-        }
-        _ => CameraProjection::Perspective { fov_y_deg: fov },
+    }
+    if let Some(s) = args.uv_scale {
+        scene.uv_scale = s;
+    }
+    let projection = match (args.ortho, args.fov) {
+        (Some(height), _) => ProjectionRequest::Orthographic { height },
+        (None, Some(fov_y_deg)) => ProjectionRequest::Perspective { fov_y_deg },
+        (None, None) => ProjectionRequest::Keep,
     };
-    let camera = Camera {
-        eye: args.eye.unwrap_or(base.eye),
-        target: args.target.unwrap_or(base.target),
-        up: args.up.unwrap_or(base.up),
-        projection,
-        ..base
-    };
-    camera.validate()?;
-    let camera = if volume_camera {
-        crate::volume::enclose(camera, &scene, &volumes)
-    } else {
-        camera
-    };
+    let mut request = CameraRequest::default()
+        .with_projection(projection)
+        .with_auto(args.auto_camera)
+        .with_volume_framing(args.volume.dolly, args.volume.azimuth);
+    request.eye = args.eye;
+    request.target = args.target;
+    request.up = args.up;
+    let camera = choose_camera(&scene, &volumes, &request)?;
     // Per-volume structures (VTK builds its own in its first frame): outside the frame times.
     pool.install(|| {
         for v in &volumes {
@@ -439,45 +516,33 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             }
         }
     });
-    let settings = Settings {
-        width: args.size.0,
-        height: args.size.1,
-        interpolation: match args.interp {
+    let settings = Settings::new(args.size.0, args.size.1)
+        .with_interpolation(match args.interp.unwrap_or(InterpArg::Perspective) {
             InterpArg::Perspective => Interpolation::Perspective,
             InterpArg::Affine => Interpolation::Affine,
             InterpArg::Subdivide => Interpolation::Subdivide {
-                max_error_px: args.subdivide_error,
+                max_error_px: args.subdivide_error.unwrap_or(0.5),
             },
-        },
-        shading: match args.shading {
+        })
+        .with_shading(match args.shading.unwrap_or(ShadingArg::Phong) {
             ShadingArg::Flat => ShadingMode::Flat,
             ShadingArg::Gouraud => ShadingMode::Gouraud,
             ShadingArg::Phong => ShadingMode::Phong,
-        },
-        visibility: match args.visibility {
+        })
+        .with_visibility(match args.visibility.unwrap_or(VisibilityArg::Zbuffer) {
             VisibilityArg::Zbuffer => Visibility::ZBuffer,
             VisibilityArg::DepthSort => Visibility::DepthSort,
-        },
-        cull: match args.cull {
+        })
+        .with_cull(match args.cull.unwrap_or(CullArg::None) {
             CullArg::None => CullMode::None,
             CullArg::Back => CullMode::Back,
             CullArg::Front => CullMode::Front,
-        },
-        msaa: args.msaa,
-        ssaa: args.ssaa,
-        unlit: args.unlit,
-        // Built-in plane and sphere already carry the sampler; elsewhere override only if asked.
-        filter_override: if short == "demo" || from_file {
-            args.filter
-        } else {
-            None
-        },
-        wrap_override: if short == "demo" || from_file {
-            args.wrap
-        } else {
-            None
-        },
-    };
+        })
+        .with_msaa(msaa)
+        .with_ssaa(ssaa)
+        .with_unlit(args.unlit)
+        .with_textures(textures);
+    settings.validate()?;
     let output = args
         .output
         .clone()
@@ -487,12 +552,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
 
     let mut times = Vec::with_capacity(args.frames as usize);
     // One frame buffer for the whole sequence.
-    let mut frame = Frame {
-        width: 0,
-        height: 0,
-        color: Vec::new(),
-        stats: FrameStats::default(),
-    };
+    let mut frame = Frame::default();
     progress.message("rendering");
     for k in 1..=args.frames {
         let angle = std::f32::consts::TAU * k as f32 / args.frames as f32;

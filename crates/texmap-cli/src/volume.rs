@@ -5,11 +5,9 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 use glam::{Mat4, Vec3};
-use texmap::camera::Camera;
 use texmap::scene::{LoadOptions, Scene};
 use texmap::volume::{
-    load_volume, vtk_camera_for_bounds, Classification, Method, Mode, RawDesc, ScalarType,
-    SceneVolume, TransferFunction2D,
+    load_volume, Classification, Method, Mode, RawDesc, ScalarType, SceneVolume, TransferFunction2D,
 };
 use texmap::Error;
 
@@ -236,6 +234,36 @@ pub fn add_meshes(
 }
 
 impl VolumeArgs {
+    /// The volume flags given (each acts on the scene's volumes).
+    pub fn given_volume_flags(&self) -> Vec<&'static str> {
+        [
+            ("--tf", self.tf.is_some()),
+            ("--mode", self.mode.is_some()),
+            ("--iso", self.iso.is_some()),
+            ("--step", self.step.is_some()),
+            ("--shade", self.shade.is_some()),
+            ("--method", self.method.is_some()),
+            ("--classification", self.classification.is_some()),
+            ("--gradient-opacity", self.gradient_opacity.is_some()),
+            ("--no-jitter", self.no_jitter),
+            ("--no-skip", self.no_skip),
+        ]
+        .into_iter()
+        .filter_map(|(f, g)| g.then_some(f))
+        .collect()
+    }
+
+    /// The framing flags given (they move the default camera of a scene with volumes).
+    pub fn given_framing_flags(&self) -> Vec<&'static str> {
+        [
+            ("--dolly", self.dolly != 1.6),
+            ("--azimuth", self.azimuth != 0.0),
+        ]
+        .into_iter()
+        .filter_map(|(f, g)| g.then_some(f))
+        .collect()
+    }
+
     /// Checks the flags that only make sense for a volume file.
     pub fn check_for_scene(&self, volume_file: bool) -> Result<(), Error> {
         if !volume_file && (self.raw.any_given() || self.ignore_orientation) {
@@ -302,49 +330,6 @@ impl VolumeArgs {
             )));
         }
         sv.validate()
-    }
-}
-
-/// World bounds of the meshes and volumes together.
-fn bounds(scene: &Scene, volumes: &[SceneVolume]) -> (Vec3, Vec3) {
-    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    if !scene.meshes.is_empty() {
-        let (a, b) = scene.bounds();
-        lo = lo.min(a);
-        hi = hi.max(b);
-    }
-    for v in volumes {
-        let (a, b) = v.volume.world_bounds();
-        lo = lo.min(a);
-        hi = hi.max(b);
-    }
-    (lo, hi)
-}
-
-/// The default camera of a scene with volumes: `vtk_volume.py`'s (along +y, z up, 30°) over
-/// the bounds of every mesh and volume.
-pub fn default_camera(scene: &Scene, volumes: &[SceneVolume], v: &VolumeArgs) -> Camera {
-    let (lo, hi) = bounds(scene, volumes);
-    vtk_camera_for_bounds(lo, hi, v.dolly, v.azimuth)
-}
-
-/// The radius of the sphere around every mesh and volume (VTK's parallel scale after
-/// `ResetCamera`).
-pub fn bounding_radius(scene: &Scene, volumes: &[SceneVolume]) -> f32 {
-    let (lo, hi) = bounds(scene, volumes);
-    ((hi - lo) * 0.5).length().max(1e-3)
-}
-
-/// `camera` with near and far around every mesh and volume, wherever the eye was moved.
-pub fn enclose(camera: Camera, scene: &Scene, volumes: &[SceneVolume]) -> Camera {
-    let (lo, hi) = bounds(scene, volumes);
-    let centre = (lo + hi) * 0.5;
-    let radius = ((hi - lo) * 0.5).length().max(1e-3);
-    let dist = (camera.eye - centre).length();
-    Camera {
-        near: (dist - radius).max(dist * 1e-3).max(1e-4),
-        far: dist + radius + 1.0,
-        ..camera
     }
 }
 

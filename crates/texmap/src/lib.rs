@@ -22,9 +22,12 @@
 //! # Ok::<(), texmap::Error>(())
 //! ```
 
+// The crate's two lint exceptions, stated once:
 // `!(x > 0.0)` is how texmap spells "not positive, or NaN" on purpose: degenerate footprints
 // and NaN inputs must take the safe branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+// Hot loops index several parallel arrays (samples, lanes, channels) with one counter.
+#![allow(clippy::needless_range_loop)]
 
 pub mod camera;
 pub mod color;

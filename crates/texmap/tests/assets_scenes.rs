@@ -80,11 +80,7 @@ fn render_model(path: &Path) -> Vec<u8> {
         }
     }
     let camera = scene.framing_camera(60.0);
-    let settings = Settings {
-        width: WIDTH,
-        height: HEIGHT,
-        ..Default::default()
-    };
+    let settings = Settings::new(WIDTH, HEIGHT);
     let frame = render(&scene, &camera, &settings)
         .unwrap_or_else(|e| panic!("{} does not render: {e}", path.display()));
     frame.to_srgb8()

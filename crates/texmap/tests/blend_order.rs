@@ -44,12 +44,7 @@ fn centre(scene: &Scene, visibility: Visibility) -> Vec4 {
         near: 0.0,
         far: 30.0,
     };
-    let s = Settings {
-        width: 32,
-        height: 32,
-        visibility,
-        ..Settings::default()
-    };
+    let s = Settings::new(32, 32).with_visibility(visibility);
     render(scene, &cam, &s).unwrap().color[16 * 32 + 16]
 }
 

@@ -40,11 +40,7 @@ fn cube_at(size: f32, centre: Vec3) -> Mesh {
 }
 
 fn settings(width: u32, height: u32) -> Settings {
-    Settings {
-        width,
-        height,
-        ..Settings::default()
-    }
+    Settings::new(width, height)
 }
 
 /// The pixels showing the (white, unlit) surfaces over the black background, row-major.
@@ -221,10 +217,7 @@ fn orthographic_flat_shading_faces_by_the_view_direction() {
     // 128×32 over a half-height of 3: x ∈ [−12, 12]; pixel (117, 16) is at (10.03, −0.09).
     let cam = ortho(eye, Vec3::ZERO, 3.0);
     for shading in [ShadingMode::Flat, ShadingMode::Phong] {
-        let s = Settings {
-            shading,
-            ..settings(128, 32)
-        };
+        let s = settings(128, 32).with_shading(shading);
         let f = render(&scene, &cam, &s).unwrap();
         let px = f.color[16 * 128 + 117];
         assert!(px.w > 0.0, "{shading:?}: not drawn");

@@ -54,12 +54,7 @@ fn behind() -> Camera {
 }
 
 fn centre(scene: &Scene, shading: ShadingMode) -> Vec4 {
-    let s = Settings {
-        width: 32,
-        height: 32,
-        shading,
-        ..Settings::default()
-    };
+    let s = Settings::new(32, 32).with_shading(shading);
     render(scene, &behind(), &s).unwrap().color[16 * 32 + 16]
 }
 
@@ -119,12 +114,7 @@ fn a_back_face_looks_like_the_front_of_its_mirror_twin_with_every_varying() {
     let frame = |mesh: &Mesh, shading| {
         let mut sc = scene(mesh.clone(), material.clone(), Vec3::Z);
         sc.lights = lights.clone();
-        let s = Settings {
-            width: 48,
-            height: 48,
-            shading,
-            ..Settings::default()
-        };
+        let s = Settings::new(48, 48).with_shading(shading);
         render(&sc, &behind(), &s).unwrap().color
     };
     for shading in [ShadingMode::Gouraud, ShadingMode::Phong, ShadingMode::Flat] {

@@ -7,8 +7,8 @@ use std::sync::Arc;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use texmap::camera::{Camera, CameraProjection};
 use texmap::pipeline::{
-    self, CullMode, DrawCall, DrawState, FragmentShader, Interpolation, PostVertex, Quad, Target,
-    Viewport, MAX_VARYINGS,
+    self, ClipVertex, CullMode, DrawCall, DrawState, FragmentShader, Interpolation, Quad, Target,
+    MAX_VARYINGS,
 };
 use texmap::render::{render, Frame, Settings, ShadingMode, Visibility};
 use texmap::scene::{builtin, AlphaMode, Material, Mesh, Scene};
@@ -37,12 +37,7 @@ impl FragmentShader for Uv {
     }
 }
 
-fn post_vertices(
-    positions: &[Vec3],
-    uvs: &[Vec2],
-    clip_from_world: Mat4,
-    vp: &Viewport,
-) -> Vec<PostVertex> {
+fn clip_vertices(positions: &[Vec3], uvs: &[Vec2], clip_from_world: Mat4) -> Vec<ClipVertex> {
     positions
         .iter()
         .enumerate()
@@ -52,7 +47,10 @@ fn post_vertices(
                 var[0] = uv.x;
                 var[1] = uv.y;
             }
-            PostVertex::new(clip_from_world * p.extend(1.0), var, vp)
+            ClipVertex {
+                clip: clip_from_world * p.extend(1.0),
+                varyings: var,
+            }
         })
         .collect()
 }
@@ -92,8 +90,7 @@ fn count_hits(
     samples: u32,
     cull: CullMode,
 ) -> Vec<f32> {
-    let vp = Viewport::new(w, h);
-    let verts = post_vertices(positions, &[], clip_from_world(cam, w, h), &vp);
+    let verts = clip_vertices(positions, &[], clip_from_world(cam, w, h));
     let call = DrawCall {
         vertices: &verts,
         indices,
@@ -180,11 +177,7 @@ fn camera_inside_a_cube_sees_it_everywhere() {
         target: Vec3::new(4.0, 2.5, -1.0),
         ..camera(Vec3::ZERO, Vec3::Z)
     };
-    let s = Settings {
-        width: 96,
-        height: 64,
-        ..Default::default()
-    };
+    let s = Settings::new(96, 64);
     let f = render(&scene, &cam, &s).unwrap();
     assert!(
         f.color.iter().all(|c| *c == Vec4::ONE),
@@ -210,11 +203,7 @@ fn triangles_behind_the_camera_draw_nothing() {
     };
     scene.meshes[0].world_from_object = Mat4::IDENTITY;
     let cam = camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0));
-    let s = Settings {
-        width: 64,
-        height: 48,
-        ..Default::default()
-    };
+    let s = Settings::new(64, 48);
     let f = render(&scene, &cam, &s).unwrap();
     assert!(f.color.iter().all(|c| *c == Vec4::ZERO));
     assert_eq!(f.stats.triangles_after_clip, 0);
@@ -225,16 +214,7 @@ fn plane_crossing_the_camera_plane_fills_below_the_horizon_only() {
     let scene = builtin::plane(None, 64.0, Sampler::default());
     let cam = scene.camera.unwrap();
     let (w, h) = (160u32, 90u32);
-    let f = render(
-        &scene,
-        &cam,
-        &Settings {
-            width: w,
-            height: h,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let f = render(&scene, &cam, &Settings::new(w, h)).unwrap();
     // The view looks down by atan(1/50): the horizon is that far above the centre row.
     let horizon = h as f32 * 0.5 * (1.0 - (1.0f32 / 50.0).atan().tan() / 30f32.to_radians().tan());
     for y in 0..h {
@@ -267,8 +247,7 @@ fn plane_uv_error(interpolation: Interpolation, max_dist: f32) -> f32 {
         .iter()
         .map(|p| Vec2::new(p.x + 100.0, p.z + 100.0) / 200.0 * s)
         .collect();
-    let vp = Viewport::new(w, h);
-    let verts = post_vertices(&positions, &uvs, clip_from_world(&cam, w, h), &vp);
+    let verts = clip_vertices(&positions, &uvs, clip_from_world(&cam, w, h));
     let call = DrawCall {
         vertices: &verts,
         indices: &[0, 3, 2, 0, 2, 1],
@@ -357,17 +336,7 @@ fn white_triangle_scene() -> (Scene, Camera) {
 fn msaa_edge_pixels_get_fractional_coverage() {
     let (scene, cam) = white_triangle_scene();
     for n in [2u32, 4, 8, 16] {
-        let f = render(
-            &scene,
-            &cam,
-            &Settings {
-                width: 64,
-                height: 48,
-                msaa: n,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let f = render(&scene, &cam, &Settings::new(64, 48).with_msaa(n)).unwrap();
         let partial: Vec<f32> = f
             .color
             .iter()
@@ -391,17 +360,7 @@ fn msaa_edge_pixels_get_fractional_coverage() {
 #[test]
 fn ssaa_resolves_edges_in_linear_light() {
     let (scene, cam) = white_triangle_scene();
-    let f = render(
-        &scene,
-        &cam,
-        &Settings {
-            width: 64,
-            height: 48,
-            ssaa: 3,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let f = render(&scene, &cam, &Settings::new(64, 48).with_ssaa(3)).unwrap();
     assert!(f.color.iter().any(|c| c.x > 0.0 && c.x < 1.0));
     assert_eq!(f.color.len(), 64 * 48);
 }
@@ -430,7 +389,7 @@ fn separated_objects() -> (Scene, Camera) {
         }],
         ambient_light: Vec3::ONE,
         background: Vec4::new(0.1, 0.1, 0.1, 1.0),
-        camera: None,
+        ..Scene::default()
     };
     (scene, camera(Vec3::new(0.0, 0.5, 4.0), Vec3::ZERO))
 }
@@ -438,22 +397,9 @@ fn separated_objects() -> (Scene, Camera) {
 #[test]
 fn depth_sort_agrees_with_the_z_buffer_on_separated_objects() {
     let (scene, cam) = separated_objects();
-    let s = Settings {
-        width: 96,
-        height: 64,
-        cull: CullMode::Back,
-        ..Default::default()
-    };
+    let s = Settings::new(96, 64).with_cull(CullMode::Back);
     let z = render(&scene, &cam, &s).unwrap();
-    let p = render(
-        &scene,
-        &cam,
-        &Settings {
-            visibility: Visibility::DepthSort,
-            ..s
-        },
-    )
-    .unwrap();
+    let p = render(&scene, &cam, &s.with_visibility(Visibility::DepthSort)).unwrap();
     let (worst, differing) = max_abs_diff(&z, &p);
     assert_eq!(differing, 0, "max difference {worst}");
 }
@@ -479,16 +425,7 @@ fn blended_surfaces_are_drawn_over_opaque_ones() {
         ..Default::default()
     };
     let cam = camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO);
-    let f = render(
-        &scene,
-        &cam,
-        &Settings {
-            width: 32,
-            height: 32,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let f = render(&scene, &cam, &Settings::new(32, 32)).unwrap();
     let c = f.color[16 * 32 + 16];
     // Two panel faces (front and back, both blended): blue over blue over red.
     assert!(
@@ -501,14 +438,10 @@ fn blended_surfaces_are_drawn_over_opaque_ones() {
 fn shading_modes_all_render_and_agree_on_a_flat_surface() {
     let scene = builtin::plane(None, 8.0, Sampler::default());
     let cam = scene.camera.unwrap();
-    let base = Settings {
-        width: 64,
-        height: 36,
-        ..Default::default()
-    };
+    let base = Settings::new(64, 36);
     let phong = render(&scene, &cam, &base).unwrap();
     for shading in [ShadingMode::Gouraud, ShadingMode::Flat] {
-        let f = render(&scene, &cam, &Settings { shading, ..base }).unwrap();
+        let f = render(&scene, &cam, &base.with_shading(shading)).unwrap();
         let (worst, _) = max_abs_diff(&phong, &f);
         assert!(worst < 1e-4, "{shading:?}: {worst}");
     }
@@ -522,12 +455,7 @@ fn same_image_whatever_the_thread_count() {
     let cam = scene.camera.unwrap();
     // One sample (colour streamed from the tile buffer) and MSAA (resolved).
     for msaa in [1, 4] {
-        let s = Settings {
-            width: 200,
-            height: 120,
-            msaa,
-            ..Default::default()
-        };
+        let s = Settings::new(200, 120).with_msaa(msaa);
         let run = |threads| {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
@@ -548,27 +476,17 @@ fn same_image_whatever_the_thread_count() {
 fn bad_settings_and_cameras_are_errors() {
     let scene = builtin::plane(None, 64.0, Sampler::default());
     let cam = scene.camera.unwrap();
-    let ok = Settings {
-        width: 16,
-        height: 16,
-        ..Default::default()
-    };
+    let ok = Settings::new(16, 16);
     assert!(render(&scene, &cam, &ok).is_ok());
     for s in [
-        Settings { width: 0, ..ok },
-        Settings {
-            height: 20_000,
-            ..ok
-        },
-        Settings { msaa: 3, ..ok },
-        Settings { ssaa: 0, ..ok },
-        Settings { ssaa: 9, ..ok },
-        Settings {
-            interpolation: Interpolation::Subdivide {
-                max_error_px: f32::NAN,
-            },
-            ..ok
-        },
+        ok.with_size(0, ok.height),
+        ok.with_size(ok.width, 20_000),
+        ok.with_msaa(3),
+        ok.with_ssaa(0),
+        ok.with_ssaa(9),
+        ok.with_interpolation(Interpolation::Subdivide {
+            max_error_px: f32::NAN,
+        }),
     ] {
         assert!(render(&scene, &cam, &s).is_err(), "{s:?}");
     }
@@ -609,17 +527,7 @@ fn nan_degenerate_and_out_of_range_triangles_are_skipped() {
     m.uvs = vec![Vec2::ZERO; 1];
     m.colors = vec![Vec4::ONE; 6];
     for shading in [ShadingMode::Phong, ShadingMode::Gouraud, ShadingMode::Flat] {
-        let f = render(
-            &scene,
-            &cam,
-            &Settings {
-                width: 48,
-                height: 48,
-                shading,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let f = render(&scene, &cam, &Settings::new(48, 48).with_shading(shading)).unwrap();
         assert_eq!(f.stats.triangles_after_clip, 1, "{shading:?}");
         assert!(f.color.iter().any(|c| c.x > 0.5));
     }
@@ -641,16 +549,7 @@ fn textured_sphere_renders_with_samples_counted() {
         Sampler::default(),
     );
     let cam = scene.camera.unwrap();
-    let f = render(
-        &scene,
-        &cam,
-        &Settings {
-            width: 64,
-            height: 64,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let f = render(&scene, &cam, &Settings::new(64, 64)).unwrap();
     assert!(f.stats.texture_samples > 0 && f.stats.texture_samples == f.stats.pixels_shaded);
     let centre = f.color[32 * 64 + 32];
     assert!(centre.x > 0.2, "{centre}");
@@ -687,11 +586,7 @@ fn time_frames(scene: &Scene, s: &Settings, frames: usize) -> (f64, f64) {
 #[test]
 #[ignore = "timing; run in release"]
 fn timing_1080p_two_threads() {
-    let s = Settings {
-        width: 1920,
-        height: 1080,
-        ..Default::default()
-    };
+    let s = Settings::new(1920, 1080);
     let only = std::env::var("TEXMAP_TIMING").unwrap_or_default();
     let threads = std::env::var("TEXMAP_THREADS").unwrap_or_else(|_| "2".into());
     let want = |name: &str| only.is_empty() || only.contains(name);
@@ -703,10 +598,10 @@ fn timing_1080p_two_threads() {
     };
     println!("plane trilinear 1920x1080, {threads} threads: min {min:.1} ms, median {med:.1} ms");
     if want("nearest") {
-        let s = Settings {
-            filter_override: Some(texmap::texture::Filter::NEAREST),
-            ..s
-        };
+        let s = s.with_textures(
+            texmap::render::TextureOverrides::default()
+                .with_filter(texmap::texture::Filter::NEAREST),
+        );
         let (min, med) = time_frames(&plane, &s, 10);
         println!("plane nearest 1920x1080, {threads} threads: min {min:.1} ms, median {med:.1} ms");
     }
@@ -739,17 +634,7 @@ fn timing_1080p_two_threads() {
 fn empty_tiles_show_the_background_premultiplied() {
     let (mut scene, cam) = white_triangle_scene();
     scene.background = Vec4::new(0.2, 0.4, 0.6, 0.5);
-    let f = render(
-        &scene,
-        &cam,
-        &Settings {
-            width: 300,
-            height: 200,
-            msaa: 4,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let f = render(&scene, &cam, &Settings::new(300, 200).with_msaa(4)).unwrap();
     let bg = Vec4::new(0.1, 0.2, 0.3, 0.5);
     assert_eq!(f.color[0], bg);
     assert_eq!(f.color[300 * 200 - 1], bg);
@@ -759,11 +644,7 @@ fn empty_tiles_show_the_background_premultiplied() {
 #[test]
 fn alpha_mask_discards_below_the_cutoff_and_is_opaque_above() {
     let (mut scene, cam) = white_triangle_scene();
-    let s = Settings {
-        width: 32,
-        height: 32,
-        ..Default::default()
-    };
+    let s = Settings::new(32, 32);
     for (alpha, drawn) in [(0.3, false), (0.7, true)] {
         scene.materials[0] = Material {
             alpha_mode: AlphaMode::Mask(0.5),

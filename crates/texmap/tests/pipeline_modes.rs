@@ -29,51 +29,25 @@ const W: u32 = 192;
 const H: u32 = 108;
 
 fn modes() -> Vec<Settings> {
-    let base = Settings {
-        width: W,
-        height: H,
-        ..Default::default()
-    };
+    let base = Settings::new(W, H);
     vec![
         base,
-        Settings {
-            shading: ShadingMode::Gouraud,
-            ..base
-        },
-        Settings {
-            shading: ShadingMode::Flat,
-            ..base
-        },
-        Settings {
-            unlit: true,
-            ..base
-        },
-        Settings {
-            interpolation: Interpolation::Affine,
-            ..base
-        },
-        Settings {
-            interpolation: Interpolation::Subdivide { max_error_px: 1.0 },
-            ..base
-        },
-        Settings {
-            visibility: Visibility::DepthSort,
-            ..base
-        },
-        Settings {
-            cull: CullMode::Front,
-            ..base
-        },
-        Settings { msaa: 4, ..base },
-        Settings { msaa: 16, ..base },
-        Settings { ssaa: 2, ..base },
-        Settings {
-            filter_override: Some(Filter::Gl {
+        base.with_shading(ShadingMode::Gouraud),
+        base.with_shading(ShadingMode::Flat),
+        base.with_unlit(true),
+        base.with_interpolation(Interpolation::Affine),
+        base.with_interpolation(Interpolation::Subdivide { max_error_px: 1.0 }),
+        base.with_visibility(Visibility::DepthSort),
+        base.with_cull(CullMode::Front),
+        base.with_msaa(4),
+        base.with_msaa(16),
+        base.with_ssaa(2),
+        base.with_textures(
+            texmap::render::TextureOverrides::default().with_filter(Filter::Gl {
                 mag: MagFilter::Nearest,
                 min: MinFilter::Nearest,
             }),
-            ..base
-        },
+        ),
     ]
 }
 

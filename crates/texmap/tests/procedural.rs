@@ -35,7 +35,7 @@ fn lit_scene(
         }],
         ambient_light: Vec3::ONE,
         background: Vec4::new(0.02, 0.02, 0.03, 1.0),
-        camera: None,
+        ..Scene::default()
     };
     let camera = Camera {
         eye,
@@ -149,12 +149,7 @@ fn projected(projection: Projection) -> Material {
 }
 
 fn rgb8(scene: &Scene, camera: &Camera, w: u32, h: u32, ssaa: u32) -> Vec<u8> {
-    let settings = Settings {
-        width: w,
-        height: h,
-        ssaa,
-        ..Default::default()
-    };
+    let settings = Settings::new(w, h).with_ssaa(ssaa);
     render(scene, camera, &settings).unwrap().to_srgb8()
 }
 

@@ -42,7 +42,7 @@ fn plane_scene(material: Material, scale: f32) -> (Scene, Camera) {
         }],
         ambient_light: Vec3::ONE,
         background: Vec4::new(0.0, 0.0, 0.0, 1.0),
-        camera: None,
+        ..Scene::default()
     };
     let camera = Camera {
         eye: Vec3::new(0.0, 2.0 * scale, 0.0),
@@ -56,12 +56,7 @@ fn plane_scene(material: Material, scale: f32) -> (Scene, Camera) {
 }
 
 fn frame(scene: &Scene, camera: &Camera, shading: ShadingMode) -> Frame {
-    let settings = Settings {
-        width: SIZE,
-        height: SIZE,
-        shading,
-        ..Default::default()
-    };
+    let settings = Settings::new(SIZE, SIZE).with_shading(shading);
     render(scene, camera, &settings).unwrap()
 }
 

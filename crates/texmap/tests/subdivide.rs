@@ -7,8 +7,8 @@ mod common;
 use glam::{Mat4, Vec3, Vec4};
 use texmap::camera::{Camera, CameraProjection};
 use texmap::pipeline::{
-    self, CullMode, DrawCall, DrawState, FragmentShader, Interpolation, PostVertex, Quad, Target,
-    Viewport, MAX_VARYINGS,
+    self, ClipVertex, CullMode, DrawCall, DrawState, FragmentShader, Interpolation, Quad, Target,
+    MAX_VARYINGS,
 };
 
 /// Adds (1, 0, 0, 0) per covered sample: with premultiplied "over" and alpha 0 this counts.
@@ -42,15 +42,17 @@ fn count_hits(
     samples: u32,
     interpolation: Interpolation,
 ) -> (Vec<f32>, u64) {
-    let vp = Viewport::new(w, h);
     let clip_from_world = cam.clip_from_view(w as f32 / h as f32) * cam.view_from_world();
     // One varying, so subdivided vertices carry something to interpolate.
-    let verts: Vec<PostVertex> = positions
+    let verts: Vec<ClipVertex> = positions
         .iter()
         .map(|p| {
             let mut var = [0.0; MAX_VARYINGS];
             var[0] = p.x;
-            PostVertex::new(clip_from_world * p.extend(1.0), var, &vp)
+            ClipVertex {
+                clip: clip_from_world * p.extend(1.0),
+                varyings: var,
+            }
         })
         .collect();
     let call = DrawCall {

@@ -402,11 +402,7 @@ fn placed_volumes_and_meshes_render_together() {
         1.0,
         0.0,
     );
-    let settings = texmap::render::Settings {
-        width: 96,
-        height: 48,
-        ..Default::default()
-    };
+    let settings = texmap::render::Settings::new(96, 48);
     let empty = texmap::scene::Scene::default();
     let f = render_with_volumes(&empty, &volumes, &cam, &settings).unwrap();
     // Two balls, centred where their placements put them.
@@ -476,11 +472,7 @@ fn example_scene_matches_its_golden_image() {
     assert_eq!(l.volumes[0].volume.dims(), [48, 48, 40]);
     assert_eq!(l.volumes[0].params.lights.len(), 1, "the scene's light");
     let cam = l.scene.camera.expect("the scene's camera");
-    let settings = texmap::render::Settings {
-        width: 320,
-        height: 240,
-        ..Default::default()
-    };
+    let settings = texmap::render::Settings::new(320, 240);
     let f = render_with_volumes(&l.scene, &l.volumes, &cam, &settings).unwrap();
     common::assert_golden("scene_volume", 320, 240, &f.to_srgb8(), 40.0);
 }
@@ -513,11 +505,7 @@ fn slices_stop_at_surfaces_like_rays() {
         ..Default::default()
     });
     let cam = sv.volume.vtk_camera(1.6, 0.0);
-    let settings = texmap::render::Settings {
-        width: 64,
-        height: 64,
-        ..Default::default()
-    };
+    let settings = texmap::render::Settings::new(64, 64);
     let rays = render_with_volumes(&scene, std::slice::from_ref(&sv), &cam, &settings).unwrap();
     sv.method = Method::Slices;
     let slices = render_with_volumes(&scene, std::slice::from_ref(&sv), &cam, &settings).unwrap();

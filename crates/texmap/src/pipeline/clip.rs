@@ -10,18 +10,10 @@
 
 use glam::Vec4;
 
-use super::transform::{outcode, Viewport};
-use super::MAX_VARYINGS;
+use super::transform::{outcode, ClipVertex, Viewport};
 
 /// Most vertices a triangle clipped by six planes can have.
 pub const MAX_POLYGON: usize = 9;
-
-/// A vertex being clipped: position and varyings.
-#[derive(Clone, Copy, Debug)]
-pub struct ClipVertex {
-    pub clip: Vec4,
-    pub varyings: [f32; MAX_VARYINGS],
-}
 
 impl ClipVertex {
     #[inline]
@@ -122,6 +114,7 @@ pub fn clip_polygon(poly: &mut ClipPolygon, planes: u8, vp: &Viewport, n: usize)
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::pipeline::MAX_VARYINGS;
 
     fn v(x: f32, y: f32, z: f32, w: f32) -> ClipVertex {
         ClipVertex {

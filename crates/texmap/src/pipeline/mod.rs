@@ -1,7 +1,8 @@
 //! The rasterization pipeline, stage by stage.
 //!
 //! ```text
-//! transform   clip-space vertex → PostVertex (fixed-point screen position, depth, 1/w, outcodes)
+//! transform   VertexShader → ClipVertex → PostVertex (fixed-point screen position, depth,
+//!             1/w, outcodes): the vertex stage, one viewport for the frame
 //! clip        homogeneous clipping against near, far and a guard band → convex polygon
 //! setup       primitive assembly: culling, orientation, bounding box → Prim;
 //!             per tile: edge functions and attribute planes
@@ -23,13 +24,9 @@
 //! - Determinism: tiles are independent and each is drawn in primitive order, so the image does
 //!   not depend on the thread count.
 //!
-//! The pipeline knows nothing of materials: it interpolates up to [`MAX_VARYINGS`] floats per
-//! vertex and hands 2×2 quads to a [`FragmentShader`].
-
-// `!(x > y)` is deliberate: it is true for NaN, which must be rejected too.
-#![allow(clippy::neg_cmp_op_on_partial_ord)]
-// Hot loops index several parallel arrays with one counter.
-#![allow(clippy::needless_range_loop)]
+//! The pipeline knows nothing of materials: a draw's [`VertexShader`] makes clip-space vertices
+//! with up to [`MAX_VARYINGS`] floats each, the pipeline interpolates them and hands 2×2 quads
+//! to a [`FragmentShader`].
 
 pub mod bin;
 pub mod clip;
@@ -48,7 +45,7 @@ pub use framebuffer::{downsample_box, TileBuffer};
 pub use interpolate::Planes;
 pub use raster::{rasterize_tile, TileStats, BATCH};
 pub use setup::{assemble_triangle, Prim};
-pub use transform::{PostVertex, Viewport};
+pub use transform::{transform_call, ClipVertex, PostVertex, ScreenCall, VertexShader, Viewport};
 
 /// The number of floats a vertex can carry to the fragment shader: the largest draw `render`
 /// makes, a double-sided Gouraud draw (uv, D and S for each side, vertex colour, a projected
@@ -123,10 +120,10 @@ impl Default for DrawState {
     }
 }
 
-/// A draw call: post-transform vertices, an index list (three per triangle) and its state.
-#[derive(Clone, Copy, Debug)]
+/// A draw call: its vertex shader, an index list (three per triangle) and its state.
+#[derive(Clone, Copy)]
 pub struct DrawCall<'a> {
-    pub vertices: &'a [PostVertex],
+    pub vertices: &'a dyn VertexShader,
     pub indices: &'a [u32],
     pub state: DrawState,
 }
@@ -227,8 +224,9 @@ pub struct DrawStats {
     pub texture_samples: u64,
 }
 
-/// Runs the whole pipeline: assembles, clips and sets up every triangle of `calls`, bins them,
-/// rasterizes the tiles in parallel (rayon's current pool) and resolves.
+/// Runs the whole pipeline: shades and projects every call's vertices, assembles, clips and
+/// sets up every triangle, bins them, rasterizes the tiles in parallel (rayon's current pool)
+/// and resolves.
 ///
 /// Returns the resolved colour, `width·height` premultiplied linear pixels, top row first.
 /// Opaque draws are drawn in order, then blended draws in order (sorting them is the caller's
@@ -252,7 +250,10 @@ pub fn draw_into(
     target: &Target,
     color: &mut Vec<Vec4>,
 ) -> DrawStats {
+    // The frame's one viewport: the vertex stage and clipping both project through it.
     let viewport = Viewport::new(target.width, target.height);
+    let screen: Vec<ScreenCall> = calls.iter().map(|c| transform_call(c, &viewport)).collect();
+    let calls = &screen[..];
     let mut stats = DrawStats {
         triangles_submitted: calls.iter().map(|c| (c.indices.len() / 3) as u64).sum(),
         ..Default::default()

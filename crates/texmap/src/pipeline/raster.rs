@@ -24,7 +24,8 @@ use super::framebuffer::{over, stream_fence, stream_fill, TileBuffer};
 use super::interpolate::Planes;
 use super::setup::{Edges, EXTRA_VERTEX};
 use super::transform::PostVertex;
-use super::{DrawCall, FragmentShader, Prim, Quad, Target, MAX_VARYINGS};
+use super::transform::ScreenCall;
+use super::{FragmentShader, Prim, Quad, Target, MAX_VARYINGS};
 
 /// Direct3D's standard sample positions for 1, 2, 4, 8 and 16 samples, in 1/16 pixel from
 /// the pixel centre (x right, y down). Any other count gets the 1-sample pattern.
@@ -67,7 +68,7 @@ pub fn sample_positions(samples: u32) -> &'static [(i8, i8)] {
 
 /// Everything the tile rasterizer reads.
 pub struct RasterContext<'a> {
-    pub calls: &'a [DrawCall<'a>],
+    pub calls: &'a [ScreenCall<'a>],
     pub extra: &'a [PostVertex],
     pub prims: &'a [Prim],
     pub shader: &'a dyn FragmentShader,
@@ -76,7 +77,7 @@ pub struct RasterContext<'a> {
 
 impl<'a> RasterContext<'a> {
     #[inline(always)]
-    fn vertex(&self, call: &DrawCall<'a>, r: u32) -> &'a PostVertex {
+    fn vertex(&self, call: &'a ScreenCall<'a>, r: u32) -> &'a PostVertex {
         if r & EXTRA_VERTEX != 0 {
             &self.extra[(r & !EXTRA_VERTEX) as usize]
         } else {

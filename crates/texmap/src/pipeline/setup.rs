@@ -8,9 +8,10 @@
 //! the others get a bias of −1. Adjacent triangles evaluate a shared edge with opposite
 //! signs, exactly, so each sample belongs to exactly one of them.
 
-use super::clip::{clip_polygon, ClipPolygon, ClipVertex};
+use super::clip::{clip_polygon, ClipPolygon};
 use super::transform::{outcode, view_sides, PostVertex, Viewport};
-use super::{CullMode, DrawCall, Interpolation, SUBPIXEL_BITS};
+use super::transform::{ClipVertex, ScreenCall};
+use super::{CullMode, Interpolation, SUBPIXEL_BITS};
 
 /// Set in [`Prim::v`] when the vertex lives in the pool of vertices made by clipping and
 /// subdivision rather than in the draw call's vertex buffer.
@@ -41,7 +42,7 @@ pub struct Prim {
 /// appending the resulting [`Prim`]s and any new vertices (referenced with
 /// [`EXTRA_VERTEX`] | index into `extra`).
 pub fn assemble_triangle(
-    call: &DrawCall,
+    call: &ScreenCall,
     call_index: u32,
     idx: [u32; 3],
     vp: &Viewport,
@@ -49,7 +50,7 @@ pub fn assemble_triangle(
     prims: &mut Vec<Prim>,
     extra: &mut Vec<PostVertex>,
 ) {
-    let verts = call.vertices;
+    let verts = &call.vertices;
     let (Some(a), Some(b), Some(c)) = (
         verts.get(idx[0] as usize),
         verts.get(idx[1] as usize),
@@ -68,7 +69,7 @@ pub fn assemble_triangle(
     {
         return;
     }
-    let cx = Ctx {
+    let cx = Assembly {
         call,
         call_index,
         vp,
@@ -107,14 +108,15 @@ pub fn assemble_triangle(
     }
 }
 
-struct Ctx<'a> {
-    call: &'a DrawCall<'a>,
+/// What assembling one triangle needs to know of its draw and the frame.
+struct Assembly<'a> {
+    call: &'a ScreenCall<'a>,
     call_index: u32,
     vp: &'a Viewport,
     interpolation: Interpolation,
 }
 
-impl Ctx<'_> {
+impl Assembly<'_> {
     fn emit_or_split(
         &self,
         r: [u32; 3],
@@ -340,8 +342,8 @@ mod tests {
     }
 
     fn assemble(verts: &[PostVertex], cull: CullMode, vp: &Viewport) -> Vec<Prim> {
-        let call = DrawCall {
-            vertices: verts,
+        let call = ScreenCall {
+            vertices: verts.to_vec(),
             indices: &[0, 1, 2],
             state: DrawState {
                 cull,

@@ -1,15 +1,15 @@
-//! Transform: clip-space positions → fixed-point screen positions, depth and 1/w.
-//!
-//! The vertex shader (model → world → view → clip and whatever varyings the material needs)
-//! lives with the caller; this stage applies the perspective divide and the viewport
-//! transform once per vertex and records which clip planes the vertex is outside of.
+//! Transform: the vertex stage. Each draw's [`VertexShader`] makes its clip-space vertices
+//! (model → world → view → clip and whatever varyings the material needs — the caller's
+//! business), and this stage applies the perspective divide and the one viewport transform
+//! of the frame to every vertex, recording which clip planes it is outside of.
 //!
 //! Viewport: `x_s = (x/w·½ + ½)·width`, `y_s = (½ − y/w·½)·height` (row 0 at the top),
 //! `z_s = z/w·½ + ½`; the divide is in `f64` and x, y are rounded to 1/256 pixel.
 
 use glam::{DVec4, Vec4};
+use rayon::prelude::*;
 
-use super::{MAX_VARYINGS, SUBPIXEL_ONE};
+use super::{DrawCall, DrawState, MAX_VARYINGS, SUBPIXEL_ONE};
 
 /// Half-width of the guard band in pixels around the viewport centre. Triangles reaching
 /// beyond it are clipped; inside it they are rasterized unclipped.
@@ -48,6 +48,59 @@ impl Viewport {
             guard_x: GUARD_PX / (width.max(1) as f64 * 0.5),
             guard_y: GUARD_PX / (height.max(1) as f64 * 0.5),
         }
+    }
+}
+
+/// A vertex as a vertex shader leaves it (and as clipping makes new ones): the clip-space
+/// position and the varyings.
+#[derive(Clone, Copy, Debug)]
+pub struct ClipVertex {
+    pub clip: Vec4,
+    pub varyings: [f32; MAX_VARYINGS],
+}
+
+/// The programmable half of the vertex stage: vertex `i` of a draw, for `i` in
+/// `0..vertex_count()`. Called once per vertex, in parallel.
+pub trait VertexShader: Sync {
+    fn vertex_count(&self) -> usize;
+    fn vertex(&self, i: usize) -> ClipVertex;
+}
+
+/// Vertices already in clip space.
+impl VertexShader for Vec<ClipVertex> {
+    fn vertex_count(&self) -> usize {
+        self.len()
+    }
+    #[inline]
+    fn vertex(&self, i: usize) -> ClipVertex {
+        self[i]
+    }
+}
+
+/// A draw call after the vertex stage: its vertices on the screen.
+pub struct ScreenCall<'a> {
+    pub vertices: Vec<PostVertex>,
+    pub indices: &'a [u32],
+    pub state: DrawState,
+}
+
+/// Runs `call`'s vertex shader on every vertex (in parallel, rayon's current pool) and
+/// projects each through `vp`.
+#[must_use]
+pub fn transform_call<'a>(call: &DrawCall<'a>, vp: &Viewport) -> ScreenCall<'a> {
+    let shader = call.vertices;
+    let vertices = (0..shader.vertex_count())
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|i| {
+            let v = shader.vertex(i);
+            PostVertex::new(v.clip, v.varyings, vp)
+        })
+        .collect();
+    ScreenCall {
+        vertices,
+        indices: call.indices,
+        state: call.state,
     }
 }
 

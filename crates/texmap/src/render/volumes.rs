@@ -16,7 +16,7 @@ use glam::{Vec3, Vec4};
 use super::{render, Frame, Settings};
 use crate::camera::Camera;
 use crate::pipeline::{
-    self, DrawCall, DrawState, FragmentShader, Interpolation, PostVertex, Quad, Target, Viewport,
+    self, ClipVertex, DrawCall, DrawState, FragmentShader, Interpolation, Quad, Target,
     MAX_VARYINGS,
 };
 use crate::scene::Scene;
@@ -60,8 +60,8 @@ pub fn surface_distances(
     }
     let clip_from_world =
         camera.clip_from_view(width as f32 / height as f32) * camera.view_from_world();
-    let viewport = Viewport::new(width, height);
-    let vertices: Vec<Vec<PostVertex>> = scene
+    // Varyings: the world position (3 floats), for the eye distance.
+    let vertices: Vec<Vec<ClipVertex>> = scene
         .meshes
         .iter()
         .map(|m| {
@@ -71,7 +71,10 @@ pub fn surface_distances(
                     let w = m.world_from_object.transform_point3(*p);
                     let mut v = [0.0f32; MAX_VARYINGS];
                     v[..3].copy_from_slice(&w.to_array());
-                    PostVertex::new(clip_from_world * w.extend(1.0), v, &viewport)
+                    ClipVertex {
+                        clip: clip_from_world * w.extend(1.0),
+                        varyings: v,
+                    }
                 })
                 .collect()
         })
@@ -284,11 +287,7 @@ mod tests {
             "{covered} covered, {open} open"
         );
         // And the composite shows the surface (lit white) where it is.
-        let s = Settings {
-            width: w,
-            height: h,
-            ..Settings::default()
-        };
+        let s = Settings::new(w, h);
         let f = render_with_meshes(&scene, &vol, &tf, &cam, &s, &p).unwrap();
         let i = depth.iter().position(|d| d.is_finite()).unwrap();
         assert!(f.color[i].w > 0.99, "{}", f.color[i]);

@@ -13,6 +13,7 @@ use crate::camera::{Camera, CameraProjection};
 use crate::shading::AlphaMode;
 use crate::texture::procedural::Solid;
 use crate::texture::{ColorSpace, Filter, Sampler, Texture2D, TextureTransform, Wrap};
+use crate::{Error, Result};
 
 /// The peers' light direction (towards the light, world space), before normalizing.
 pub const PEER_LIGHT: Vec3 = Vec3::new(0.3, 0.8, 0.5);
@@ -49,15 +50,9 @@ pub fn checker_texture() -> Arc<Texture2D> {
     .clone()
 }
 
-fn peer_material(texture: Arc<Texture2D>, sampler: Sampler, uv_scale: f32) -> Material {
+fn peer_material(texture: Arc<Texture2D>, sampler: Sampler) -> Material {
     Material {
-        base_color_texture: Some(TextureSlot {
-            texture,
-            sampler,
-            transform: TextureTransform::default(),
-            uv_scale,
-            tex_coord: 0,
-        }),
+        base_color_texture: Some(TextureSlot::new(texture, sampler)),
         ambient: 0.2,
         diffuse: 0.8,
         specular: 0.0,
@@ -100,7 +95,9 @@ fn ground(half: f32, material: usize) -> Mesh {
 }
 
 /// The peers' ground plane (grazing-angle test): two triangles at y = 0, x, z ∈ [−100, 100],
-/// `u = (x+100)/200·S`, `v = (z+100)/200·S` with `S = uv_scale` (the peers' default is 64);
+/// `u = (x+100)/200·S`, `v = (z+100)/200·S` with `S = uv_scale` (the peers' default is 64,
+/// held as the scene's [`Scene::uv_scale`], so `--uv-scale` sets the repeat count as in
+/// `gl_render.py`);
 /// camera at (0, 1, 0) looking at (0, 0, −50), fov 60°, near 0.05, far 1000.
 ///
 /// `texture` defaults to the peers' checker ([`checker_texture`]).
@@ -109,7 +106,8 @@ pub fn plane(texture: Option<Arc<Texture2D>>, uv_scale: f32, sampler: Sampler) -
     let texture = texture.unwrap_or_else(checker_texture);
     let mut scene = Scene {
         meshes: vec![ground(100.0, 0)],
-        materials: vec![peer_material(texture, sampler, uv_scale)],
+        materials: vec![peer_material(texture, sampler)],
+        uv_scale,
         camera: Some(Camera {
             eye: Vec3::new(0.0, 1.0, 0.0),
             target: Vec3::new(0.0, 0.0, -50.0),
@@ -206,7 +204,7 @@ pub fn sphere(triangles: usize, texture: Option<Arc<Texture2D>>, sampler: Sample
     let texture = texture.unwrap_or_else(checker_texture);
     let mut scene = Scene {
         meshes: vec![uv_sphere(slices, rings, 0)],
-        materials: vec![peer_material(texture, sampler, 1.0)],
+        materials: vec![peer_material(texture, sampler)],
         ..Default::default()
     };
     peer_lighting(&mut scene);
@@ -375,6 +373,7 @@ pub fn demo() -> Scene {
             near: 0.05,
             far: 1000.0,
         }),
+        uv_scale: 1.0,
     }
 }
 
@@ -444,6 +443,95 @@ pub fn marble() -> Scene {
             near: 0.05,
             far: 1000.0,
         }),
+        uv_scale: 1.0,
+    }
+}
+
+/// The built-in scenes, by the names the command line gives them (`builtin:demo`, …).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Builtin {
+    /// [`demo`].
+    Demo,
+    /// [`plane`] with the checker, 64 repeats, trilinear.
+    Plane,
+    /// [`sphere`] with the checker (199,200 triangles unless told), trilinear.
+    Sphere,
+    /// [`marble`].
+    Marble,
+}
+
+impl Builtin {
+    pub const ALL: [Builtin; 4] = [
+        Builtin::Demo,
+        Builtin::Plane,
+        Builtin::Sphere,
+        Builtin::Marble,
+    ];
+
+    /// `builtin:demo`, `builtin:plane`, `builtin:sphere` or `builtin:marble`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Builtin::Demo => "builtin:demo",
+            Builtin::Plane => "builtin:plane",
+            Builtin::Sphere => "builtin:sphere",
+            Builtin::Marble => "builtin:marble",
+        }
+    }
+
+    /// The scene called `name`, or an error listing the names for any other `builtin:…`;
+    /// `None` when `name` does not start with `builtin:` (a file, then).
+    ///
+    /// # Errors
+    /// [`Error::Parameter`] for an unknown built-in name.
+    pub fn parse(name: &str) -> Result<Option<Builtin>> {
+        if !name.starts_with("builtin:") {
+            return Ok(None);
+        }
+        Builtin::ALL
+            .into_iter()
+            .find(|b| b.name() == name)
+            .map(Some)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Builtin::ALL.iter().map(|b| b.name()).collect();
+                Error::parameter(format!(
+                    "{name}: unknown built-in scene ({})",
+                    names.join(", ")
+                ))
+            })
+    }
+
+    /// True for the scene made with a triangle count ([`Builtin::Sphere`]).
+    #[must_use]
+    pub fn takes_triangles(self) -> bool {
+        self == Builtin::Sphere
+    }
+
+    /// The scene; `triangles` (8..=50,000,000) sets the sphere's count.
+    ///
+    /// # Errors
+    /// [`Error::Parameter`] for a triangle count out of range, or given to a scene that takes
+    /// none.
+    pub fn build(self, triangles: Option<usize>) -> Result<Scene> {
+        if let Some(n) = triangles {
+            if !self.takes_triangles() {
+                return Err(Error::parameter(format!(
+                    "a triangle count applies to builtin:sphere, not {}",
+                    self.name()
+                )));
+            }
+            if !(8..=50_000_000).contains(&n) {
+                return Err(Error::parameter(format!(
+                    "triangle count {n} is outside 8..=50000000"
+                )));
+            }
+        }
+        Ok(match self {
+            Builtin::Demo => demo(),
+            Builtin::Plane => plane(None, 64.0, Sampler::default()),
+            Builtin::Sphere => sphere(triangles.unwrap_or(199_200), None, Sampler::default()),
+            Builtin::Marble => marble(),
+        })
     }
 }
 

@@ -30,6 +30,8 @@ pub(crate) fn test_file(kind: &str, name: &str, body: impl AsRef<[u8]>) -> std::
 
 pub use load::{load, AssetInfo, LoadOptions, Loaded, TextureInfo};
 
+use std::sync::Arc;
+
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::camera::{Camera, CameraProjection};
@@ -37,6 +39,7 @@ pub use crate::shading::{
     AlphaMode, Light, Material, Procedural, ShadingModel, SolidChannel, SolidMap, TextureSlot,
     Viewer,
 };
+use crate::texture::{Sampler, Texture2D};
 
 /// An indexed triangle mesh. Optional attributes are empty or have one entry per position.
 #[derive(Clone, Debug, Default)]
@@ -83,7 +86,7 @@ impl Mesh {
 }
 
 /// Everything a frame shows.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Scene {
     pub meshes: Vec<Mesh>,
     pub materials: Vec<Material>,
@@ -94,6 +97,26 @@ pub struct Scene {
     pub background: Vec4,
     /// The scene's own camera, if it has one.
     pub camera: Option<Camera>,
+    /// Multiplies every texture's coordinates (after each slot's own transform and scale):
+    /// 1 for every loaded scene; the peers' plane uses it for its repeat count (64 by
+    /// default), and the command line's `--uv-scale` sets it.
+    pub uv_scale: f32,
+}
+
+impl Default for Scene {
+    /// Nothing to draw: no meshes, lights or camera, no ambient light, a transparent black
+    /// background, texture coordinates as they are.
+    fn default() -> Self {
+        Scene {
+            meshes: Vec::new(),
+            materials: Vec::new(),
+            lights: Vec::new(),
+            ambient_light: Vec3::ZERO,
+            background: Vec4::ZERO,
+            camera: None,
+            uv_scale: 1.0,
+        }
+    }
 }
 
 impl Scene {
@@ -111,6 +134,49 @@ impl Scene {
         } else {
             (lo, hi)
         }
+    }
+
+    /// True when some mesh's material reads an image texture: a base-colour texture, any
+    /// map, a projected image or a 3D texture (what sampler settings act on).
+    #[must_use]
+    pub fn reads_image_textures(&self) -> bool {
+        self.meshes.iter().any(|m| {
+            self.materials.get(m.material).is_some_and(|mat| {
+                mat.base_color_texture.is_some()
+                    || !mat.maps.is_empty()
+                    || matches!(
+                        mat.procedural,
+                        Some(Procedural::Projected { .. } | Procedural::Texture3D { .. })
+                    )
+            })
+        })
+    }
+
+    /// Makes `texture` the base-colour image of every material without a procedural colour
+    /// (replacing the image of those that have one, keeping their sampler and transform;
+    /// the others get a default slot). Returns how many materials drawn by a mesh take it.
+    pub fn set_base_color_texture(&mut self, texture: Arc<Texture2D>) -> usize {
+        for m in &mut self.materials {
+            if m.procedural.is_some() {
+                continue;
+            }
+            match &mut m.base_color_texture {
+                Some(slot) => slot.texture = texture.clone(),
+                None => {
+                    m.base_color_texture =
+                        Some(TextureSlot::new(texture.clone(), Sampler::default()))
+                }
+            }
+        }
+        let used: std::collections::BTreeSet<usize> =
+            self.meshes.iter().map(|m| m.material).collect();
+        used.into_iter()
+            .filter(|&i| {
+                self.materials
+                    .get(i)
+                    .is_some_and(|m| m.procedural.is_none())
+            })
+            .count()
     }
 
     /// Total number of triangles.

@@ -24,10 +24,8 @@
 //! shading can compute them per vertex or per face and the texture is still applied per pixel.
 //! Occlusion `O` scales the ambient term: `K_A·O·C·I_AL`.
 
-// `!(x > y)` is deliberate: it is true for NaN, which must be rejected too.
-#![allow(clippy::neg_cmp_op_on_partial_ord)]
-
 pub mod bump;
+pub mod lanes;
 pub mod pbr;
 mod viewer;
 

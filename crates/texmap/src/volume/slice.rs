@@ -22,7 +22,7 @@ use super::Volume;
 use crate::camera::Camera;
 use crate::frame::{Frame, FrameStats};
 use crate::pipeline::{
-    self, DrawCall, DrawState, FragmentShader, Interpolation, PostVertex, Quad, Target, Viewport,
+    self, ClipVertex, DrawCall, DrawState, FragmentShader, Interpolation, Quad, Target,
     MAX_VARYINGS,
 };
 use crate::shading::Viewer;
@@ -221,8 +221,7 @@ pub fn render_slices_until(
     let aspect = width as f32 / height as f32;
     let clip_from_world: Mat4 = camera.clip_from_view(aspect) * camera.view_from_world();
     let voxel_from_world = vol.world_from_voxel().inverse();
-    let viewport = Viewport::new(width, height);
-    let mut vertices: Vec<PostVertex> = Vec::new();
+    let mut vertices: Vec<ClipVertex> = Vec::new();
     let mut indices: Vec<u32> = Vec::new();
     for k in (0..count).rev() {
         let d = d_min + (k as f32 + 0.5) * params.step;
@@ -236,11 +235,10 @@ pub fn render_slices_until(
             let mut v = [0.0f32; MAX_VARYINGS];
             v[..3].copy_from_slice(&q.to_array());
             v[3..6].copy_from_slice(&p.to_array());
-            vertices.push(PostVertex::new(
-                clip_from_world * p.extend(1.0),
-                v,
-                &viewport,
-            ));
+            vertices.push(ClipVertex {
+                clip: clip_from_world * p.extend(1.0),
+                varyings: v,
+            });
         }
         for i in 1..poly.len() as u32 - 1 {
             indices.extend([base, base + i, base + i + 1]);

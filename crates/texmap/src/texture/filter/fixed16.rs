@@ -96,6 +96,7 @@ mod sse2 {
     use crate::texture::storage::LevelRef;
     use crate::texture::{Sampler, Texture2D, Wrap};
 
+    #[inline(always)]
     pub(super) fn linear_quad(
         tex: &Texture2D,
         s: &Sampler,

@@ -1,0 +1,265 @@
+//! The scene's fragment shader: a quad's colour from its draw's [`DrawInfo`].
+//!
+//! Two paths, chosen per draw:
+//! - **plain** (an opaque Phong draw with at most a base-colour texture, no maps, vertex
+//!   colour or procedural colour, its lights directional when lit per pixel): the four pixels
+//!   are lit in lanes ([`phong_quad`]) and coloured with no per-pixel branch; a batch's
+//!   lighting comes first, then every texture read (staged across the quads), then the
+//!   colours;
+//! - **general**: the batch's texture reads map by map ([`read_batch`]), then each pixel's
+//!   colour, its [`Surface`] built from the maps and lit by [`illuminate`] — or, for a map-free
+//!   Phong draw under directional lights, lit in lanes too.
+//!
+//! Both end in [`combine`] (alpha mode, premultiplied output) or its opaque special case.
+
+use glam::{Vec3, Vec4};
+
+use super::draw::{DrawInfo, LightingPath};
+use super::maps::{read_batch, QuadReads};
+use super::varyings::Factors;
+use crate::pipeline::{FragmentShader, Quad, BATCH};
+use crate::shading::lanes::{phong_quad, QuadFactors};
+use crate::shading::{combine, illuminate, phong, Lighting, ShadingModel, Surface, Viewer};
+
+pub(super) struct SceneShader<'a> {
+    pub draws: &'a [DrawInfo<'a>],
+    pub lighting: Lighting<'a>,
+    pub viewer: Viewer,
+    /// Every light is directional (every loader's default light): map-free Phong pixels are
+    /// then lit a quad at a time ([`phong_quad`]).
+    pub directional_only: bool,
+}
+
+impl FragmentShader for SceneShader<'_> {
+    fn shade_batch(&self, draw: u32, quads: &[Quad], out: &mut [[Vec4; 4]], kept: &mut [u8]) {
+        let d = &self.draws[draw as usize];
+        match d.texture.as_ref().filter(|_| self.is_plain(d)) {
+            // Plain textured quads: the lighting of every quad, then every texture read
+            // (staged across quads), then the colours.
+            Some(t) => {
+                for ((quads, out), kept) in quads
+                    .chunks(BATCH)
+                    .zip(out.chunks_mut(BATCH))
+                    .zip(kept.chunks_mut(BATCH))
+                {
+                    let mut factors = [QuadFactors::ZERO; BATCH];
+                    for (f, quad) in factors.iter_mut().zip(quads) {
+                        *f = self.plain_factors(d, quad);
+                    }
+                    t.quads(quads, out);
+                    for (((quad, o), k), f) in quads
+                        .iter()
+                        .zip(out.iter_mut())
+                        .zip(kept.iter_mut())
+                        .zip(&factors)
+                    {
+                        let texels = *o;
+                        plain_colors(d, f, Some(&texels), o);
+                        *k = quad.mask;
+                    }
+                }
+            }
+            None if self.is_plain(d) => {
+                for ((quad, o), k) in quads.iter().zip(out.iter_mut()).zip(kept.iter_mut()) {
+                    *k = self.shade(draw, quad, o);
+                }
+            }
+            // Every texture read of the batch first, map by map, then each quad's colours.
+            None => {
+                let mut reads = [QuadReads::default(); BATCH];
+                for ((quads, out), kept) in quads
+                    .chunks(BATCH)
+                    .zip(out.chunks_mut(BATCH))
+                    .zip(kept.chunks_mut(BATCH))
+                {
+                    read_batch(d, quads, &mut reads[..quads.len()]);
+                    for (((quad, o), k), r) in quads
+                        .iter()
+                        .zip(out.iter_mut())
+                        .zip(kept.iter_mut())
+                        .zip(&reads)
+                    {
+                        *k = self.shade_read(d, quad, r, o);
+                    }
+                }
+            }
+        }
+    }
+
+    fn shade(&self, draw: u32, quad: &Quad, out: &mut [Vec4; 4]) -> u8 {
+        let d = &self.draws[draw as usize];
+        if self.is_plain(d) {
+            let texels = d.texture.as_ref().map(|t| t.quad(quad));
+            plain_colors(d, &self.plain_factors(d, quad), texels.as_ref(), out);
+            return quad.mask;
+        }
+        let mut reads = [QuadReads::default()];
+        read_batch(d, std::slice::from_ref(quad), &mut reads);
+        self.shade_read(d, quad, &reads[0], out)
+    }
+}
+
+impl SceneShader<'_> {
+    /// Whether draw `d` takes the plain path.
+    #[inline]
+    fn is_plain(&self, d: &DrawInfo) -> bool {
+        d.plain && (d.path != LightingPath::PerPixel || self.directional_only)
+    }
+
+    /// The draw's own surface lit at the quad's four pixels in lanes (map-free Phong under
+    /// directional lights); double-sided back faces are lit from their side.
+    #[inline(always)]
+    fn phong_lanes(&self, d: &DrawInfo, quad: &Quad) -> QuadFactors {
+        let Some(normal) = d.layout.normal else {
+            return QuadFactors::UNLIT;
+        };
+        let mut n = normal.lanes(quad);
+        if d.material.double_sided && !quad.front_facing {
+            n = n.map(|l| -l);
+        }
+        let position = d.layout.position.map(|p| p.lanes(quad));
+        phong_quad(&d.surface, n, position, &self.lighting, self.viewer)
+    }
+
+    /// The factors D and S of a plain draw's quad, one vector per pixel (fourth lanes 0).
+    #[inline(always)]
+    fn plain_factors(&self, d: &DrawInfo, quad: &Quad) -> QuadFactors {
+        match d.path {
+            LightingPath::Unlit => QuadFactors::UNLIT,
+            LightingPath::PerPixel => self.phong_lanes(d, quad),
+            LightingPath::Interpolated => match interpolated_factors(d, quad) {
+                Some(f) => QuadFactors::from_lanes(f.d.lanes(quad), f.s.lanes(quad)),
+                None => QuadFactors::UNLIT,
+            },
+        }
+    }
+
+    /// The general path's colours of one quad of draw `d`, its texture reads made.
+    fn shade_read(&self, d: &DrawInfo, quad: &Quad, reads: &QuadReads, out: &mut [Vec4; 4]) -> u8 {
+        let m = d.material;
+        let mut kept = quad.mask;
+        let QuadReads {
+            texels,
+            opacity,
+            maps,
+        } = reads;
+        let back = m.double_sided && !quad.front_facing;
+        // Map-free Phong under directional lights: the quad's four pixels lit in lanes.
+        let lit = (d.path == LightingPath::PerPixel
+            && maps.is_none()
+            && d.model == ShadingModel::Phong
+            && self.directional_only)
+            .then(|| self.phong_lanes(d, quad));
+        let factors = interpolated_factors(d, quad);
+        for j in 0..4 {
+            if quad.mask & (1 << j) == 0 {
+                continue;
+            }
+            let mut c = d.base;
+            if let Some(t) = &texels {
+                c *= t[j];
+            }
+            if let Some(t) = &opacity {
+                // Premultiplied: scaling alpha scales the whole colour.
+                c *= if d.alpha_from_w { t[j].w } else { t[j].x };
+            }
+            if let Some(slot) = d.layout.color {
+                let vc = Vec4::from_array(slot.pixel(quad, j));
+                c *= (vc.truncate() * vc.w).extend(vc.w);
+            }
+            if let Some(proc) = &m.procedural {
+                c *= d.procedural_color(proc, quad, j);
+            }
+            let (df, sp) = match d.path {
+                LightingPath::Unlit => (Vec3::ONE, Vec3::ZERO),
+                LightingPath::PerPixel => match (&lit, maps) {
+                    (Some(q), _) => (q.d[j].truncate(), q.s[j].truncate()),
+                    (None, maps) => {
+                        let mut normal = d
+                            .layout
+                            .normal
+                            .map_or(Vec3::ZERO, |s| s.pixel3(quad, j).normalize_or_zero());
+                        let position = d.layout.position.map_or(Vec3::ZERO, |s| s.pixel3(quad, j));
+                        // Double-sided back faces are lit from their side, after any tilt.
+                        match maps {
+                            // A Phong material without maps (the model is known): only the
+                            // normal and position vary, and this surface stays in registers.
+                            None => {
+                                if back {
+                                    normal = -normal;
+                                }
+                                let s = Surface {
+                                    position,
+                                    normal,
+                                    ..d.surface
+                                };
+                                phong(&s, &self.lighting, self.viewer)
+                            }
+                            Some(maps) => {
+                                let mut s = Surface {
+                                    position,
+                                    normal,
+                                    ..d.surface
+                                };
+                                d.apply_maps(maps, quad, j, c, &mut s);
+                                if back {
+                                    s.normal = -s.normal;
+                                }
+                                illuminate(d.model, &s, &self.lighting, self.viewer)
+                            }
+                        }
+                    }
+                },
+                LightingPath::Interpolated => {
+                    let Some(f) = factors else {
+                        continue;
+                    };
+                    let mut df = f.d.pixel3(quad, j);
+                    let mut sp = f.s.pixel3(quad, j);
+                    let maps = maps.as_ref();
+                    if let (Some(texel), Some(map)) =
+                        (maps.and_then(|m| m.occlusion.as_ref()), &d.occlusion_map)
+                    {
+                        // The factors carry the full ambient term; take (1 − O) of it away.
+                        let o = 1.0 + map.scale * (texel[j].x - 1.0);
+                        df -= d.ambient_d * (1.0 - o);
+                    }
+                    if let Some(texel) = maps.and_then(|m| m.emission.as_ref()) {
+                        // The factors carry I_E; the map scales it: I_E·texel = I_E + I_E·(texel − 1).
+                        sp += m.emissive * (texel[j].truncate() - Vec3::ONE);
+                    }
+                    (df, sp)
+                }
+            };
+            match combine(m.alpha_mode, c, df, sp) {
+                Some(color) => out[j] = color,
+                None => kept &= !(1 << j),
+            }
+        }
+        kept
+    }
+}
+
+/// The factors a Gouraud or flat quad reads: those lit with −N on the back faces of
+/// double-sided draws, else the front ones.
+#[inline]
+fn interpolated_factors(d: &DrawInfo, quad: &Quad) -> Option<Factors> {
+    let back = d.layout.back_factors.filter(|_| !quad.front_facing);
+    back.or(d.layout.factors)
+}
+
+/// A plain draw's colours from the factors and texels: `combine` for an opaque colour,
+/// straight = c / a (unless a is 0 or 1), then straight·D + S with alpha 1 (the factors'
+/// fourth lanes are 0).
+#[inline(always)]
+fn plain_colors(d: &DrawInfo, f: &QuadFactors, texels: Option<&[Vec4; 4]>, out: &mut [Vec4; 4]) {
+    for j in 0..4 {
+        let mut c = d.base;
+        if let Some(t) = texels {
+            c *= t[j];
+        }
+        let a = c.w;
+        let straight = if a > 0.0 && a != 1.0 { c / a } else { c };
+        out[j] = straight * f.d[j] + f.s[j] + Vec4::W;
+    }
+}

@@ -1,0 +1,183 @@
+//! Texture reads of the fragment stage: a [`MapRead`] is one texture of a draw resolved once
+//! (image, sampler with the overrides, uv transform as one affine map, uv set), read a quad
+//! at a time; [`read_batch`] makes a batch's reads map by map, so each map's reads are staged
+//! across the quads ([`sample_quads_lanes`]) and their dependent chains overlap.
+
+use glam::{Mat2, Vec2, Vec4};
+
+use super::draw::DrawInfo;
+use super::varyings::Slot;
+use crate::pipeline::{Quad, BATCH};
+use crate::shading::TextureSlot;
+use crate::texture::{sample_quad_lanes, sample_quads_lanes, QuadCoords, Sampler, Texture2D};
+
+/// A texture the fragment stage reads: image, sampler (command-line overrides applied), the
+/// slot's uv transform and scales folded into one affine map (computed once per draw, not per
+/// quad), its uv set, and the map's scale (normal scale, occlusion strength).
+#[derive(Clone, Copy)]
+pub(super) struct MapRead<'a> {
+    pub tex: &'a Texture2D,
+    pub sampler: Sampler,
+    /// `uv' = linear·uv + offset` = `transform.apply(uv) · uv_scale · scene scale`.
+    pub linear: Mat2,
+    pub offset: Vec2,
+    /// The raw uv set read.
+    pub uv: Slot<2>,
+    pub scale: f32,
+}
+
+impl<'a> MapRead<'a> {
+    /// `slot` read through `sampler` from uv set `uv`, its coordinates also multiplied by
+    /// `uv_scale`; `scale` is the map's own (normal scale, strength, bump height).
+    pub fn new(
+        slot: &'a TextureSlot,
+        sampler: Sampler,
+        uv: Slot<2>,
+        uv_scale: f32,
+        scale: f32,
+    ) -> Self {
+        let s = slot.uv_scale * uv_scale;
+        MapRead {
+            tex: &slot.texture,
+            sampler,
+            linear: slot.transform.matrix() * s,
+            offset: slot.transform.offset * s,
+            uv,
+            scale,
+        }
+    }
+
+    /// The quad's four reads. The transform is affine, so applying it per pixel to the raw,
+    /// interpolated uv (and its linear part to the derivatives) equals applying it per vertex.
+    pub fn quad(&self, quad: &Quad) -> [Vec4; 4] {
+        let c = self.coords(quad);
+        sample_quad_lanes(
+            self.tex,
+            &self.sampler,
+            (c.u, c.v),
+            c.duv_dx,
+            c.duv_dy,
+            quad.mask,
+        )
+    }
+
+    /// [`MapRead::quad`] for several quads (`out[i]` for `quads[i]`), the reads staged by
+    /// [`sample_quads_lanes`].
+    pub fn quads(&self, quads: &[Quad], out: &mut [[Vec4; 4]]) {
+        for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
+            let mut coords = [QuadCoords::default(); BATCH];
+            let mut masks = [0u8; BATCH];
+            for ((c, m), q) in coords.iter_mut().zip(masks.iter_mut()).zip(quads) {
+                *c = self.coords(q);
+                *m = q.mask;
+            }
+            let n = quads.len();
+            sample_quads_lanes(self.tex, &self.sampler, &coords[..n], &masks[..n], out);
+        }
+    }
+
+    /// The quad's transformed uvs (one lane per pixel) and their screen derivatives.
+    #[inline]
+    fn coords(&self, quad: &Quad) -> QuadCoords {
+        let (m, offset) = (self.linear, self.offset);
+        let [u, v] = self.uv.lanes(quad);
+        let (dx, dy) = (self.uv.ddx(quad), self.uv.ddy(quad));
+        QuadCoords {
+            u: u * m.x_axis.x + v * m.y_axis.x + offset.x,
+            v: u * m.x_axis.y + v * m.y_axis.y + offset.y,
+            duv_dx: m * Vec2::from_array(dx),
+            duv_dy: m * Vec2::from_array(dy),
+        }
+    }
+
+    /// A height map's screen derivatives `(∂h/∂x, ∂h/∂y)` per pixel, times `scale`: the red
+    /// channel read at uv, one pixel footprint further along x (uv + ∂uv/∂x) and along y,
+    /// each with the pixel's own footprint (three quad reads).
+    pub fn height_slopes(&self, quad: &Quad) -> [Vec2; 4] {
+        let c = self.coords(quad);
+        let (dx, dy) = (c.duv_dx, c.duv_dy);
+        let read = |u: Vec4, v: Vec4| {
+            sample_quad_lanes(self.tex, &self.sampler, (u, v), dx, dy, quad.mask)
+        };
+        let h = read(c.u, c.v);
+        let hx = read(c.u + dx.x, c.v + dx.y);
+        let hy = read(c.u + dy.x, c.v + dy.y);
+        std::array::from_fn(|j| Vec2::new(hx[j].x - h[j].x, hy[j].x - h[j].x) * self.scale)
+    }
+}
+
+/// A quad's texture reads on the general path: the base colour texture, the opacity map, and
+/// (for draws with any) the maps that feed the [`crate::shading::Surface`].
+#[derive(Clone, Copy, Default)]
+pub(super) struct QuadReads {
+    pub texels: Option<[Vec4; 4]>,
+    pub opacity: Option<[Vec4; 4]>,
+    pub maps: Option<QuadMaps>,
+}
+
+/// A quad's reads of the maps that feed the [`crate::shading::Surface`] (each `None` when the
+/// draw has none).
+#[derive(Clone, Copy, Default)]
+pub(super) struct QuadMaps {
+    pub normals: Option<[Vec4; 4]>,
+    pub occlusion: Option<[Vec4; 4]>,
+    pub emission: Option<[Vec4; 4]>,
+    pub metal_rough: Option<[Vec4; 4]>,
+    /// Height slopes `(∂h/∂x, ∂h/∂y)`.
+    pub bumps: Option<[Vec2; 4]>,
+    pub ambient: Option<[Vec4; 4]>,
+    pub specular: Option<[Vec4; 4]>,
+    pub shininess: Option<[Vec4; 4]>,
+}
+
+/// The texture reads of `quads` (of draw `d`) into `out`, map by map across the quads, so each
+/// map's reads are staged ([`MapRead::quads`]).
+pub(super) fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
+    for (o, quad) in out.iter_mut().zip(quads) {
+        // Read only for draws with such maps: a plain draw pays one test per quad.
+        *o = QuadReads {
+            maps: d.surface_maps.then(|| QuadMaps {
+                bumps: d.bump_map.as_ref().map(|t| t.height_slopes(quad)),
+                ..QuadMaps::default()
+            }),
+            ..QuadReads::default()
+        };
+    }
+    let mut buf = [[Vec4::ZERO; 4]; BATCH];
+    let mut fill = |t: &MapRead, set: &dyn Fn(&mut QuadReads, [Vec4; 4])| {
+        for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
+            t.quads(quads, &mut buf[..quads.len()]);
+            for (o, b) in out.iter_mut().zip(&buf) {
+                set(o, *b);
+            }
+        }
+    };
+    if let Some(t) = &d.texture {
+        fill(t, &|r, v| r.texels = Some(v));
+    }
+    if let Some(t) = &d.alpha_map {
+        fill(t, &|r, v| r.opacity = Some(v));
+    }
+    if !d.surface_maps {
+        return;
+    }
+    type Field = fn(&mut QuadMaps) -> &mut Option<[Vec4; 4]>;
+    let maps: [(Option<&MapRead>, Field); 7] = [
+        (d.normal_map.as_ref(), |m| &mut m.normals),
+        (d.occlusion_map.as_ref(), |m| &mut m.occlusion),
+        (d.emissive_map.as_ref(), |m| &mut m.emission),
+        (d.metal_rough_map.as_ref(), |m| &mut m.metal_rough),
+        (d.ambient_map.as_ref(), |m| &mut m.ambient),
+        (d.specular_map.as_ref(), |m| &mut m.specular),
+        (d.shininess_map.as_ref(), |m| &mut m.shininess),
+    ];
+    for (map, field) in maps {
+        if let Some(t) = map {
+            fill(t, &|r, v| {
+                if let Some(m) = r.maps.as_mut() {
+                    *field(m) = Some(v);
+                }
+            });
+        }
+    }
+}

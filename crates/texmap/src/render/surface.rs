@@ -1,0 +1,118 @@
+//! A pixel's [`Surface`] from its draw's maps: the normal map and bumps tilt the normal,
+//! occlusion, emission, metallic-roughness, the OBJ colour maps and solid textures set the
+//! parameters the illumination models read.
+
+use glam::{DVec3, Vec3, Vec4};
+
+use super::draw::DrawInfo;
+use super::maps::QuadMaps;
+use crate::pipeline::Quad;
+use crate::shading::{bump, shininess_from_roughness, ShadingModel, Surface};
+
+impl DrawInfo<'_> {
+    /// Pixel `j`'s surface parameters from its maps: the normal map and bumps tilt the normal
+    /// (world space, before any back-face flip), occlusion, emission, metallic-roughness and
+    /// solid textures set the parameters, and metallic-roughness materials take the colour `c`.
+    pub(super) fn apply_maps(
+        &self,
+        maps: &QuadMaps,
+        quad: &Quad,
+        j: usize,
+        c: Vec4,
+        s: &mut Surface,
+    ) {
+        let n = &mut s.normal;
+        if let (Some(slot), Some(texel), Some(map)) =
+            (self.layout.tangent, &maps.normals, &self.normal_map)
+        {
+            // Tangent space → world: T, B = (N × T)·w, N; the map's x and y scaled.
+            let [tx, ty, tz, w] = slot.pixel(quad, j);
+            let t = Vec3::new(tx, ty, tz);
+            let t = (t - *n * n.dot(t)).normalize_or_zero();
+            let b = n.cross(t) * w.signum();
+            let ts = texel[j].truncate() * 2.0 - Vec3::ONE;
+            let ts = Vec3::new(ts.x * map.scale, ts.y * map.scale, ts.z);
+            let mapped = (t * ts.x + b * ts.y + *n * ts.z).normalize_or_zero();
+            if mapped != Vec3::ZERO && t != Vec3::ZERO {
+                *n = mapped;
+            }
+        }
+        if let (Some(slopes), Some(p)) = (&maps.bumps, self.layout.position) {
+            *n = bump::tilt_screen_space(*n, p.ddx3(quad), p.ddy3(quad), slopes[j]);
+        }
+        if self.solid_roughness.is_some() || self.solid_bump.is_some() {
+            self.solid_channels(quad, j, s);
+        }
+        if let (Some(texel), Some(map)) = (&maps.occlusion, &self.occlusion_map) {
+            // 1 + strength·(R − 1).
+            s.occlusion = 1.0 + map.scale * (texel[j].x - 1.0);
+        }
+        if let Some(texel) = &maps.emission {
+            s.emissive *= texel[j].truncate();
+        }
+        if let Some(texel) = &maps.metal_rough {
+            s.roughness *= texel[j].y;
+            s.metallic *= texel[j].z;
+        }
+        if let Some(texel) = &maps.ambient {
+            s.ambient_color = Some(straight(texel[j]));
+        }
+        if let Some(texel) = &maps.specular {
+            s.specular_color = straight(texel[j]);
+        }
+        if let Some(texel) = &maps.shininess {
+            // MTL: the map's value multiplies Ns (at least 1, so the lobe stays finite).
+            s.shininess = (s.shininess * texel[j].x).max(1.0);
+        }
+        if self.model == ShadingModel::MetallicRoughness {
+            s.base_color = straight(c);
+        }
+    }
+
+    /// Solid textures on the roughness and bump channels at pixel `j`: the roughness (or, for
+    /// Phong materials, the exponent it stands for) and the bump's tilt of the normal, into `s`.
+    fn solid_channels(&self, quad: &Quad, j: usize, s: &mut Surface) {
+        if let Some(r) = &self.solid_roughness {
+            let (p, extent) = self.object_point(quad, j, r.map.antialias);
+            let value = r.map.solid.value(p, extent) as f32;
+            let roughness = r.range[0] + (r.range[1] - r.range[0]) * value;
+            match self.model {
+                ShadingModel::MetallicRoughness => s.roughness = roughness,
+                ShadingModel::Phong => s.shininess = shininess_from_roughness(roughness),
+            }
+        }
+        if let Some(b) = &self.solid_bump {
+            let (p, extent) = self.object_point(quad, j, b.map.antialias);
+            let (_, gradient) = b.map.solid.value_and_gradient(p, extent);
+            let grad = b.world_from_gradient * gradient.as_vec3();
+            s.normal = bump::tilt_by_gradient(s.normal, grad);
+        }
+    }
+
+    /// The object-space position of pixel `j` and, when `antialias`, the footprint extent
+    /// |∂P/∂x| + |∂P/∂y| of the quad (zero otherwise); the origin for draws that do not carry
+    /// the object point.
+    #[inline]
+    pub(super) fn object_point(&self, quad: &Quad, j: usize, antialias: bool) -> (DVec3, DVec3) {
+        let Some(slot) = self.layout.object_position else {
+            return (DVec3::ZERO, DVec3::ZERO);
+        };
+        let p = slot.pixel3(quad, j);
+        let extent = if antialias {
+            (slot.ddx3(quad).abs() + slot.ddy3(quad).abs()).as_dvec3()
+        } else {
+            DVec3::ZERO
+        };
+        (p.as_dvec3(), extent)
+    }
+}
+
+/// The straight-alpha colour of premultiplied `c`.
+#[inline]
+pub(super) fn straight(c: Vec4) -> Vec3 {
+    if c.w > 0.0 && c.w != 1.0 {
+        c.truncate() / c.w
+    } else {
+        c.truncate()
+    }
+}
