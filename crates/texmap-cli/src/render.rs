@@ -16,7 +16,7 @@ use texmap::render::{
 use texmap::scene::builtin::Builtin;
 use texmap::scene::{LoadOptions, Scene};
 use texmap::texture::load::{load_texture, Limits};
-use texmap::texture::{ColorSpace, Filter, LodRule, Wrap};
+use texmap::texture::{ColorSpace, Filter, LodRule, Sampler, Wrap};
 use texmap::volume::SceneVolume;
 use texmap::Error;
 
@@ -346,6 +346,14 @@ fn texture_overrides(args: &RenderArgs) -> TextureOverrides {
     o
 }
 
+/// The distinct filters of `filters`, by name.
+fn describe(filters: &[Filter]) -> String {
+    let mut names: Vec<String> = filters.iter().map(|f| format!("{f:?}")).collect();
+    names.sort();
+    names.dedup();
+    names.join(", ")
+}
+
 /// Refuses every flag that would change nothing in this scene, naming it: texture flags on a
 /// scene that reads no image texture, mesh flags on a scene without meshes, volume flags on a
 /// scene without volumes, load flags on a built-in scene.
@@ -377,7 +385,8 @@ fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error> {
         )?;
     }
     // --texture gives the scene image textures, so sampler flags then act.
-    if !built.scene.reads_image_textures() && args.texture.is_none() {
+    let samplers = built.scene.texture_samplers();
+    if samplers.is_empty() && args.texture.is_none() {
         refuse(
             given(&[
                 ("--filter", args.filter.is_some()),
@@ -392,6 +401,71 @@ fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error> {
             format!("{name} reads no image texture (its colours are procedural or constant)"),
         )?;
     }
+    // The border colour is read only where a texture clamps to its border; a --texture slot
+    // added to a material starts from the default sampler.
+    let overrides = texture_overrides(args);
+    let added = args.texture.as_ref().map(|_| Sampler::default());
+    let border_read = samplers
+        .iter()
+        .copied()
+        .chain(added)
+        .map(|s| overrides.apply(s))
+        .any(|s| [s.wrap_u, s.wrap_v, s.wrap_w].contains(&Wrap::ClampToBorder));
+    refuse(
+        given(&[("--border", args.border.is_some() && !border_read)]),
+        format!("no texture of {name} clamps to its border (add --wrap border)"),
+    )?;
+    // Which sampler state the effective filters read: GL's mipmapped filters choose levels by
+    // the LOD rule, and with anisotropic and EWA filters they read the bias and clamps; the
+    // summed-area table and the unmipmapped GL filters read none of it.
+    let filters: Vec<Filter> = samplers
+        .iter()
+        .copied()
+        .chain(added)
+        .map(|s| overrides.apply(s).filter)
+        .collect();
+    let gl_mip = |f: &Filter| matches!(f, Filter::Gl { .. }) && f.uses_mipmaps();
+    let reads_lod =
+        |f: &Filter| gl_mip(f) || matches!(f, Filter::Anisotropic { .. } | Filter::Ewa { .. });
+    if !filters.is_empty() && !filters.iter().any(gl_mip) {
+        refuse(
+            given(&[("--lod-rule", args.lod_rule.is_some())]),
+            format!(
+                "the LOD rule is read by OpenGL's mipmapped filters; {name} filters with {} \
+                 (add --filter trilinear)",
+                describe(&filters)
+            ),
+        )?;
+    }
+    if !filters.is_empty() && !filters.iter().any(reads_lod) {
+        refuse(
+            given(&[
+                ("--lod-bias", args.lod_bias.is_some()),
+                ("--min-lod", args.min_lod.is_some()),
+                ("--max-lod", args.max_lod.is_some()),
+            ]),
+            format!(
+                "levels of detail are read by mipmapped, anisotropic and EWA filters; {name} \
+                 filters with {}",
+                describe(&filters)
+            ),
+        )?;
+    }
+    let meshes = &built.scene.meshes;
+    let single_sided = meshes.iter().any(|m| {
+        built
+            .scene
+            .materials
+            .get(m.material)
+            .is_some_and(|mat| !mat.double_sided)
+    });
+    refuse(
+        given(&[(
+            "--cull",
+            args.cull.is_some() && !single_sided && !meshes.is_empty(),
+        )]),
+        format!("every material of {name} is double-sided (never culled)"),
+    )?;
     refuse(
         given(&[(
             "--color-space",

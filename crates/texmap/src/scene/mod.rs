@@ -136,20 +136,24 @@ impl Scene {
         }
     }
 
-    /// True when some mesh's material reads an image texture: a base-colour texture, any
-    /// map, a projected image or a 3D texture (what sampler settings act on).
+    /// The samplers of every image texture a mesh's material reads (base colour, maps,
+    /// projected images, 3D textures), in scene order.
     #[must_use]
-    pub fn reads_image_textures(&self) -> bool {
-        self.meshes.iter().any(|m| {
-            self.materials.get(m.material).is_some_and(|mat| {
-                mat.base_color_texture.is_some()
-                    || !mat.maps.is_empty()
-                    || matches!(
-                        mat.procedural,
-                        Some(Procedural::Projected { .. } | Procedural::Texture3D { .. })
-                    )
-            })
-        })
+    pub fn texture_samplers(&self) -> Vec<Sampler> {
+        let mut out = Vec::new();
+        for m in &self.meshes {
+            let Some(mat) = self.materials.get(m.material) else {
+                continue;
+            };
+            out.extend(mat.base_color_texture.iter().map(|s| s.sampler));
+            out.extend(mat.maps.iter().map(|m| m.slot.sampler));
+            match &mat.procedural {
+                Some(Procedural::Projected { slot, .. }) => out.push(slot.sampler),
+                Some(Procedural::Texture3D { sampler, .. }) => out.push(*sampler),
+                _ => {}
+            }
+        }
+        out
     }
 
     /// Makes `texture` the base-colour image of every material without a procedural colour
