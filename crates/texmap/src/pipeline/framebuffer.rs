@@ -61,6 +61,11 @@ impl TileBuffer {
     }
 }
 
+// `_mm_stream_ps` needs 16-byte aligned targets: glam's `Vec4` is an `__m128` on x86-64 (SSE2
+// builds), so every element of a `[Vec4]` is. A glam built without SIMD would break this.
+#[cfg(target_arch = "x86_64")]
+const _: () = assert!(std::mem::align_of::<Vec4>() == 16 && std::mem::size_of::<Vec4>() == 16);
+
 /// Copies `src` to `dst` (the same length) with streaming stores on x86-64: the frame's lines
 /// are written whole without being read first (no read-for-ownership of a frame that is
 /// about to be overwritten, which cost 12% of a frame of the textured plane). Call
@@ -72,8 +77,9 @@ pub fn stream_copy(dst: &mut [Vec4], src: &[Vec4]) {
     {
         use std::arch::x86_64::_mm_stream_ps;
         for (d, s) in dst.iter_mut().zip(src) {
-            // SAFETY: SSE is part of x86_64; `Vec4` is 16-byte aligned on x86_64 (an
-            // `__m128`), as `_mm_stream_ps` requires, and `d` is a valid, exclusive target.
+            // SAFETY: SSE is part of x86_64; `Vec4` is 16-byte aligned on x86_64 (asserted at
+            // compile time above), as `_mm_stream_ps` requires, and `d` is a valid, exclusive
+            // target.
             unsafe { _mm_stream_ps(std::ptr::from_mut(d).cast::<f32>(), (*s).into()) };
         }
     }

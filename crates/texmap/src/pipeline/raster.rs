@@ -328,7 +328,7 @@ fn raster_prims<const S: usize>(
 /// Quads shaded in one call: up to this many covered quads of one primitive, so the
 /// shader's per-quad chains (level of detail, texel addresses, loads) of neighbouring quads
 /// sit close enough in the instruction stream to overlap. The most quads one
-/// [`FragmentShader::shade_batch`](super::FragmentShader::shade_batch) call receives, so
+/// [`super::FragmentShader::shade_batch`] call receives, so
 /// shaders size their scratch arrays by it.
 pub const BATCH: usize = 8;
 

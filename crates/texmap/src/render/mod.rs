@@ -1,10 +1,12 @@
 //! Render one frame: `(scene, camera, settings) → Frame`.
 //!
 //! The frame driver ([`render_into`]) orders the meshes (opaque, then blended back to front),
-//! compiles each into a draw ([`draw`]: lighting path, [`varyings`] layout, texture reads with
-//! the user's [`TextureOverrides`]), hands the draws to the [`pipeline`](crate::pipeline) with
-//! the scene's [`vertex`] and [`fragment`] shaders, and box-filters supersampled frames.
-//! Surfaces with volumes are composed in [`volumes`]; a camera is chosen in [`framing`].
+//! compiles each into a draw (`draw.rs`: lighting path, `varyings.rs` layout, texture reads
+//! with the user's [`TextureOverrides`]), hands the draws to the [`crate::pipeline`]
+//! with the scene's vertex and fragment shaders (`vertex.rs`, `fragment.rs`, reading through
+//! `maps.rs`, `surface.rs` and `procedural.rs`), and box-filters supersampled frames.
+//! Surfaces with volumes are composed by [`render_with_volumes`]; a camera is chosen by
+//! [`framing::choose_camera`].
 //!
 //! Where each material channel is read:
 //!

@@ -109,7 +109,7 @@ pub fn surface_distances(
 /// surfaces, composited over them ("over", in the frame's linear colour).
 ///
 /// # Errors
-/// As [`render`] and [`raymarch`].
+/// As [`render`] and [`raymarch()`].
 pub fn render_with_meshes(
     scene: &Scene,
     vol: &Volume,
@@ -148,7 +148,7 @@ pub fn render_with_meshes(
 /// background, and no surface pass is drawn.
 ///
 /// # Errors
-/// As [`render`], [`raymarch`] and [`crate::volume::render_slices`].
+/// As [`render`], [`raymarch()`] and [`crate::volume::render_slices`].
 pub fn render_with_volumes(
     scene: &Scene,
     volumes: &[SceneVolume],
