@@ -29,9 +29,9 @@ pub fn linear_to_srgb(c: f32) -> f32 {
 /// Encodes a linear value to an 8-bit sRGB code, exactly rounded: code k for `c` in
 /// [lin((k − ½)/255), lin((k + ½)/255)), 0 for NaN and values ≤ 0, 255 from 1 up.
 ///
-/// No `powf` per channel (which took a fifth of the instructions of loading a 1024² texture,
-/// in building its mip chain): a 4096-bucket table gives the code at the bucket's start, and
-/// at most two thresholds fall inside a bucket, so a short walk finishes.
+/// No `powf` per channel (which dominated building a texture's mip chain): a 4096-bucket
+/// table gives the code at the bucket's start, and at most two thresholds fall inside a
+/// bucket, so a short walk finishes.
 #[inline]
 #[must_use]
 pub fn linear_to_srgb8(c: f32) -> u8 {

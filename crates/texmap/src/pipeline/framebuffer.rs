@@ -68,7 +68,7 @@ const _: () = assert!(std::mem::align_of::<Vec4>() == 16 && std::mem::size_of::<
 
 /// Copies `src` to `dst` (the same length) with streaming stores on x86-64: the frame's lines
 /// are written whole without being read first (no read-for-ownership of a frame that is
-/// about to be overwritten, which cost 12% of a frame of the textured plane). Call
+/// about to be overwritten: a measurable share of a frame, see DESIGN.md). Call
 /// [`stream_fence`] before another thread reads `dst`.
 #[inline]
 pub fn stream_copy(dst: &mut [Vec4], src: &[Vec4]) {

@@ -49,9 +49,8 @@ pub use transform::{transform_call, ClipVertex, PostVertex, ScreenCall, VertexSh
 
 /// The number of floats a vertex can carry to the fragment shader: the largest draw `render`
 /// makes, a double-sided Gouraud draw (uv, D and S for each side, vertex colour, a projected
-/// texture's object position and normal, a second uv set). Raising it from 24 changed the
-/// instruction count of `builtin:sphere` and `builtin:demo` frames by at most 0.05%
-/// (callgrind, 640×360, one thread).
+/// texture's object position and normal, a second uv set). Quads carry all of them, so it is
+/// kept as small as that draw allows (the cost of raising it is in DESIGN.md's decision log).
 pub const MAX_VARYINGS: usize = 26;
 
 /// Fractional bits of the fixed-point screen positions.
