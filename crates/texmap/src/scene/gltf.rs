@@ -38,10 +38,9 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 use gltf::{Document, Gltf, Semantic};
 
-use super::load::{
-    decode_data_uri, percent_decode, read_bounded, resolve_reference, AssetInfo, ImageSource,
-    LoadOptions, Loaded, TextureCache,
-};
+use super::asset::{AssetInfo, LoadOptions, Loaded};
+use super::files::{decode_data_uri, percent_decode, read_bounded, resolve_reference};
+use super::texture_cache::{ImageSource, TextureCache};
 use super::{
     tangents, AlphaMode, Camera, CameraProjection, Light, Material, Mesh, Scene, ShadingModel,
     TextureSlot,

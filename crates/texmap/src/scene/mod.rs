@@ -8,12 +8,16 @@
 // `!(x > y)` is deliberate: it is true for NaN, which must be rejected too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod asset;
 pub mod builtin;
+mod files;
+mod format;
 pub mod gltf;
 pub mod load;
 pub mod obj;
 pub mod primitives;
 pub mod tangents;
+mod texture_cache;
 pub mod toml;
 mod toml_volume;
 
@@ -28,7 +32,8 @@ pub(crate) fn test_file(kind: &str, name: &str, body: impl AsRef<[u8]>) -> std::
     p
 }
 
-pub use load::{load, AssetInfo, LoadOptions, Loaded, TextureInfo};
+pub use asset::{AssetInfo, LoadOptions, Loaded, TextureInfo};
+pub use load::load;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 

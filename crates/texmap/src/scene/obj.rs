@@ -9,7 +9,7 @@
 //!   `map_Ka` / `map_Ks` (sRGB), `map_Ns`, `map_d`, `bump` / `map_bump` (with `-bm`),
 //!   `norm` (linear). Texture options (`-o`, `-s`, `-bm`, `-clamp`, …) are parsed: `-o`/`-s`
 //!   become the slot's transform, `-clamp on` clamps to the edge. Windows `\` separators
-//!   are accepted. Every referenced file follows the folder rule of [`super::load`].
+//!   are accepted. Every referenced file follows the folder rule of `scene::files`.
 
 use std::cell::RefCell;
 use std::io::BufReader;
@@ -17,9 +17,9 @@ use std::path::Path;
 
 use glam::{Vec2, Vec3, Vec4};
 
-use super::load::{
-    read_bounded, resolve_reference, AssetInfo, ImageSource, LoadOptions, Loaded, TextureCache,
-};
+use super::asset::{AssetInfo, LoadOptions, Loaded};
+use super::files::{read_bounded, resolve_reference};
+use super::texture_cache::{ImageSource, TextureCache};
 use super::{AlphaMode, Light, Material, Mesh, Scene, TextureSlot};
 use crate::shading::{MapChannel, MaterialMap};
 use crate::texture::{Sampler, TextureTransform, Wrap};

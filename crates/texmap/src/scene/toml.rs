@@ -12,8 +12,11 @@ use std::path::{Path, PathBuf};
 use glam::{EulerRot, Mat4, Quat, Vec2, Vec3, Vec4};
 use serde::Deserialize;
 
-use super::load::{read_bounded, AssetInfo, ImageSource, LoadOptions, Loaded, TextureCache};
+use super::asset::{AssetInfo, LoadOptions, Loaded};
+use super::files::read_bounded;
+use super::format::SceneFormat;
 use super::primitives::Primitive;
+use super::texture_cache::{ImageSource, TextureCache};
 use super::{
     AlphaMode, Camera, CameraProjection, Light, Material, Procedural, Scene, ShadingModel,
     SolidChannel, SolidMap, TextureSlot,
@@ -539,16 +542,15 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
         match (&m.file, &m.primitive) {
             (Some(file), None) => {
                 let full = dir.join(file);
-                if full
-                    .extension()
-                    .and_then(|e| e.to_str())
-                    .is_some_and(|e| e.eq_ignore_ascii_case("toml"))
-                {
-                    return Err(err(format!(
-                        "meshes[{i}]: a scene file cannot include another scene file"
-                    )));
-                }
-                let sub = super::load(&full, options)?;
+                let sub = match SceneFormat::of(&full)? {
+                    SceneFormat::Gltf => super::gltf::load(&full, options)?,
+                    SceneFormat::Obj => super::obj::load(&full, options)?,
+                    SceneFormat::Toml => {
+                        return Err(err(format!(
+                            "meshes[{i}]: a scene file cannot include another scene file"
+                        )))
+                    }
+                };
                 let offset = scene.materials.len();
                 for (k, mesh) in sub.scene.meshes.into_iter().enumerate() {
                     let mut mesh = mesh;
