@@ -19,7 +19,6 @@ pub mod primitives;
 pub mod tangents;
 mod texture_cache;
 pub mod toml;
-mod toml_volume;
 
 /// Writes `body` to file `name` in this test process's scratch directory for loader `kind`
 /// (`texmap-{kind}-{pid}` under the system's temporary directory) and returns its path.

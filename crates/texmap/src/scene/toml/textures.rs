@@ -1,0 +1,65 @@
+//! A texture table → [`TextureSlot`]: the image (`file`, relative to the scene file, loaded
+//! once per colour space through the scene's texture cache), its sampler (`sampler`), its
+//! colour space (`color_space`, else the channel's: sRGB for colour, linear for data), its
+//! coordinates (`tex_coord` 0 or 1, `transform` in `KHR_texture_transform`'s order with the
+//! rotation in degrees, then `uv_scale`).
+
+use std::path::Path;
+
+use glam::Vec2;
+
+use super::sampler::texture_sampler;
+use super::spec::TextureSpec;
+use crate::scene::texture_cache::{ImageSource, TextureCache};
+use crate::shading::TextureSlot;
+use crate::texture::TextureTransform;
+use crate::{Error, Result};
+
+/// The slot a texture table describes; `None` when the image's format is one texmap leaves
+/// out (a warning). `color` is the channel's default colour space (sRGB when true).
+/// `Error::Parameter` messages are the table's problem, for the caller to prefix.
+pub(super) fn slot(
+    dir: &Path,
+    t: &TextureSpec,
+    color: bool,
+    textures: &mut TextureCache,
+) -> Result<Option<TextureSlot>> {
+    let sampler = texture_sampler(t)?;
+    let srgb = match t.color_space.as_deref() {
+        None => color,
+        Some("srgb") => true,
+        Some("linear") => false,
+        Some(other) => {
+            return Err(Error::parameter(format!(
+                "color_space {other:?} is not srgb or linear"
+            )))
+        }
+    };
+    if t.tex_coord > 1 {
+        return Err(Error::parameter(format!(
+            "tex_coord {} is not 0 or 1",
+            t.tex_coord
+        )));
+    }
+    let file = dir.join(&t.file);
+    let Some(tex) = textures.get(
+        &file.to_string_lossy(),
+        ImageSource::File(file.clone()),
+        srgb,
+        false,
+    )?
+    else {
+        return Ok(None);
+    };
+    let mut s = TextureSlot::new(tex, sampler);
+    s.uv_scale = t.uv_scale;
+    s.tex_coord = t.tex_coord;
+    if let Some(tr) = &t.transform {
+        s.transform = TextureTransform {
+            offset: Vec2::from(tr.offset),
+            rotation: tr.rotation.to_radians(),
+            scale: Vec2::from(tr.scale),
+        };
+    }
+    Ok(Some(s))
+}
