@@ -8,7 +8,19 @@ use crate::texture::load::Limits;
 use crate::texture::{ColorSpace, Format};
 
 /// How scene files are read.
+///
+/// Options can grow, so the type is built from [`Default`] with one method per option (the
+/// fields stay readable):
+///
+/// ```
+/// use texmap::scene::LoadOptions;
+///
+/// let options = LoadOptions::default().allow_outside_paths(true).lenient(true);
+/// assert!(options.allow_outside_paths && options.lenient);
+/// assert_eq!(options.max_buffer_bytes, 1 << 30);
+/// ```
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct LoadOptions {
     /// Let references leave the asset's folder (`..`, absolute paths).
     pub allow_outside_paths: bool,
@@ -28,6 +40,36 @@ impl Default for LoadOptions {
             limits: Limits::default(),
             max_buffer_bytes: 1 << 30,
         }
+    }
+}
+
+impl LoadOptions {
+    /// Sets [`LoadOptions::allow_outside_paths`] (`--allow-outside-paths`).
+    #[must_use]
+    pub fn allow_outside_paths(mut self, allow: bool) -> Self {
+        self.allow_outside_paths = allow;
+        self
+    }
+
+    /// Sets [`LoadOptions::lenient`] (`--lenient`).
+    #[must_use]
+    pub fn lenient(mut self, lenient: bool) -> Self {
+        self.lenient = lenient;
+        self
+    }
+
+    /// Sets the image [`LoadOptions::limits`].
+    #[must_use]
+    pub fn limits(mut self, limits: Limits) -> Self {
+        self.limits = limits;
+        self
+    }
+
+    /// Sets [`LoadOptions::max_buffer_bytes`].
+    #[must_use]
+    pub fn max_buffer_bytes(mut self, bytes: u64) -> Self {
+        self.max_buffer_bytes = bytes;
+        self
     }
 }
 
