@@ -12,6 +12,7 @@
 
 use std::path::{Component, Path, PathBuf};
 
+use super::asset::LoadOptions;
 use crate::{Error, Result};
 
 /// Reads a whole file, refusing it when it is larger than `max_bytes`.
@@ -30,8 +31,8 @@ pub(crate) fn read_bounded(path: &Path, max_bytes: u64) -> Result<Vec<u8>> {
 }
 
 /// Resolves a reference `rel` made by the asset `asset` (a file path, already decoded from
-/// any URI escaping), enforcing the folder rule.
-pub(crate) fn resolve_reference(asset: &Path, rel: &str, allow_outside: bool) -> Result<PathBuf> {
+/// any URI escaping), enforcing the folder rule unless `options` allow outside paths.
+pub(crate) fn resolve_reference(asset: &Path, rel: &str, options: &LoadOptions) -> Result<PathBuf> {
     let lower = rel.to_ascii_lowercase();
     if lower.starts_with("http:") || lower.starts_with("https:") {
         return Err(Error::Unsupported(format!(
@@ -55,7 +56,7 @@ pub(crate) fn resolve_reference(asset: &Path, rel: &str, allow_outside: bool) ->
     let base = asset.parent().unwrap_or(Path::new(""));
     let rel_path = Path::new(rel);
     let joined = base.join(rel_path);
-    if allow_outside {
+    if options.allow_outside_paths {
         return Ok(joined);
     }
     let refused = || {
@@ -115,12 +116,15 @@ pub(crate) fn percent_decode(s: &str) -> String {
     String::from_utf8_lossy(&out).into_owned()
 }
 
+/// A decoded `data:` URI.
+pub(crate) struct DataUri {
+    /// The media type the URI declares (`image/png`), if any.
+    pub mime: Option<String>,
+    pub bytes: Vec<u8>,
+}
+
 /// Decodes a `data:` URI's payload (base64 or percent-encoded), bounded by `max_bytes`.
-pub(crate) fn decode_data_uri(
-    asset: &Path,
-    uri: &str,
-    max_bytes: u64,
-) -> Result<(Option<String>, Vec<u8>)> {
+pub(crate) fn decode_data_uri(asset: &Path, uri: &str, max_bytes: u64) -> Result<DataUri> {
     let rest = &uri[5..];
     let (header, payload) = rest
         .split_once(',')
@@ -145,7 +149,7 @@ pub(crate) fn decode_data_uri(
     } else {
         percent_decode(payload).into_bytes()
     };
-    Ok((mime, bytes))
+    Ok(DataUri { mime, bytes })
 }
 
 #[cfg(test)]
@@ -155,14 +159,16 @@ mod tests {
     #[test]
     fn references_stay_in_the_asset_folder() {
         let a = Path::new("/tmp/models/x.gltf");
-        assert!(resolve_reference(a, "tex/a.png", false).is_ok());
-        assert!(resolve_reference(a, "tex/../a.png", false).is_ok());
-        assert!(resolve_reference(a, "../a.png", false).is_err());
-        assert!(resolve_reference(a, "tex/../../a.png", false).is_err());
-        assert!(resolve_reference(a, "/etc/passwd", false).is_err());
-        assert!(resolve_reference(a, "../a.png", true).is_ok());
-        assert!(resolve_reference(a, "http://example.com/a.png", true).is_err());
-        assert!(resolve_reference(a, "file:///etc/passwd", true).is_err());
+        let inside = LoadOptions::default();
+        let outside = LoadOptions::default().allow_outside_paths(true);
+        assert!(resolve_reference(a, "tex/a.png", &inside).is_ok());
+        assert!(resolve_reference(a, "tex/../a.png", &inside).is_ok());
+        assert!(resolve_reference(a, "../a.png", &inside).is_err());
+        assert!(resolve_reference(a, "tex/../../a.png", &inside).is_err());
+        assert!(resolve_reference(a, "/etc/passwd", &inside).is_err());
+        assert!(resolve_reference(a, "../a.png", &outside).is_ok());
+        assert!(resolve_reference(a, "http://example.com/a.png", &outside).is_err());
+        assert!(resolve_reference(a, "file:///etc/passwd", &outside).is_err());
     }
 
     #[test]
@@ -174,9 +180,9 @@ mod tests {
     #[test]
     fn data_uris_decode_and_are_bounded() {
         let a = Path::new("x.gltf");
-        let (m, b) = decode_data_uri(a, "data:application/octet-stream;base64,AAEC", 100).unwrap();
-        assert_eq!(m.as_deref(), Some("application/octet-stream"));
-        assert_eq!(b, [0, 1, 2]);
+        let d = decode_data_uri(a, "data:application/octet-stream;base64,AAEC", 100).unwrap();
+        assert_eq!(d.mime.as_deref(), Some("application/octet-stream"));
+        assert_eq!(d.bytes, [0, 1, 2]);
         assert!(decode_data_uri(a, "data:;base64,AAECAAEC", 3).is_err());
     }
 }

@@ -1,6 +1,7 @@
-//! Images loaded for a scene's materials: each source decoded once per colour space, a
-//! `--lenient` load turning a missing or corrupt image into a magenta placeholder, and every
-//! texture recorded as a [`TextureInfo`] for `texmap info`.
+//! Images loaded for a scene's materials: each source decoded once per colour space and
+//! alpha handling ([`AlphaChannel`]), a `--lenient` load turning a missing or corrupt image
+//! into a magenta placeholder, and every texture recorded as a [`TextureInfo`] for
+//! `texmap info`.
 //!
 //! Rules: image limits (size, decoded bytes) are never relaxed by `--lenient`: an image over
 //! them is an error. Formats texmap cannot decode (KTX2, WebP, BasisU, DDS) are a warning and
@@ -13,6 +14,7 @@ use std::sync::Arc;
 use image::DynamicImage;
 
 use super::asset::{LoadOptions, TextureInfo};
+use crate::shading::MapChannel;
 use crate::texture::load::{decode_image, decode_image_bytes, texture_from_image, Limits};
 use crate::texture::{ColorSpace, Texture2D, TextureOptions};
 use crate::{Error, Result};
@@ -23,10 +25,40 @@ pub(crate) enum ImageSource<'a> {
     Bytes { name: String, bytes: &'a [u8] },
 }
 
-/// Loads textures once per (source, colour space), applying `--lenient` and recording
+/// Whether an image's alpha channel is kept.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) enum AlphaChannel {
+    /// As stored: texels are premultiplied by it when read.
+    Keep,
+    /// Dropped at load, every texel opaque: for glTF's OPAQUE base colour, whose alpha the
+    /// specification says to ignore (a texel with alpha 0 keeps its colour instead of being
+    /// premultiplied to black).
+    Drop,
+}
+
+/// The colour space a channel's image is decoded in unless the file says otherwise: sRGB
+/// for colour channels ([`MapChannel::is_color`]), linear for data.
+#[must_use]
+pub(crate) fn channel_color_space(channel: MapChannel) -> ColorSpace {
+    if channel.is_color() {
+        ColorSpace::Srgb
+    } else {
+        ColorSpace::Linear
+    }
+}
+
+/// What one decoded texture is: its source, and how it was decoded.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+struct CacheKey {
+    source: String,
+    color_space: ColorSpace,
+    alpha: AlphaChannel,
+}
+
+/// Loads textures once per (source, colour space, alpha), applying `--lenient` and recording
 /// [`TextureInfo`]s and warnings.
 pub(crate) struct TextureCache {
-    cache: HashMap<(String, bool), Option<Arc<Texture2D>>>,
+    cache: HashMap<CacheKey, Option<Arc<Texture2D>>>,
     pub infos: Vec<TextureInfo>,
     pub warnings: Vec<String>,
     lenient: bool,
@@ -44,28 +76,25 @@ impl TextureCache {
         }
     }
 
-    /// The texture, `None` when the image format is one texmap cannot decode (KTX2, WebP:
-    /// a warning, the channel reads as absent), or an error for a missing/corrupt image
-    /// unless lenient (then a magenta placeholder). `opaque` drops the alpha channel (for
-    /// glTF's OPAQUE base colour, whose alpha is ignored: a texel with alpha 0 keeps its
-    /// colour instead of being premultiplied to black).
+    /// The texture `key` names (a file path, or an index inside the asset), decoded from
+    /// `source` in `color_space`; `None` when the image format is one texmap cannot decode
+    /// (KTX2, WebP: a warning, the channel reads as absent), or an error for a
+    /// missing/corrupt image unless lenient (then a magenta placeholder).
     pub fn get(
         &mut self,
         key: &str,
         source: ImageSource<'_>,
-        srgb: bool,
-        opaque: bool,
+        color_space: ColorSpace,
+        alpha: AlphaChannel,
     ) -> Result<Option<Arc<Texture2D>>> {
-        let key = format!("{key}{}", if opaque { "#opaque" } else { "" });
-        let key = key.as_str();
-        if let Some(t) = self.cache.get(&(key.to_string(), srgb)) {
+        let key = CacheKey {
+            source: key.to_string(),
+            color_space,
+            alpha,
+        };
+        if let Some(t) = self.cache.get(&key) {
             return Ok(t.clone());
         }
-        let cs = if srgb {
-            ColorSpace::Srgb
-        } else {
-            ColorSpace::Linear
-        };
         let name = match &source {
             ImageSource::File(p) => p.display().to_string(),
             ImageSource::Bytes { name, .. } => name.clone(),
@@ -79,7 +108,7 @@ impl TextureCache {
             self.warnings.push(format!(
                 "{name}: image format not decoded by texmap; the texture is left out"
             ));
-            self.cache.insert((key.to_string(), srgb), None);
+            self.cache.insert(key, None);
             return Ok(None);
         }
         let decoded = match &source {
@@ -88,9 +117,12 @@ impl TextureCache {
                 decode_image_bytes(bytes, Path::new(name), &self.limits)
             }
         };
-        let decoded = decoded.map(|img| if opaque { drop_alpha(img) } else { img });
+        let decoded = decoded.map(|img| match alpha {
+            AlphaChannel::Keep => img,
+            AlphaChannel::Drop => drop_alpha(img),
+        });
         let result = decoded.and_then(|img| {
-            texture_from_image(img, cs, TextureOptions::default())
+            texture_from_image(img, color_space, TextureOptions::default())
                 .map_err(|e| Error::decode(&name, e.to_string()))
         });
         let (tex, placeholder) = match result {
@@ -111,8 +143,7 @@ impl TextureCache {
             color_space: tex.color_space(),
             placeholder,
         });
-        self.cache
-            .insert((key.to_string(), srgb), Some(tex.clone()));
+        self.cache.insert(key, Some(tex.clone()));
         Ok(Some(tex))
     }
 }

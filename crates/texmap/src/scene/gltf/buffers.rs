@@ -34,10 +34,10 @@ pub(super) fn read_buffers(
                 )
             })?,
             gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
-                decode_data_uri(path, uri, options.max_buffer_bytes)?.1
+                decode_data_uri(path, uri, options.max_buffer_bytes)?.bytes
             }
             gltf::buffer::Source::Uri(uri) => {
-                let p = resolve_reference(path, &percent_decode(uri), options.allow_outside_paths)?;
+                let p = resolve_reference(path, &percent_decode(uri), options)?;
                 read_bounded(&p, options.max_buffer_bytes)?
             }
         };

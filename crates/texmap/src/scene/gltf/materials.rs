@@ -11,7 +11,9 @@ use glam::{Vec3, Vec4};
 
 use super::document::Loader;
 use super::textures::{apply_raw_transform, TRANSFORM};
+use crate::scene::texture_cache::{channel_color_space, AlphaChannel};
 use crate::shading::{AlphaMode, MapChannel, Material, MaterialMap, ShadingModel};
+use crate::texture::ColorSpace;
 use crate::Result;
 
 impl Loader<'_> {
@@ -64,8 +66,13 @@ impl Loader<'_> {
                 &info.texture(),
                 info.tex_coord(),
                 info.texture_transform(),
-                true,
-                mat.alpha_mode == AlphaMode::Opaque,
+                ColorSpace::Srgb,
+                // An OPAQUE material's alpha is ignored (module docs).
+                if mat.alpha_mode == AlphaMode::Opaque {
+                    AlphaChannel::Drop
+                } else {
+                    AlphaChannel::Keep
+                },
             )?;
         }
         if let Some(info) = pbr.metallic_roughness_texture() {
@@ -128,7 +135,8 @@ impl Loader<'_> {
         transform: Option<gltf::texture::TextureTransform>,
         scale: f32,
     ) -> Result<()> {
-        if let Some(slot) = self.slot(tex, tex_coord, transform, channel.is_color(), false)? {
+        let color_space = channel_color_space(channel);
+        if let Some(slot) = self.slot(tex, tex_coord, transform, color_space, AlphaChannel::Keep)? {
             mat.maps.push(MaterialMap {
                 channel,
                 slot,

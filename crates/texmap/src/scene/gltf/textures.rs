@@ -1,6 +1,6 @@
 //! glTF textures → [`TextureSlot`]s: the image (a bufferView, a `data:` URI or a file beside
 //! the asset, through the scene's texture cache, so each image is decoded once per colour
-//! space), the sampler mapped straight onto texmap's OpenGL filters and wraps (undefined
+//! space and alpha handling), the sampler mapped straight onto texmap's OpenGL filters and wraps (undefined
 //! filters are trilinear, undefined wraps repeat), the uv set, and `KHR_texture_transform`
 //! as [`TextureTransform`] — on every texture, normal and occlusion ones included. KTX2,
 //! WebP and DDS images are a warning and the channel is left out, as in the peer.
@@ -11,23 +11,26 @@ use glam::Vec2;
 
 use super::document::Loader;
 use crate::scene::files::{decode_data_uri, percent_decode, resolve_reference};
-use crate::scene::texture_cache::ImageSource;
+use crate::scene::texture_cache::{AlphaChannel, ImageSource};
 use crate::shading::{MapChannel, Material, TextureSlot};
-use crate::texture::{Filter, MagFilter, MinFilter, Sampler, Texture2D, TextureTransform, Wrap};
+use crate::texture::{
+    ColorSpace, Filter, MagFilter, MinFilter, Sampler, Texture2D, TextureTransform, Wrap,
+};
 use crate::Result;
 
 impl Loader<'_> {
-    /// The slot for texture `tex` read with uv set `tex_coord` and an optional transform;
-    /// `None` when its image is left out.
+    /// The slot for texture `tex` read with uv set `tex_coord` and an optional transform, its
+    /// image decoded in `color_space` with its alpha kept or dropped; `None` when the image
+    /// is left out.
     pub(super) fn slot(
         &mut self,
         tex: &gltf::Texture,
         tex_coord: u32,
         transform: Option<gltf::texture::TextureTransform>,
-        srgb: bool,
-        opaque: bool,
+        color_space: ColorSpace,
+        alpha: AlphaChannel,
     ) -> Result<Option<TextureSlot>> {
-        let Some(texture) = self.image(&tex.source(), srgb, opaque)? else {
+        let Some(texture) = self.image(&tex.source(), color_space, alpha)? else {
             return Ok(None);
         };
         let mut slot = TextureSlot::new(texture, sampler(&tex.sampler()));
@@ -56,8 +59,8 @@ impl Loader<'_> {
     fn image(
         &mut self,
         img: &gltf::Image,
-        srgb: bool,
-        opaque: bool,
+        color_space: ColorSpace,
+        alpha: AlphaChannel,
     ) -> Result<Option<Arc<Texture2D>>> {
         let key = format!("image{}", img.index());
         let unsupported = |mime: Option<&str>| {
@@ -75,34 +78,31 @@ impl Loader<'_> {
                 }
                 let bytes = self.acc.view_bytes(&view)?;
                 self.textures
-                    .get(&key, ImageSource::Bytes { name, bytes }, srgb, opaque)
+                    .get(&key, ImageSource::Bytes { name, bytes }, color_space, alpha)
             }
             gltf::image::Source::Uri { uri, mime_type } if uri.starts_with("data:") => {
-                let (mime, bytes) = decode_data_uri(self.path, uri, self.options.max_buffer_bytes)?;
+                let data = decode_data_uri(self.path, uri, self.options.max_buffer_bytes)?;
                 let name = format!("{} (image {}, data URI)", self.path.display(), img.index());
-                if unsupported(mime.as_deref().or(mime_type)) {
+                if unsupported(data.mime.as_deref().or(mime_type)) {
                     return self.skip_image(name);
                 }
                 self.textures.get(
                     &key,
                     ImageSource::Bytes {
                         name,
-                        bytes: &bytes,
+                        bytes: &data.bytes,
                     },
-                    srgb,
-                    opaque,
+                    color_space,
+                    alpha,
                 )
             }
             gltf::image::Source::Uri { uri, mime_type } => {
-                let p = resolve_reference(
-                    self.path,
-                    &percent_decode(uri),
-                    self.options.allow_outside_paths,
-                )?;
+                let p = resolve_reference(self.path, &percent_decode(uri), self.options)?;
                 if unsupported(mime_type) {
                     return self.skip_image(p.display().to_string());
                 }
-                self.textures.get(&key, ImageSource::File(p), srgb, opaque)
+                self.textures
+                    .get(&key, ImageSource::File(p), color_space, alpha)
             }
         }
     }

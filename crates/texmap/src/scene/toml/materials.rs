@@ -12,8 +12,9 @@ use glam::{Vec3, Vec4};
 use super::procedural::{colour_source, solid_maps};
 use super::spec::MaterialSpec;
 use super::textures::slot;
-use crate::scene::texture_cache::TextureCache;
+use crate::scene::texture_cache::{channel_color_space, TextureCache};
 use crate::shading::{AlphaMode, MapChannel, Material, MaterialMap, ShadingModel};
+use crate::texture::ColorSpace;
 use crate::{Error, Result};
 
 /// The material a `[materials.NAME]` table describes. `Error::Parameter` messages are the
@@ -59,7 +60,7 @@ pub(super) fn material(
         ..d
     };
     if let Some(t) = &m.base_color_texture {
-        mat.base_color_texture = slot(dir, t, true, textures)?;
+        mat.base_color_texture = slot(dir, t, ColorSpace::Srgb, textures)?;
     }
     mat.procedural = colour_source(dir, m, textures)?;
     mat.solid_maps.extend(solid_maps(m)?);
@@ -76,7 +77,7 @@ pub(super) fn material(
         (MapChannel::Bump, &maps.bump),
     ] {
         if let Some(spec) = spec {
-            if let Some(s) = slot(dir, spec, channel.is_color(), textures)? {
+            if let Some(s) = slot(dir, spec, channel_color_space(channel), textures)? {
                 mat.maps.push(MaterialMap {
                     channel,
                     slot: s,

@@ -18,7 +18,7 @@ use crate::geometry::Projection;
 use crate::scene::texture_cache::TextureCache;
 use crate::shading::{Procedural, SolidChannel, SolidMap};
 use crate::texture::procedural::Solid;
-use crate::texture::{Filter, Sampler, Wrap};
+use crate::texture::{ColorSpace, Filter, Sampler, Wrap};
 use crate::{Error, Result};
 
 /// The colour source of `m` (`procedural`, `projected` or `solid_texture`), if it has one.
@@ -59,7 +59,7 @@ pub(super) fn colour_source(
                 // NaN: resolved to the mesh's bounding-box centre when drawn.
                 *center = p.center.map_or(Vec3::NAN, Vec3::from);
             }
-            slot(dir, &p.texture, true, textures)?
+            slot(dir, &p.texture, ColorSpace::Srgb, textures)?
                 .map(|slot| Procedural::Projected { slot, projection })
         }
         (None, None) => match &m.solid_texture {

@@ -10,25 +10,25 @@ use glam::Vec2;
 
 use super::sampler::texture_sampler;
 use super::spec::TextureSpec;
-use crate::scene::texture_cache::{ImageSource, TextureCache};
+use crate::scene::texture_cache::{AlphaChannel, ImageSource, TextureCache};
 use crate::shading::TextureSlot;
-use crate::texture::TextureTransform;
+use crate::texture::{ColorSpace, TextureTransform};
 use crate::{Error, Result};
 
 /// The slot a texture table describes; `None` when the image's format is one texmap leaves
-/// out (a warning). `color` is the channel's default colour space (sRGB when true).
+/// out (a warning). `channel_space` is the colour space when the table names none.
 /// `Error::Parameter` messages are the table's problem, for the caller to prefix.
 pub(super) fn slot(
     dir: &Path,
     t: &TextureSpec,
-    color: bool,
+    channel_space: ColorSpace,
     textures: &mut TextureCache,
 ) -> Result<Option<TextureSlot>> {
     let sampler = texture_sampler(t)?;
-    let srgb = match t.color_space.as_deref() {
-        None => color,
-        Some("srgb") => true,
-        Some("linear") => false,
+    let color_space = match t.color_space.as_deref() {
+        None => channel_space,
+        Some("srgb") => ColorSpace::Srgb,
+        Some("linear") => ColorSpace::Linear,
         Some(other) => {
             return Err(Error::parameter(format!(
                 "color_space {other:?} is not srgb or linear"
@@ -45,8 +45,8 @@ pub(super) fn slot(
     let Some(tex) = textures.get(
         &file.to_string_lossy(),
         ImageSource::File(file.clone()),
-        srgb,
-        false,
+        color_space,
+        AlphaChannel::Keep,
     )?
     else {
         return Ok(None);
