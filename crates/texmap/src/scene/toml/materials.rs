@@ -60,24 +60,29 @@ pub(super) fn material(
         ..d
     };
     if let Some(t) = &m.base_color_texture {
-        mat.base_color_texture = slot(dir, t, ColorSpace::Srgb, textures)?;
+        mat.base_color_texture = slot(dir, "base_color_texture", t, ColorSpace::Srgb, textures)?;
     }
     mat.procedural = colour_source(dir, m, textures)?;
     mat.solid_maps.extend(solid_maps(m)?);
     let maps = &m.maps;
-    for (channel, spec) in [
-        (MapChannel::MetallicRoughness, &maps.metallic_roughness),
-        (MapChannel::Normal, &maps.normal),
-        (MapChannel::Occlusion, &maps.occlusion),
-        (MapChannel::Emissive, &maps.emissive),
-        (MapChannel::Ambient, &maps.ambient),
-        (MapChannel::Specular, &maps.specular),
-        (MapChannel::Shininess, &maps.shininess),
-        (MapChannel::Alpha, &maps.alpha),
-        (MapChannel::Bump, &maps.bump),
+    for (channel, table, spec) in [
+        (
+            MapChannel::MetallicRoughness,
+            "maps.metallic_roughness",
+            &maps.metallic_roughness,
+        ),
+        (MapChannel::Normal, "maps.normal", &maps.normal),
+        (MapChannel::Occlusion, "maps.occlusion", &maps.occlusion),
+        (MapChannel::Emissive, "maps.emissive", &maps.emissive),
+        (MapChannel::Ambient, "maps.ambient", &maps.ambient),
+        (MapChannel::Specular, "maps.specular", &maps.specular),
+        (MapChannel::Shininess, "maps.shininess", &maps.shininess),
+        (MapChannel::Alpha, "maps.alpha", &maps.alpha),
+        (MapChannel::Bump, "maps.bump", &maps.bump),
     ] {
         if let Some(spec) = spec {
-            if let Some(s) = slot(dir, spec, channel_color_space(channel), textures)? {
+            let space = channel_color_space(channel);
+            if let Some(s) = slot(dir, table, spec, space, textures)? {
                 mat.maps.push(MaterialMap {
                     channel,
                     slot: s,

@@ -59,8 +59,14 @@ pub(super) fn colour_source(
                 // NaN: resolved to the mesh's bounding-box centre when drawn.
                 *center = p.center.map_or(Vec3::NAN, Vec3::from);
             }
-            slot(dir, &p.texture, ColorSpace::Srgb, textures)?
-                .map(|slot| Procedural::Projected { slot, projection })
+            slot(
+                dir,
+                "projected.texture",
+                &p.texture,
+                ColorSpace::Srgb,
+                textures,
+            )?
+            .map(|slot| Procedural::Projected { slot, projection })
         }
         (None, None) => match &m.solid_texture {
             Some(t) => Some(solid_texture(dir, t)?),

@@ -1,7 +1,19 @@
 //! A texture table's sampler keys → [`Sampler`]: `filter` (default trilinear), `wrap` for
-//! both axes (default repeat) and `wrap_u` / `wrap_v` over it, and `lod_bias`. Filters and
-//! wraps are spelled as on the command line: they are parsed by [`Filter::parse`] and
-//! [`Wrap::parse`], never here, so the scene format and the CLI accept the same words.
+//! both axes (default repeat) and `wrap_u` / `wrap_v` over it, `lod_bias`, the level-of-detail
+//! clamps `min_lod` / `max_lod` (applied after the bias, as in OpenGL), and the `border`
+//! colour.
+//!
+//! Rules:
+//! - Filters and wraps are spelled as on the command line: they are parsed by
+//!   [`Filter::parse`] and [`Wrap::parse`], never here, so the scene format and the CLI
+//!   accept the same words.
+//! - `min_lod` and `max_lod` are finite and `min_lod ≤ max_lod` (defaults: unbounded, the
+//!   sampler's ±1000); a level of detail clamped by an empty range has no meaning.
+//! - `border` is linear RGBA with straight alpha, like every colour in the format, with
+//!   r, g, b ≥ 0 and a in [0, 1]; it is stored premultiplied, as [`Sampler::border`] is read.
+//!   It is refused unless an axis wraps with `border`, where it would never be read.
+
+use glam::Vec4;
 
 use super::spec::TextureSpec;
 use crate::texture::{Filter, Sampler, Wrap};
@@ -57,5 +69,42 @@ pub(super) fn texture_sampler(t: &TextureSpec) -> Result<Sampler> {
     sampler.wrap_u = wrap("wrap_u", t.wrap_u.as_deref(), both)?;
     sampler.wrap_v = wrap("wrap_v", t.wrap_v.as_deref(), both)?;
     sampler.lod_bias = t.lod_bias;
+    let lod = |key: &str, v: Option<f32>, d: f32| -> Result<f32> {
+        match v {
+            None => Ok(d),
+            Some(v) if v.is_finite() => Ok(v),
+            Some(v) => Err(Error::parameter(format!(
+                "{key} {v} is not a finite number"
+            ))),
+        }
+    };
+    sampler.min_lod = lod("min_lod", t.min_lod, sampler.min_lod)?;
+    sampler.max_lod = lod("max_lod", t.max_lod, sampler.max_lod)?;
+    if sampler.min_lod > sampler.max_lod {
+        return Err(Error::parameter(format!(
+            "min_lod {} is above max_lod {}",
+            sampler.min_lod, sampler.max_lod
+        )));
+    }
+    if let Some(b) = t.border {
+        sampler.border = border(b, [sampler.wrap_u, sampler.wrap_v])?;
+    }
     Ok(sampler)
+}
+
+/// The premultiplied border colour of a `border = [r, g, b, a]` key (straight alpha), read
+/// by a sampler wrapping as `wraps`.
+fn border(rgba: [f32; 4], wraps: [Wrap; 2]) -> Result<Vec4> {
+    let c = Vec4::from(rgba);
+    if !(c.is_finite() && c.truncate().min_element() >= 0.0 && (0.0..=1.0).contains(&c.w)) {
+        return Err(Error::parameter(format!(
+            "border {rgba:?}: expected linear [r, g, b, a] with r, g, b ≥ 0 and a in [0, 1]"
+        )));
+    }
+    if !wraps.contains(&Wrap::ClampToBorder) {
+        return Err(Error::parameter(
+            "border is read only where the texture wraps with `border`; no axis does",
+        ));
+    }
+    Ok((c.truncate() * c.w).extend(c.w))
 }

@@ -274,6 +274,12 @@ pub(super) struct TextureSpec {
     pub(super) tex_coord: u32,
     #[serde(default)]
     pub(super) lod_bias: f32,
+    /// Clamps of the level of detail, after `lod_bias` (default: none); min ≤ max.
+    pub(super) min_lod: Option<f32>,
+    pub(super) max_lod: Option<f32>,
+    /// Linear RGBA, straight alpha: the colour outside the image with `wrap = "border"`
+    /// (default transparent black).
+    pub(super) border: Option<[f32; 4]>,
     /// Normal scale, occlusion strength or bump multiplier.
     #[serde(default = "one")]
     pub(super) scale: f32,

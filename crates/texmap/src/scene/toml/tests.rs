@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
 use super::load;
 use crate::camera::CameraProjection;
@@ -202,4 +202,88 @@ fn unknown_material_and_primitive_are_errors() {
         .unwrap_err()
         .to_string()
         .contains("blob"));
+}
+
+/// A 2×2 grey PNG beside the test's scene files.
+fn png(name: &str) {
+    let mut bytes = Vec::new();
+    image::RgbaImage::from_pixel(2, 2, image::Rgba([128, 128, 128, 255]))
+        .write_to(
+            &mut std::io::Cursor::new(&mut bytes),
+            image::ImageFormat::Png,
+        )
+        .unwrap();
+    crate::scene::test_file("toml", name, bytes);
+}
+
+#[test]
+fn lod_clamps_and_border_reach_the_sampler() {
+    png("grey_ok.png");
+    let p = write(
+        "sampler_keys.toml",
+        r#"
+[materials.a.base_color_texture]
+file = "grey_ok.png"
+wrap_u = "border"
+min_lod = 0.5
+max_lod = 2
+border = [1, 0.5, 0, 0.5]
+[materials.b.base_color_texture]
+file = "grey_ok.png"
+"#,
+    );
+    let l = load(&p, &LoadOptions::default()).unwrap();
+    let s = l.scene.materials[0]
+        .base_color_texture
+        .as_ref()
+        .unwrap()
+        .sampler;
+    assert_eq!((s.min_lod, s.max_lod), (0.5, 2.0));
+    // Straight alpha in the file, premultiplied in the sampler.
+    assert_eq!(s.border, Vec4::new(0.5, 0.25, 0.0, 0.5));
+    let d = l.scene.materials[1]
+        .base_color_texture
+        .as_ref()
+        .unwrap()
+        .sampler;
+    let default = crate::texture::Sampler::default();
+    assert_eq!(
+        (d.min_lod, d.max_lod, d.border),
+        (default.min_lod, default.max_lod, default.border)
+    );
+}
+
+#[test]
+fn bad_lod_clamps_and_borders_name_the_file_and_key() {
+    png("grey_bad.png");
+    for (keys, says) in [
+        ("min_lod = 3\nmax_lod = 1", "min_lod 3 is above max_lod 1"),
+        ("min_lod = 2000", "min_lod 2000 is above max_lod 1000"),
+        ("min_lod = nan", "min_lod NaN is not a finite number"),
+        ("max_lod = inf", "max_lod inf is not a finite number"),
+        ("max_lod = -inf", "max_lod -inf is not a finite number"),
+        (
+            "wrap = \"border\"\nborder = [1, 0, 0, 2]",
+            "border [1.0, 0.0, 0.0, 2.0]",
+        ),
+        ("wrap = \"border\"\nborder = [-1, 0, 0, 1]", "border [-1.0"),
+        ("wrap = \"border\"\nborder = [nan, 0, 0, 1]", "border [NaN"),
+        ("wrap = \"clamp\"\nborder = [1, 0, 0, 1]", "no axis does"),
+        ("border = [1, 0, 0, 1]", "no axis does"),
+        ("wrap = \"border\"\nborder = [1, 0, 0]", "line 4"),
+        ("wrap_v = \"edge\"", "wrap_v \"edge\": expected repeat"),
+    ] {
+        let p = write(
+            "bad_sampler_keys.toml",
+            &format!("[materials.wood.maps.normal]\nfile = \"grey_bad.png\"\n{keys}\n"),
+        );
+        let e = load(&p, &LoadOptions::default()).unwrap_err().to_string();
+        assert!(
+            e.contains("bad_sampler_keys.toml") && e.contains(says) && !e.contains('\n'),
+            "{keys}: {e}"
+        );
+        if !says.starts_with("line") {
+            assert!(e.contains("materials.wood: maps.normal: "), "{keys}: {e}");
+        }
+    }
 }

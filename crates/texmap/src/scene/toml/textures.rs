@@ -15,31 +15,36 @@ use crate::shading::TextureSlot;
 use crate::texture::{ColorSpace, TextureTransform};
 use crate::{Error, Result};
 
-/// The slot a texture table describes; `None` when the image's format is one texmap leaves
-/// out (a warning). `channel_space` is the colour space when the table names none.
-/// `Error::Parameter` messages are the table's problem, for the caller to prefix.
+/// The slot texture table `table` (`t`) describes; `None` when the image's format is one
+/// texmap leaves out (a warning). `channel_space` is the colour space when the table names
+/// none. `Error::Parameter` messages name the table, for the caller to prefix further.
 pub(super) fn slot(
     dir: &Path,
+    table: &str,
     t: &TextureSpec,
     channel_space: ColorSpace,
     textures: &mut TextureCache,
 ) -> Result<Option<TextureSlot>> {
-    let sampler = texture_sampler(t)?;
+    let in_table = |e: Error| match e {
+        Error::Parameter(msg) => Error::Parameter(format!("{table}: {msg}")),
+        other => other,
+    };
+    let sampler = texture_sampler(t).map_err(in_table)?;
     let color_space = match t.color_space.as_deref() {
         None => channel_space,
         Some("srgb") => ColorSpace::Srgb,
         Some("linear") => ColorSpace::Linear,
         Some(other) => {
-            return Err(Error::parameter(format!(
+            return Err(in_table(Error::parameter(format!(
                 "color_space {other:?} is not srgb or linear"
-            )))
+            ))))
         }
     };
     if t.tex_coord > 1 {
-        return Err(Error::parameter(format!(
+        return Err(in_table(Error::parameter(format!(
             "tex_coord {} is not 0 or 1",
             t.tex_coord
-        )));
+        ))));
     }
     let file = dir.join(&t.file);
     let Some(tex) = textures.get(
