@@ -8,7 +8,8 @@
 //!   are allowed; then it may go anywhere.
 //! - `http:` / `https:` and every other URI scheme but `data:` are refused: texmap never
 //!   fetches over the network.
-//! - A file or a decoded `data:` URI above the byte limit is refused before it is read whole.
+//! - A file above the byte limit is refused before it is read, a `data:` URI before it is
+//!   decoded (from its length: base64 holds 3 bytes in 4 characters).
 
 use std::path::{Component, Path, PathBuf};
 

@@ -3,7 +3,15 @@
 //! Conventions: right-handed world, the camera looks from `eye` towards `target` (down its
 //! own −Z), `up` is projected to the image's upward direction. Triangles are counter-clockwise
 //! when seen from their front side (after `world_from_object`; a mirroring transform flips the
-//! winding back). Texture coordinates follow glTF (v down the image rows).
+//! winding back). Texture coordinates follow glTF (v down the image rows); each loader
+//! converts its format's convention once, at load.
+//!
+//! Loading: [`load()`] picks the loader by the file's extension (`format`) — [`gltf`],
+//! [`obj`] or [`toml`] — and each returns a [`Loaded`]. The loaders share, without importing
+//! one another, what loading takes and gives (`asset`: [`LoadOptions`], [`Loaded`],
+//! [`AssetInfo`]), the file rules (`files`: bounded reads, the folder rule, `data:` URIs) and
+//! the texture cache (`texture_cache`); a TOML scene calls the glTF and OBJ loaders for its
+//! model files, never the dispatcher, so no two files depend on each other.
 
 // `!(x > y)` is deliberate: it is true for NaN, which must be rejected too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]

@@ -12,8 +12,8 @@
 //! - Meshes and volumes are placed alike: scale, then rotate (about x, then y, then z), then
 //!   translate, or a column-major `matrix`; a mesh may generate its texture coordinates
 //!   (`texgen`).
-//! - Without lights in the file, surfaces get the peers' directional light and volumes a
-//!   headlight; with lights, both use them.
+//! - Without lights in the file, surfaces get the peers' directional light and shaded
+//!   volumes a headlight; with lights, both use the file's.
 //!
 //! Files: `spec` (the tables as serde reads them), `document` (the file → [`Loaded`]),
 //! then one file per kind of table: `cameras`, `lights`, `materials`, `textures` and
