@@ -72,11 +72,9 @@ pub fn run(args: InfoArgs) -> Result<(), Error> {
         emit(&out);
         return Ok(());
     }
-    let options = LoadOptions {
-        allow_outside_paths: args.allow_outside_paths,
-        lenient: args.lenient,
-        ..Default::default()
-    };
+    let options = LoadOptions::default()
+        .allow_outside_paths(args.allow_outside_paths)
+        .lenient(args.lenient);
     let loaded = texmap::scene::load(path, &options)?;
     let mut out = String::new();
     print_scene(&mut out, path, &loaded);

@@ -237,11 +237,9 @@ struct Built {
 /// The scene, its volumes (a volume file's, or a TOML scene's with the volume flags laid
 /// over them), and `--mesh` files added.
 fn build(args: &RenderArgs) -> Result<Built, Error> {
-    let options = LoadOptions {
-        allow_outside_paths: args.allow_outside_paths,
-        lenient: args.lenient,
-        ..Default::default()
-    };
+    let options = LoadOptions::default()
+        .allow_outside_paths(args.allow_outside_paths)
+        .lenient(args.lenient);
     let v = &args.volume;
     let volume_file = args
         .scene

@@ -3,19 +3,27 @@
 //! Conventions: right-handed world, the camera looks from `eye` towards `target` (down its
 //! own −Z), `up` is projected to the image's upward direction. Triangles are counter-clockwise
 //! when seen from their front side (after `world_from_object`; a mirroring transform flips the
-//! winding back). Texture coordinates follow glTF (v down the image rows).
+//! winding back). Texture coordinates follow glTF (v down the image rows); each loader
+//! converts its format's convention once, at load.
+//!
+//! Loading: [`load()`] picks the loader by the file's extension (`format`) — [`gltf`],
+//! [`obj`] or [`toml`] — and each returns a [`Loaded`]. The loaders share, without importing
+//! one another, what loading takes and gives (`asset`: [`LoadOptions`], [`Loaded`],
+//! [`AssetInfo`]), the file rules (`files`: bounded reads, the folder rule, `data:` URIs) and
+//! the texture cache (`texture_cache`); a TOML scene calls the glTF and OBJ loaders for its
+//! model files, never the dispatcher, so no two files depend on each other.
 
-// `!(x > y)` is deliberate: it is true for NaN, which must be rejected too.
-#![allow(clippy::neg_cmp_op_on_partial_ord)]
-
+mod asset;
 pub mod builtin;
+mod files;
+mod format;
 pub mod gltf;
 pub mod load;
 pub mod obj;
 pub mod primitives;
 pub mod tangents;
+mod texture_cache;
 pub mod toml;
-mod toml_volume;
 
 /// Writes `body` to file `name` in this test process's scratch directory for loader `kind`
 /// (`texmap-{kind}-{pid}` under the system's temporary directory) and returns its path.
@@ -28,7 +36,8 @@ pub(crate) fn test_file(kind: &str, name: &str, body: impl AsRef<[u8]>) -> std::
     p
 }
 
-pub use load::{load, AssetInfo, LoadOptions, Loaded, TextureInfo};
+pub use asset::{AssetInfo, LoadOptions, Loaded, TextureInfo};
+pub use load::load;
 
 use std::sync::Arc;
 

@@ -9,7 +9,7 @@
 //!   `map_Ka` / `map_Ks` (sRGB), `map_Ns`, `map_d`, `bump` / `map_bump` (with `-bm`),
 //!   `norm` (linear). Texture options (`-o`, `-s`, `-bm`, `-clamp`, …) are parsed: `-o`/`-s`
 //!   become the slot's transform, `-clamp on` clamps to the edge. Windows `\` separators
-//!   are accepted. Every referenced file follows the folder rule of [`super::load`].
+//!   are accepted. Every referenced file follows the folder rule of `scene::files`.
 
 use std::cell::RefCell;
 use std::io::BufReader;
@@ -17,12 +17,12 @@ use std::path::Path;
 
 use glam::{Vec2, Vec3, Vec4};
 
-use super::load::{
-    read_bounded, resolve_reference, AssetInfo, ImageSource, LoadOptions, Loaded, TextureCache,
-};
+use super::asset::{AssetInfo, LoadOptions, Loaded};
+use super::files::{read_bounded, resolve_reference};
+use super::texture_cache::{channel_color_space, AlphaChannel, ImageSource, TextureCache};
 use super::{AlphaMode, Light, Material, Mesh, Scene, TextureSlot};
 use crate::shading::{MapChannel, MaterialMap};
-use crate::texture::{Sampler, TextureTransform, Wrap};
+use crate::texture::{ColorSpace, Sampler, TextureTransform, Wrap};
 use crate::{Error, Result};
 
 /// Loads an `.obj` file and the `.mtl` files it names.
@@ -32,7 +32,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     let mtl_errors: RefCell<Vec<Error>> = RefCell::new(Vec::new());
     let load_mtl = |p: &Path| -> tobj::MTLLoadResult {
         let name = p.to_string_lossy().replace('\\', "/");
-        let r = resolve_reference(path, &name, options.allow_outside_paths)
+        let r = resolve_reference(path, &name, options)
             .and_then(|full| read_bounded(&full, options.max_buffer_bytes).map(|b| (full, b)));
         match r {
             Ok((full, b)) => {
@@ -237,7 +237,8 @@ fn smooth_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
 struct MapSpec {
     file: String,
     bump_multiplier: f32,
-    clamp: bool,
+    /// `-clamp on`: clamp to the edge; else repeat.
+    wrap: Wrap,
     offset: Vec2,
     scale: Vec2,
 }
@@ -247,7 +248,7 @@ fn parse_map(s: &str) -> MapSpec {
     let mut spec = MapSpec {
         file: String::new(),
         bump_multiplier: 1.0,
-        clamp: false,
+        wrap: Wrap::Repeat,
         offset: Vec2::ZERO,
         scale: Vec2::ONE,
     };
@@ -262,7 +263,11 @@ fn parse_map(s: &str) -> MapSpec {
                 i += 2;
             }
             "-clamp" => {
-                spec.clamp = tokens.get(i + 1) == Some(&"on");
+                spec.wrap = if tokens.get(i + 1) == Some(&"on") {
+                    Wrap::ClampToEdge
+                } else {
+                    Wrap::Repeat
+                };
                 i += 2;
             }
             "-o" | "-s" | "-t" => {
@@ -343,65 +348,64 @@ fn material(
     // With a diffuse map, K_D scales the texture (most exporters write Kd 0.8 beside map_Kd;
     // the peer draws the texture alone): the base colour is the texture, K_D stays the
     // Phong coefficient.
-    let mut slot = |spec: &str, srgb: bool| -> Result<Option<(TextureSlot, MapSpec)>> {
-        let spec = parse_map(spec);
-        if spec.file.is_empty() {
-            return Ok(None);
-        }
-        let file = resolve_reference(path, &spec.file, options.allow_outside_paths)?;
-        let Some(tex) = textures.get(
-            &file.to_string_lossy(),
-            ImageSource::File(file.clone()),
-            srgb,
-            false,
-        )?
-        else {
-            return Ok(None);
+    let mut slot =
+        |spec: &str, color_space: ColorSpace| -> Result<Option<(TextureSlot, MapSpec)>> {
+            let spec = parse_map(spec);
+            if spec.file.is_empty() {
+                return Ok(None);
+            }
+            let file = resolve_reference(path, &spec.file, options)?;
+            let Some(tex) = textures.get(
+                &file.to_string_lossy(),
+                ImageSource::File(file.clone()),
+                color_space,
+                AlphaChannel::Keep,
+            )?
+            else {
+                return Ok(None);
+            };
+            let mut s = TextureSlot::new(
+                tex,
+                Sampler::new(crate::texture::Filter::TRILINEAR, spec.wrap),
+            );
+            // OBJ's -o/-s act on v-up coordinates; in v-down ones the offset's v flips.
+            s.transform = TextureTransform {
+                offset: Vec2::new(spec.offset.x, -spec.offset.y),
+                rotation: 0.0,
+                scale: spec.scale,
+            };
+            Ok(Some((s, spec)))
         };
-        let wrap = if spec.clamp {
-            Wrap::ClampToEdge
-        } else {
-            Wrap::Repeat
-        };
-        let mut s = TextureSlot::new(tex, Sampler::new(crate::texture::Filter::TRILINEAR, wrap));
-        // OBJ's -o/-s act on v-up coordinates; in v-down ones the offset's v flips.
-        s.transform = TextureTransform {
-            offset: Vec2::new(spec.offset.x, -spec.offset.y),
-            rotation: 0.0,
-            scale: spec.scale,
-        };
-        Ok(Some((s, spec)))
-    };
     if let Some(t) = &m.diffuse_texture {
-        if let Some((s, _)) = slot(t, true)? {
+        if let Some((s, _)) = slot(t, ColorSpace::Srgb)? {
             mat.base_color = Vec4::new(1.0, 1.0, 1.0, opacity);
             mat.base_color_texture = Some(s);
         }
     }
-    let mut maps: Vec<(MapChannel, &String, bool)> = Vec::new();
+    let mut maps: Vec<(MapChannel, &String)> = Vec::new();
     if let Some(t) = &m.ambient_texture {
-        maps.push((MapChannel::Ambient, t, true));
+        maps.push((MapChannel::Ambient, t));
     }
     if let Some(t) = &m.specular_texture {
-        maps.push((MapChannel::Specular, t, true));
+        maps.push((MapChannel::Specular, t));
     }
     if let Some(t) = &m.shininess_texture {
-        maps.push((MapChannel::Shininess, t, false));
+        maps.push((MapChannel::Shininess, t));
     }
     if let Some(t) = &m.dissolve_texture {
-        maps.push((MapChannel::Alpha, t, false));
+        maps.push((MapChannel::Alpha, t));
         if mat.alpha_mode == AlphaMode::Opaque {
             mat.alpha_mode = AlphaMode::Mask(0.5);
         }
     }
     if let Some(t) = &m.normal_texture {
-        maps.push((MapChannel::Bump, t, false));
+        maps.push((MapChannel::Bump, t));
     }
     if let Some(t) = m.unknown_param.get("norm") {
-        maps.push((MapChannel::Normal, t, false));
+        maps.push((MapChannel::Normal, t));
     }
-    for (channel, t, srgb) in maps {
-        if let Some((s, spec)) = slot(t, srgb)? {
+    for (channel, t) in maps {
+        if let Some((s, spec)) = slot(t, channel_color_space(channel))? {
             let scale = if channel == MapChannel::Bump {
                 spec.bump_multiplier
             } else {
@@ -426,7 +430,7 @@ mod tests {
         let s = parse_map("-bm 0.5 -clamp on -o 0.1 0.2 -s 2 3 1 dir\\my file.png");
         assert_eq!(s.file, "dir/my file.png");
         assert_eq!(s.bump_multiplier, 0.5);
-        assert!(s.clamp);
+        assert_eq!(s.wrap, Wrap::ClampToEdge);
         assert_eq!(s.offset, Vec2::new(0.1, 0.2));
         assert_eq!(s.scale, Vec2::new(2.0, 3.0));
         assert_eq!(parse_map(".\\SpiderTex.jpg").file, "./SpiderTex.jpg");

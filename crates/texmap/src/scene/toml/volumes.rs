@@ -1,64 +1,18 @@
-//! The `[[volumes]]` tables of TOML scenes: a scan (NIfTI, NRRD or raw with its grid), its
-//! placement in the scene, its transfer function and how to render it — the options of
-//! `texmap render scan.nii.gz`, with the same names and defaults. Documented in
-//! `docs/scenes.md`.
+//! `[[volumes]]` → [`SceneVolume`]: a scan (NIfTI, NRRD, or raw with its grid described by
+//! `dims` and the keys after it), its placement in the scene, its transfer function and how
+//! to render it — the options of `texmap render scan.nii.gz`, with the same names and
+//! defaults. The raw keys are errors for files with their own header (it would be unclear
+//! which description wins). Documented in `docs/scenes.md`.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use glam::{Mat4, Vec3};
-use serde::Deserialize;
 
-use super::Light;
+use super::spec::VolumeSpec;
+use crate::shading::Light;
 use crate::volume::scene_volume::{parse_classification, parse_mode};
 use crate::volume::{load_volume, Method, RawDesc, ScalarType, SceneVolume, TransferFunction2D};
 use crate::{Error, Result};
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct VolumeSpec {
-    /// `.nii`, `.nii.gz`, `.nrrd`, `.nhdr`, or a raw file described by `dims` and the keys
-    /// after it (relative to the scene file).
-    file: PathBuf,
-    /// Raw files: grid size, voxel type (default u8), spacing (default 1), byte order
-    /// (default little) and bytes to skip before the voxels (default 0).
-    dims: Option<[u32; 3]>,
-    dtype: Option<String>,
-    spacing: Option<[f32; 3]>,
-    endian: Option<String>,
-    header_bytes: Option<u64>,
-    /// Place the grid by its spacing alone, as `vtk_volume.py` does.
-    #[serde(default)]
-    ignore_orientation: bool,
-    /// World from the file's placement: scale, rotate (degrees about x, y, z), translate;
-    /// or a column-major 4×4 `matrix`.
-    pub(super) translate: Option<[f32; 3]>,
-    pub(super) rotate: Option<[f32; 3]>,
-    pub(super) scale: Option<super::toml::ScaleSpec>,
-    pub(super) matrix: Option<[f32; 16]>,
-    /// A preset, `value:r,g,b,a;…` points, or a file of points (default `synth`).
-    tf: Option<String>,
-    /// composite | mip | iso | xray.
-    mode: Option<String>,
-    iso: Option<f32>,
-    /// Sample distance in world units (default 0.5).
-    step: Option<f32>,
-    #[serde(default)]
-    shade: bool,
-    /// raymarch | slices.
-    method: Option<String>,
-    /// post | pre | preint.
-    classification: Option<String>,
-    /// `g:factor;…`.
-    gradient_opacity: Option<String>,
-    #[serde(default = "yes")]
-    jitter: bool,
-    #[serde(default = "yes")]
-    empty_space_skipping: bool,
-}
-
-fn yes() -> bool {
-    true
-}
 
 /// True for the file names whose header describes the grid.
 fn has_header(file: &Path) -> bool {

@@ -1,0 +1,127 @@
+//! Tests of the glTF loader as a whole: small documents written to a scratch folder and
+//! loaded.
+
+use glam::{Vec2, Vec3, Vec4};
+
+use super::load;
+use crate::scene::{Light, LoadOptions, ShadingModel};
+use crate::shading::MapChannel;
+
+/// A data-URI glTF: a non-indexed strip, a sparse POSITION, u8-normalized COLOR_0, and a
+/// base-colour texture whose KHR_texture_transform reads TEXCOORD_1.
+#[test]
+fn data_uris_strips_sparse_colors_and_texcoord_override() {
+    use base64::Engine;
+    let mut b: Vec<u8> = Vec::new();
+    for p in [
+        [0.0f32, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+    ] {
+        p.iter().for_each(|v| b.extend_from_slice(&v.to_le_bytes()));
+    }
+    b.extend_from_slice(&[
+        255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 128,
+    ]);
+    for uv in [[0.0f32, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]] {
+        uv.iter()
+            .for_each(|v| b.extend_from_slice(&v.to_le_bytes()));
+    }
+    b.extend_from_slice(&[3, 0, 0, 0]);
+    [2.0f32, 2.0, 0.0]
+        .iter()
+        .for_each(|v| b.extend_from_slice(&v.to_le_bytes()));
+    assert_eq!(b.len(), 112);
+    let enc = |x: &[u8]| base64::engine::general_purpose::STANDARD.encode(x);
+    let mut png = Vec::new();
+    image::RgbaImage::from_pixel(2, 2, image::Rgba([9, 9, 9, 255]))
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    let json = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "extensionsUsed": ["KHR_texture_transform"],
+  "nodes": [{{"mesh": 0, "translation": [0, 0, -1]}}],
+  "meshes": [{{"primitives": [{{"mode": 5, "material": 0,
+ "attributes": {{"POSITION": 0, "COLOR_0": 1, "TEXCOORD_1": 2}}}}]}}],
+  "materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0,
+ "extensions": {{"KHR_texture_transform": {{"texCoord": 1, "scale": [2, 2]}}}}}}}},
+ "normalTexture": {{"index": 0, "scale": 0.5,
+   "extensions": {{"KHR_texture_transform": {{"offset": [0.25, 0.5], "rotation": 0.5}}}}}},
+ "occlusionTexture": {{"index": 0,
+   "extensions": {{"KHR_texture_transform": {{"texCoord": 1, "scale": [3, 4]}}}}}}}}],
+  "textures": [{{"source": 0}}],
+  "images": [{{"uri": "data:image/png;base64,{}"}}],
+  "buffers": [{{"byteLength": 112, "uri": "data:application/octet-stream;base64,{}"}}],
+  "bufferViews": [{{"buffer": 0, "byteLength": 48}}, {{"buffer": 0, "byteOffset": 48, "byteLength": 16}},
+              {{"buffer": 0, "byteOffset": 64, "byteLength": 32}}, {{"buffer": 0, "byteOffset": 96, "byteLength": 4}},
+              {{"buffer": 0, "byteOffset": 100, "byteLength": 12}}],
+  "accessors": [
+{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [2, 2, 0],
+  "sparse": {{"count": 1, "indices": {{"bufferView": 3, "componentType": 5121}}, "values": {{"bufferView": 4}}}}}},
+{{"bufferView": 1, "componentType": 5121, "normalized": true, "count": 4, "type": "VEC4"}},
+{{"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"}}]}}"#,
+        enc(&png),
+        enc(&b)
+    );
+    let p = crate::scene::test_file("gltf", "data.gltf", json);
+    let l = load(&p, &LoadOptions::default()).unwrap();
+    let m = &l.scene.meshes[0];
+    assert_eq!(m.indices, [0, 1, 2, 1, 3, 2]);
+    assert_eq!(m.positions[3], Vec3::new(2.0, 2.0, 0.0));
+    assert_eq!(m.colors[3], Vec4::new(1.0, 1.0, 1.0, 128.0 / 255.0));
+    assert_eq!(m.uvs1.len(), 4);
+    assert!(m.uvs.is_empty());
+    assert_eq!(m.world_from_object.w_axis.z, -1.0);
+    let slot = l.scene.materials[0].base_color_texture.as_ref().unwrap();
+    assert_eq!(slot.tex_coord, 1);
+    assert_eq!(slot.transform.scale, Vec2::splat(2.0));
+    // Normal and occlusion textures carry their own transforms.
+    let mat = &l.scene.materials[0];
+    let normal = mat.map(MapChannel::Normal).unwrap();
+    assert_eq!(normal.scale, 0.5);
+    assert_eq!(normal.slot.transform.offset, Vec2::new(0.25, 0.5));
+    assert_eq!(normal.slot.transform.rotation, 0.5);
+    assert_eq!(normal.slot.transform.scale, Vec2::ONE);
+    assert_eq!(normal.slot.tex_coord, 0);
+    let occlusion = mat.map(MapChannel::Occlusion).unwrap();
+    assert_eq!(occlusion.slot.transform.scale, Vec2::new(3.0, 4.0));
+    assert_eq!(occlusion.slot.tex_coord, 1);
+    // One image, decoded twice: as sRGB colour and as linear data.
+    assert_eq!(l.info.textures.len(), 2);
+    // glTF materials are metallic-roughness, the default one a white rough metal.
+    let (mat, default) = (&l.scene.materials[0], l.scene.materials.last().unwrap());
+    assert_eq!(mat.model, ShadingModel::MetallicRoughness);
+    assert_eq!((mat.metallic, mat.roughness), (1.0, 1.0));
+    assert_eq!(default.model, ShadingModel::MetallicRoughness);
+    assert_eq!((default.metallic, default.roughness), (1.0, 1.0));
+}
+
+#[test]
+fn punctual_light_intensities_are_divided_by_pi() {
+    let json = r#"{"asset": {"version": "2.0"},
+  "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_unlit"],
+  "extensions": {"KHR_lights_punctual": {"lights": [
+{"type": "directional", "color": [1, 0.5, 0.25], "intensity": 6.283185307179586},
+{"type": "point", "intensity": 31.41592653589793}]}},
+  "materials": [{"extensions": {"KHR_materials_unlit": {}}}],
+  "nodes": [{"extensions": {"KHR_lights_punctual": {"light": 0}}},
+        {"translation": [0, 2, 0], "extensions": {"KHR_lights_punctual": {"light": 1}}}]}"#;
+    let p = crate::scene::test_file("gltf", "lights.gltf", json);
+    let l = load(&p, &LoadOptions::default()).unwrap();
+    match l.scene.lights[..] {
+        [Light::Directional { direction, color }, Light::Point {
+            position,
+            color: point,
+            ..
+        }] => {
+            assert!((color - Vec3::new(2.0, 1.0, 0.5)).abs().max_element() < 1e-6);
+            assert!((direction - Vec3::Z).length() < 1e-6, "{direction}");
+            assert!((point - Vec3::splat(10.0)).abs().max_element() < 1e-5);
+            assert_eq!(position, Vec3::new(0.0, 2.0, 0.0));
+        }
+        ref other => panic!("{other:?}"),
+    }
+    // KHR_materials_unlit keeps the Phong model (and ignores lights).
+    assert!(l.scene.materials[0].unlit);
+    assert_eq!(l.scene.materials[0].model, ShadingModel::Phong);
+}

@@ -1,0 +1,186 @@
+//! glTF textures → [`TextureSlot`]s: the image (a bufferView, a `data:` URI or a file beside
+//! the asset, through the scene's texture cache, so each image is decoded once per colour
+//! space and alpha handling), the sampler mapped straight onto texmap's OpenGL filters and wraps (undefined
+//! filters are trilinear, undefined wraps repeat), the uv set, and `KHR_texture_transform`
+//! as [`TextureTransform`] — on every texture, normal and occlusion ones included. KTX2,
+//! WebP and DDS images are a warning and the channel is left out, as in the peer.
+
+use std::sync::Arc;
+
+use glam::Vec2;
+
+use super::document::Loader;
+use crate::scene::files::{decode_data_uri, percent_decode, resolve_reference};
+use crate::scene::texture_cache::{AlphaChannel, ImageSource};
+use crate::shading::{MapChannel, Material, TextureSlot};
+use crate::texture::{
+    ColorSpace, Filter, MagFilter, MinFilter, Sampler, Texture2D, TextureTransform, Wrap,
+};
+use crate::Result;
+
+impl Loader<'_> {
+    /// The slot for texture `tex` read with uv set `tex_coord` and an optional transform, its
+    /// image decoded in `color_space` with its alpha kept or dropped; `None` when the image
+    /// is left out.
+    pub(super) fn slot(
+        &mut self,
+        tex: &gltf::Texture,
+        tex_coord: u32,
+        transform: Option<gltf::texture::TextureTransform>,
+        color_space: ColorSpace,
+        alpha: AlphaChannel,
+    ) -> Result<Option<TextureSlot>> {
+        let Some(texture) = self.image(&tex.source(), color_space, alpha)? else {
+            return Ok(None);
+        };
+        let mut slot = TextureSlot::new(texture, sampler(&tex.sampler()));
+        slot.tex_coord = tex_coord;
+        if let Some(t) = transform {
+            slot.transform = TextureTransform {
+                offset: Vec2::from(t.offset()),
+                rotation: t.rotation(),
+                scale: Vec2::from(t.scale()),
+            };
+            if let Some(tc) = t.tex_coord() {
+                slot.tex_coord = tc;
+            }
+        }
+        if slot.tex_coord > 1 {
+            self.warnings.push(format!(
+                "{}: texture {} reads TEXCOORD_{}; texmap reads sets 0 and 1 only (uv = 0)",
+                self.path.display(),
+                tex.index(),
+                slot.tex_coord
+            ));
+        }
+        Ok(Some(slot))
+    }
+
+    fn image(
+        &mut self,
+        img: &gltf::Image,
+        color_space: ColorSpace,
+        alpha: AlphaChannel,
+    ) -> Result<Option<Arc<Texture2D>>> {
+        let key = format!("image{}", img.index());
+        let unsupported = |mime: Option<&str>| {
+            matches!(mime, Some("image/ktx2" | "image/webp" | "image/vnd-ms.dds"))
+        };
+        match img.source() {
+            gltf::image::Source::View { view, mime_type } => {
+                let name = format!(
+                    "{} (image {}, {mime_type})",
+                    self.path.display(),
+                    img.index()
+                );
+                if unsupported(Some(mime_type)) {
+                    return self.skip_image(name);
+                }
+                let bytes = self.acc.view_bytes(&view)?;
+                self.textures
+                    .get(&key, ImageSource::Bytes { name, bytes }, color_space, alpha)
+            }
+            gltf::image::Source::Uri { uri, mime_type } if uri.starts_with("data:") => {
+                let data = decode_data_uri(self.path, uri, self.options.max_buffer_bytes)?;
+                let name = format!("{} (image {}, data URI)", self.path.display(), img.index());
+                if unsupported(data.mime.as_deref().or(mime_type)) {
+                    return self.skip_image(name);
+                }
+                self.textures.get(
+                    &key,
+                    ImageSource::Bytes {
+                        name,
+                        bytes: &data.bytes,
+                    },
+                    color_space,
+                    alpha,
+                )
+            }
+            gltf::image::Source::Uri { uri, mime_type } => {
+                let p = resolve_reference(self.path, &percent_decode(uri), self.options)?;
+                if unsupported(mime_type) {
+                    return self.skip_image(p.display().to_string());
+                }
+                self.textures
+                    .get(&key, ImageSource::File(p), color_space, alpha)
+            }
+        }
+    }
+
+    fn skip_image(&mut self, name: String) -> Result<Option<Arc<Texture2D>>> {
+        self.warnings.push(format!(
+            "{name}: image format not decoded by texmap; the texture is left out"
+        ));
+        Ok(None)
+    }
+}
+
+/// glTF sampler → texmap sampler (undefined filters are trilinear, undefined wraps repeat).
+fn sampler(s: &gltf::texture::Sampler) -> Sampler {
+    use gltf::texture::{MagFilter as GM, MinFilter as Gm, WrappingMode as W};
+    let mag = match s.mag_filter() {
+        Some(GM::Nearest) => MagFilter::Nearest,
+        _ => MagFilter::Linear,
+    };
+    let min = match s.min_filter() {
+        Some(Gm::Nearest) => MinFilter::Nearest,
+        Some(Gm::Linear) => MinFilter::Linear,
+        Some(Gm::NearestMipmapNearest) => MinFilter::NearestMipmapNearest,
+        Some(Gm::LinearMipmapNearest) => MinFilter::LinearMipmapNearest,
+        Some(Gm::NearestMipmapLinear) => MinFilter::NearestMipmapLinear,
+        Some(Gm::LinearMipmapLinear) | None => MinFilter::LinearMipmapLinear,
+    };
+    let wrap = |w: W| match w {
+        W::ClampToEdge => Wrap::ClampToEdge,
+        W::MirroredRepeat => Wrap::MirroredRepeat,
+        W::Repeat => Wrap::Repeat,
+    };
+    let mut out = Sampler::new(Filter::Gl { mag, min }, Wrap::Repeat);
+    out.wrap_u = wrap(s.wrap_s());
+    out.wrap_v = wrap(s.wrap_t());
+    out
+}
+
+pub(super) const TRANSFORM: &str = "KHR_texture_transform";
+
+/// Sets the transform (and uv set override) of the last map of `mat`, if it feeds `channel`,
+/// from a raw `KHR_texture_transform` object: `offset`, `rotation`, `scale`, `texCoord`, each
+/// optional; malformed members keep their defaults.
+pub(super) fn apply_raw_transform(
+    mat: &mut Material,
+    channel: MapChannel,
+    value: Option<&gltf::json::Value>,
+) {
+    let (Some(value), Some(map)) = (value, mat.maps.last_mut()) else {
+        return;
+    };
+    if map.channel != channel {
+        return;
+    }
+    let pair = |key: &str, default: Vec2| {
+        value
+            .get(key)
+            .and_then(|v| v.as_array())
+            .and_then(|a| {
+                Some(Vec2::new(
+                    a.first()?.as_f64()? as f32,
+                    a.get(1)?.as_f64()? as f32,
+                ))
+            })
+            .filter(|v| v.is_finite())
+            .unwrap_or(default)
+    };
+    map.slot.transform = TextureTransform {
+        offset: pair("offset", Vec2::ZERO),
+        rotation: value
+            .get("rotation")
+            .and_then(|v| v.as_f64())
+            .map(|r| r as f32)
+            .filter(|r| r.is_finite())
+            .unwrap_or(0.0),
+        scale: pair("scale", Vec2::ONE),
+    };
+    if let Some(tc) = value.get("texCoord").and_then(|v| v.as_u64()) {
+        map.slot.tex_coord = u32::try_from(tc).unwrap_or(u32::MAX);
+    }
+}

@@ -1,0 +1,172 @@
+//! Images loaded for a scene's materials: each source decoded once per colour space and
+//! alpha handling ([`AlphaChannel`]), a `--lenient` load turning a missing or corrupt image
+//! into a magenta placeholder, and every texture recorded as a [`TextureInfo`] for
+//! `texmap info`.
+//!
+//! Rules: image limits (size, decoded bytes) are never relaxed by `--lenient`: an image over
+//! them is an error. Formats texmap cannot decode (KTX2, WebP, BasisU, DDS) are a warning and
+//! the channel is left out, not an error, as in the peer.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use image::DynamicImage;
+
+use super::asset::{LoadOptions, TextureInfo};
+use crate::shading::MapChannel;
+use crate::texture::load::{decode_image, decode_image_bytes, texture_from_image, Limits};
+use crate::texture::{ColorSpace, Texture2D, TextureOptions};
+use crate::{Error, Result};
+
+/// Where a texture's bytes come from.
+pub(crate) enum ImageSource<'a> {
+    File(PathBuf),
+    Bytes { name: String, bytes: &'a [u8] },
+}
+
+/// Whether an image's alpha channel is kept.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) enum AlphaChannel {
+    /// As stored: texels are premultiplied by it when read.
+    Keep,
+    /// Dropped at load, every texel opaque: for glTF's OPAQUE base colour, whose alpha the
+    /// specification says to ignore (a texel with alpha 0 keeps its colour instead of being
+    /// premultiplied to black).
+    Drop,
+}
+
+/// The colour space a channel's image is decoded in unless the file says otherwise: sRGB
+/// for colour channels ([`MapChannel::is_color`]), linear for data.
+#[must_use]
+pub(crate) fn channel_color_space(channel: MapChannel) -> ColorSpace {
+    if channel.is_color() {
+        ColorSpace::Srgb
+    } else {
+        ColorSpace::Linear
+    }
+}
+
+/// What one decoded texture is: its source, and how it was decoded.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+struct CacheKey {
+    source: String,
+    color_space: ColorSpace,
+    alpha: AlphaChannel,
+}
+
+/// Loads textures once per (source, colour space, alpha), applying `--lenient` and recording
+/// [`TextureInfo`]s and warnings.
+pub(crate) struct TextureCache {
+    cache: HashMap<CacheKey, Option<Arc<Texture2D>>>,
+    pub infos: Vec<TextureInfo>,
+    pub warnings: Vec<String>,
+    lenient: bool,
+    limits: Limits,
+}
+
+impl TextureCache {
+    pub fn new(options: &LoadOptions) -> Self {
+        TextureCache {
+            cache: HashMap::new(),
+            infos: Vec::new(),
+            warnings: Vec::new(),
+            lenient: options.lenient,
+            limits: options.limits,
+        }
+    }
+
+    /// The texture `key` names (a file path, or an index inside the asset), decoded from
+    /// `source` in `color_space`; `None` when the image format is one texmap cannot decode
+    /// (KTX2, WebP: a warning, the channel reads as absent), or an error for a
+    /// missing/corrupt image unless lenient (then a magenta placeholder).
+    pub fn get(
+        &mut self,
+        key: &str,
+        source: ImageSource<'_>,
+        color_space: ColorSpace,
+        alpha: AlphaChannel,
+    ) -> Result<Option<Arc<Texture2D>>> {
+        let key = CacheKey {
+            source: key.to_string(),
+            color_space,
+            alpha,
+        };
+        if let Some(t) = self.cache.get(&key) {
+            return Ok(t.clone());
+        }
+        let name = match &source {
+            ImageSource::File(p) => p.display().to_string(),
+            ImageSource::Bytes { name, .. } => name.clone(),
+        };
+        let lower = name.to_ascii_lowercase();
+        if lower.ends_with(".ktx2")
+            || lower.ends_with(".webp")
+            || lower.ends_with(".basis")
+            || lower.ends_with(".dds")
+        {
+            self.warnings.push(format!(
+                "{name}: image format not decoded by texmap; the texture is left out"
+            ));
+            self.cache.insert(key, None);
+            return Ok(None);
+        }
+        let decoded = match &source {
+            ImageSource::File(p) => decode_image(p, &self.limits),
+            ImageSource::Bytes { name, bytes } => {
+                decode_image_bytes(bytes, Path::new(name), &self.limits)
+            }
+        };
+        let decoded = decoded.map(|img| match alpha {
+            AlphaChannel::Keep => img,
+            AlphaChannel::Drop => drop_alpha(img),
+        });
+        let result = decoded.and_then(|img| {
+            texture_from_image(img, color_space, TextureOptions::default())
+                .map_err(|e| Error::decode(&name, e.to_string()))
+        });
+        let (tex, placeholder) = match result {
+            Ok(t) => (Arc::new(t), false),
+            Err(e @ Error::Limits { .. }) => return Err(e),
+            Err(e) if self.lenient => {
+                self.warnings
+                    .push(format!("{e} (using a magenta placeholder)"));
+                (placeholder_texture(), true)
+            }
+            Err(e) => return Err(e),
+        };
+        self.infos.push(TextureInfo {
+            name,
+            width: tex.width(),
+            height: tex.height(),
+            format: tex.format(),
+            color_space: tex.color_space(),
+            placeholder,
+        });
+        self.cache.insert(key, Some(tex.clone()));
+        Ok(Some(tex))
+    }
+}
+
+/// The image without its alpha channel.
+fn drop_alpha(img: DynamicImage) -> DynamicImage {
+    if !img.color().has_alpha() {
+        return img;
+    }
+    match img {
+        DynamicImage::ImageLumaA8(_) => DynamicImage::ImageLuma8(img.to_luma8()),
+        DynamicImage::ImageRgba8(_) => DynamicImage::ImageRgb8(img.to_rgb8()),
+        DynamicImage::ImageRgba32F(_) => DynamicImage::ImageRgb32F(img.to_rgb32f()),
+        other => DynamicImage::ImageRgb16(other.to_rgb16()),
+    }
+}
+
+/// The 2×2 magenta texture that stands for a missing one.
+#[must_use]
+pub(crate) fn placeholder_texture() -> Arc<Texture2D> {
+    let px = [255u8, 0, 255, 255].repeat(4);
+    Arc::new(
+        Texture2D::from_rgba8(2, 2, ColorSpace::Srgb, &px)
+            .expect("a 2x2 RGBA8 buffer of 16 bytes is a valid texture"),
+    )
+}

@@ -1,0 +1,152 @@
+//! `[[meshes]]` → meshes: a built-in primitive (sizes default to 1), or every mesh of a glTF
+//! or OBJ file, which brings its materials along unless `material` names one to use
+//! instead. Either is placed (`placement`), and may generate its texture coordinates
+//! (`texgen`) before the placement applies. A model file keeps its own node transforms, the
+//! entry's placement applied after them; its cameras and volumes are not taken.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use super::placement::placement;
+use super::spec::MeshSpec;
+use super::texgen::apply_texgen;
+use crate::scene::asset::{LoadOptions, Loaded};
+use crate::scene::format::SceneFormat;
+use crate::scene::primitives::Primitive;
+use crate::{Error, Result};
+
+/// The materials a `[[meshes]]` entry may name, and the one a primitive gets otherwise.
+pub(super) struct MeshMaterials {
+    /// `[materials]` names → their index in `Scene::materials`.
+    pub(super) by_name: BTreeMap<String, usize>,
+    /// White Phong, for primitives that name none.
+    pub(super) default: usize,
+}
+
+/// Adds the meshes of entry `i` (`m`) of the scene file `path` to `out`.
+pub(super) fn add_mesh(
+    out: &mut Loaded,
+    path: &Path,
+    i: usize,
+    m: &MeshSpec,
+    materials: &MeshMaterials,
+    options: &LoadOptions,
+) -> Result<()> {
+    let err = |e: String| Error::decode(path, format!("meshes[{i}]: {e}"));
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let transform = placement(m.translate, m.rotate, m.scale.as_ref(), m.matrix).map_err(err)?;
+    let named = match &m.material {
+        Some(n) => Some(
+            *materials
+                .by_name
+                .get(n)
+                .ok_or_else(|| err(format!("no material named {n:?} in [materials]")))?,
+        ),
+        None => None,
+    };
+    match (&m.file, &m.primitive) {
+        (Some(file), None) => {
+            let full = dir.join(file);
+            let sub = match SceneFormat::of(&full)? {
+                SceneFormat::Gltf => crate::scene::gltf::load(&full, options)?,
+                SceneFormat::Obj => crate::scene::obj::load(&full, options)?,
+                SceneFormat::Toml => {
+                    return Err(err(
+                        "a scene file cannot include another scene file".to_string()
+                    ))
+                }
+            };
+            let (scene, info) = (&mut out.scene, &mut out.info);
+            let offset = scene.materials.len();
+            for (k, mut mesh) in sub.scene.meshes.into_iter().enumerate() {
+                if let Some(t) = &m.texgen {
+                    apply_texgen(&mut mesh, t).map_err(err)?;
+                }
+                mesh.world_from_object = transform * mesh.world_from_object;
+                mesh.material = named.unwrap_or(mesh.material + offset);
+                info.mesh_names.push(format!(
+                    "{}: {}",
+                    file.display(),
+                    sub.info.mesh_names.get(k).map_or("", String::as_str)
+                ));
+                scene.meshes.push(mesh);
+            }
+            scene.materials.extend(sub.scene.materials);
+            info.material_names.extend(
+                sub.info
+                    .material_names
+                    .into_iter()
+                    .map(|n| format!("{}: {n}", file.display())),
+            );
+            info.textures.extend(sub.info.textures);
+            out.warnings.extend(sub.warnings);
+        }
+        (None, Some(kind)) => {
+            let p = primitive(kind, m).map_err(err)?;
+            let mut mesh = p.mesh(named.unwrap_or(materials.default));
+            if let Some(t) = &m.texgen {
+                apply_texgen(&mut mesh, t).map_err(err)?;
+            }
+            mesh.world_from_object = transform;
+            out.info.mesh_names.push(kind.clone());
+            out.scene.meshes.push(mesh);
+        }
+        _ => return Err(err("give exactly one of `file` and `primitive`".to_string())),
+    }
+    Ok(())
+}
+
+/// The built-in primitive an entry names, with its sizes; the error is the entry's problem.
+fn primitive(kind: &str, m: &MeshSpec) -> std::result::Result<Primitive, String> {
+    let positive = |v: Option<f32>, d: f32, what: &str| {
+        let v = v.unwrap_or(d);
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(format!("{what} must be a positive number"))
+        }
+    };
+    let size = positive(m.size, 1.0, "size")?;
+    Ok(match kind {
+        "plane" => Primitive::Plane {
+            width: positive(m.width, size, "width")?,
+            depth: positive(m.depth, size, "depth")?,
+            divisions: m.divisions.unwrap_or(1),
+        },
+        "cube" => Primitive::Cube { size },
+        "sphere" => Primitive::Sphere {
+            radius: positive(m.radius, 0.5 * size, "radius")?,
+            segments: m.segments.unwrap_or(64),
+            rings: m.rings.unwrap_or(33),
+        },
+        "cylinder" | "cone" => {
+            let radius = positive(m.radius, 0.5 * size, "radius")?;
+            let height = positive(m.height, size, "height")?;
+            let segments = m.segments.unwrap_or(64);
+            if kind == "cone" {
+                Primitive::Cone {
+                    radius,
+                    height,
+                    segments,
+                }
+            } else {
+                Primitive::Cylinder {
+                    radius,
+                    height,
+                    segments,
+                }
+            }
+        }
+        "torus" => Primitive::Torus {
+            major: positive(m.major_radius, 0.375 * size, "major_radius")?,
+            minor: positive(m.minor_radius, 0.125 * size, "minor_radius")?,
+            segments: m.segments.unwrap_or(64),
+            sides: m.rings.unwrap_or(24),
+        },
+        other => {
+            return Err(format!(
+                "unknown primitive {other:?} (plane, cube, sphere, cylinder, cone, torus)"
+            ))
+        }
+    })
+}
