@@ -6,9 +6,9 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 
-use super::raymarch::{Classification, MarchParams, Mode};
+use super::grid::Volume;
+use super::params::{Classification, MarchParams, Mode};
 use super::transfer::TransferFunction;
-use super::Volume;
 use crate::{Error, Result};
 
 /// How a volume is drawn.
