@@ -41,16 +41,23 @@ impl Cell {
             (y as u32).min(ny.saturating_sub(2)),
             (z as u32).min(nz.saturating_sub(2)),
         );
-        let strides = [
+        Some(Cell {
+            index: (iz as usize * ny as usize + iy as usize) * nx as usize + ix as usize,
+            strides: Self::strides(dims),
+            frac: Vec3::new(x - ix as f32, y - iy as f32, z - iz as f32),
+        })
+    }
+
+    /// The index steps to the next voxel along x, y and z in a `dims` grid (0 on a one-voxel
+    /// axis), the same for every cell.
+    #[inline(always)]
+    pub fn strides(dims: [u32; 3]) -> [usize; 3] {
+        let [nx, ny, nz] = dims;
+        [
             usize::from(nx > 1),
             if ny > 1 { nx as usize } else { 0 },
             if nz > 1 { nx as usize * ny as usize } else { 0 },
-        ];
-        Some(Cell {
-            index: (iz as usize * ny as usize + iy as usize) * nx as usize + ix as usize,
-            strides,
-            frac: Vec3::new(x - ix as f32, y - iy as f32, z - iz as f32),
-        })
+        ]
     }
 
     /// The cell's eight voxels of `data`, each through `convert`, in [`blend_cell`]'s order:

@@ -28,9 +28,8 @@ use super::transfer::gradient_factor;
 /// The eight voxels of the last cell a ray read: at half-voxel steps about every other
 /// sample stays in the same cell, and then skips the eight loads.
 struct CellCache {
-    /// The cell last read ([`Cell::index`], `usize::MAX` before the first) and its strides.
+    /// The cell last read ([`Cell::index`], `usize::MAX` before the first).
     index: usize,
-    strides: [usize; 3],
     corners: [f32; 8],
     /// The last sample's position inside the cell.
     frac: Vec3,
@@ -43,7 +42,6 @@ impl CellCache {
     fn new() -> Self {
         CellCache {
             index: usize::MAX,
-            strides: [0; 3],
             corners: [0.0; 8],
             frac: Vec3::ZERO,
             normals_of: usize::MAX,
@@ -68,7 +66,6 @@ impl CellCache {
             // SAFETY: `data` holds every voxel of the grid (checked above).
             self.corners = unsafe { cell.corners(data, f32::from) };
             self.index = cell.index;
-            self.strides = cell.strides;
         }
         blend_cell(&self.corners, cell.frac)
     }
@@ -83,7 +80,7 @@ impl CellCache {
             }
             let cell = Cell {
                 index: self.index,
-                strides: self.strides,
+                strides: Cell::strides(dims),
                 frac: self.frac,
             };
             // SAFETY: the cell was located on this grid (in `value`), and `normals` holds
