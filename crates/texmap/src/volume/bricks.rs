@@ -10,8 +10,8 @@
 //!   positions never move, so skipping changes no pixel (tested). The jump aims 1/1000 of a
 //!   step short of the exit, so a sample within rounding of the brick's face is looked at
 //!   again (it is still in the brick) rather than passed over.
-//! - The composite loops look the brick up once per brick, not per sample: the samples before
-//!   the exit of a brick found non-empty need no test ([`BrickStep::Sample`]).
+//! - The composite loops walk a ray's samples with [`SampleWalk`], which looks a brick up once,
+//!   at its first sample: the samples before the exit of a brick found non-empty need no test.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -85,7 +85,7 @@ pub(crate) struct EmptyBricks {
 
 /// What a ray does at a sample whose brick it looked up.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum BrickStep {
+enum BrickStep {
     /// The brick is empty: go on at sample `next`, the first past it.
     Skip { next: u32 },
     /// The brick is not empty: take the samples before `until`, the first past it, without
@@ -135,7 +135,7 @@ impl EmptyBricks {
 
     /// At sample `k` (voxel-space `q`) of `walk`'s ray: skip the brick or sample it.
     #[inline(always)]
-    pub fn step(&self, walk: &BrickWalk, q: Vec3, k: u32) -> BrickStep {
+    fn step(&self, walk: &BrickWalk, q: Vec3, k: u32) -> BrickStep {
         let (i, b) = self.brick_of(q);
         let past = walk.first_sample_past(b, k);
         if self.empty[i] {
@@ -191,5 +191,63 @@ impl BrickWalk {
         }
         let past = ((t_exit - self.t0) * self.inv_step - self.jitter - 1e-3).floor() + 1.0;
         (past.max(0.0) as u32).max(k + 1)
+    }
+}
+
+/// A ray's samples in order, less those in empty bricks, each brick looked up once (at the
+/// first of its samples).
+pub(crate) struct SampleWalk<'a> {
+    samples: &'a RaySamples,
+    empty: &'a EmptyBricks,
+    walk: BrickWalk,
+    /// The next sample.
+    k: u32,
+    /// The first sample not known to lie in a non-empty brick.
+    until: u32,
+}
+
+/// A sample to take.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Sample {
+    /// Its voxel-space position.
+    pub q: Vec3,
+    /// Empty bricks were crossed since the sample before (or before the first).
+    pub after_skip: bool,
+}
+
+impl<'a> SampleWalk<'a> {
+    /// The walk over `samples`, crossing the bricks `empty` marks when `skipping`.
+    #[inline(always)]
+    pub fn new(samples: &'a RaySamples, empty: &'a EmptyBricks, skipping: bool) -> Self {
+        SampleWalk {
+            samples,
+            empty,
+            walk: BrickWalk::new(samples),
+            k: 0,
+            until: if skipping { 0 } else { u32::MAX },
+        }
+    }
+
+    /// The next sample to take, if any.
+    #[inline(always)]
+    pub fn next_sample(&mut self) -> Option<Sample> {
+        let mut after_skip = false;
+        while self.k < self.samples.count {
+            let k = self.k;
+            let q = self.samples.at(k);
+            if k >= self.until {
+                match self.empty.step(&self.walk, q, k) {
+                    BrickStep::Skip { next } => {
+                        self.k = next;
+                        after_skip = true;
+                        continue;
+                    }
+                    BrickStep::Sample { until } => self.until = until,
+                }
+            }
+            self.k = k + 1;
+            return Some(Sample { q, after_skip });
+        }
+        None
     }
 }

@@ -17,7 +17,7 @@
 
 use glam::{Vec3, Vec4};
 
-use super::bricks::{BrickStep, BrickWalk};
+use super::bricks::SampleWalk;
 use super::cell::{blend_cell, corners_at, voxel_count, Cell};
 use super::marcher::{Marcher, Traced};
 use super::normals::{direction_or_zero, normal_of, trilinear_normal};
@@ -92,16 +92,6 @@ impl CellCache {
     }
 }
 
-/// Brick tests start at the first sample, or never when skipping is off.
-#[inline(always)]
-fn first_brick_test(m: &Marcher) -> u32 {
-    if m.p.empty_space_skipping {
-        0
-    } else {
-        u32::MAX
-    }
-}
-
 /// The common case: post-classification, no gradient opacity, plain reads; shaded from the
 /// voxel `normals` along `light` when `SHADE`. One sample at a time.
 pub(crate) fn cells<const SHADE: bool>(
@@ -111,23 +101,13 @@ pub(crate) fn cells<const SHADE: bool>(
     normals: &[[i8; 4]],
 ) -> Traced {
     let (mut rgb, mut a) = (Vec3::ZERO, 0.0f32);
-    let (mut k, mut taken) = (0u32, 0u64);
+    let mut taken = 0u64;
     let stop = m.p.early_termination;
-    let walk = BrickWalk::new(s);
-    let mut until = first_brick_test(m);
+    let mut walk = SampleWalk::new(s, &m.empty, m.p.empty_space_skipping);
     let mut cell = CellCache::new();
     let mut acc = Vec4::ZERO;
-    while k < s.count {
-        let q = s.at(k);
-        if k >= until {
-            match m.empty.step(&walk, q, k) {
-                BrickStep::Skip { next } => {
-                    k = next;
-                    continue;
-                }
-                BrickStep::Sample { until: past } => until = past,
-            }
-        }
+    while let Some(sample) = walk.next_sample() {
+        let q = sample.q;
         taken += 1;
         let level = cell.value(m.data, m.dims, q);
         if !SHADE {
@@ -135,7 +115,6 @@ pub(crate) fn cells<const SHADE: bool>(
             if acc.w >= stop {
                 break;
             }
-            k += 1;
             continue;
         }
         let c = m.classify(level);
@@ -148,7 +127,6 @@ pub(crate) fn cells<const SHADE: bool>(
                 break;
             }
         }
-        k += 1;
     }
     let color = if SHADE { rgb.extend(a) } else { acc };
     Traced {
@@ -163,24 +141,15 @@ pub(crate) fn cells<const SHADE: bool>(
 pub(crate) fn general(m: &Marcher, s: &RaySamples, dir: Vec3) -> Traced {
     let mut rgb = Vec3::ZERO;
     let mut a = 0.0f32;
-    let mut k = 0u32;
     let mut taken = 0u64;
     let shade = m.p.shade;
     let grad_op = !m.p.gradient_opacity.is_empty();
     let mut prev: Option<f32> = None;
-    let walk = BrickWalk::new(s);
-    let mut until = first_brick_test(m);
-    while k < s.count {
-        let q = s.at(k);
-        if k >= until {
-            match m.empty.step(&walk, q, k) {
-                BrickStep::Skip { next } => {
-                    k = next;
-                    prev = None;
-                    continue;
-                }
-                BrickStep::Sample { until: past } => until = past,
-            }
+    let mut walk = SampleWalk::new(s, &m.empty, m.p.empty_space_skipping);
+    while let Some(sample) = walk.next_sample() {
+        let q = sample.q;
+        if sample.after_skip {
+            prev = None;
         }
         taken += 1;
         let (c, alpha) = match m.p.classification {
@@ -229,7 +198,6 @@ pub(crate) fn general(m: &Marcher, s: &RaySamples, dir: Vec3) -> Traced {
                 break;
             }
         }
-        k += 1;
     }
     Traced {
         color: rgb.extend(a),
