@@ -6,10 +6,11 @@
 //!   for 8-bit data and for integers spanning at most 65,535; otherwise 1/65,535 of the range,
 //!   finer than the 4,096-entry transfer tables.
 //! - Two copies of the levels: an `R16` [`Texture3D`] (what the texture engine and the slice
-//!   method read) and a plain `u16` array (what the marcher reads, see [`super::cell`]). The
-//!   engine's `sample_3d` dispatches on the texel format and the wrap mode and computes a level
-//!   of detail per read, which the marcher cannot afford per sample; a test holds the two
-//!   reads equal.
+//!   method read) and a plain `u16` array (what the marcher reads, see `cell`). The engine's
+//!   `sample_3d` dispatches on the texel format and the wrap mode and computes a level of
+//!   detail per read, several times the cost of the plain read (`examples/volume_sampling.rs`
+//!   times both), which the marcher cannot afford per sample; a test holds the two reads
+//!   equal.
 //! - The brick min/max table and the per-voxel normals are built on first use and kept; a new
 //!   placement drops the normals (they are world-space) but not the bricks (they are levels).
 

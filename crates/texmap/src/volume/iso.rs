@@ -6,8 +6,8 @@
 //!   else the middle of the value range; its colour is the transfer function's there (white
 //!   when that is nearly black).
 //! - A crossing is the first sample at or above the iso-value; between it and the sample
-//!   before, 10 bisections place the hit (to 1/1024 of that interval). A ray that starts inside (no
-//!   sample before) hits at its first sample.
+//!   before, 10 bisections place the hit (to 1/1024 of that interval). A ray that starts
+//!   inside (no sample before) hits at its first sample.
 //! - Bricks whose largest value lies below the iso-value are skipped; the sample before a
 //!   skipped brick stays the lower end of the bisection.
 

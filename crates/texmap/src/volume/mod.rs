@@ -1,5 +1,6 @@
 //! Volumes: scalar fields on a grid (CT, MRI), classified by transfer functions and rendered
-//! by ray marching ([`raymarch`]) or by view-aligned texture slices ([`slice`]).
+//! by ray marching ([`raymarch`](fn@raymarch)) or by view-aligned texture slices
+//! ([`slice`](mod@slice)).
 //!
 //! Conventions:
 //! - Voxels are points (vertex-centred, as VTK and NIfTI): voxel `(i, j, k)` sits at
@@ -11,37 +12,39 @@
 //!   units (mm for NIfTI and most NRRD), like VTK's `SampleDistance`.
 //!
 //! Files, in layers; a file imports only files of the layers above it or before it in its own
-//! (no two files import each other, and this one only re-exports):
+//! (no two files import each other, and this one only declares and re-exports):
 //! - the grid: the voxel types of files (`scalar_type`), trilinear reads (`cell`), normals
-//!   (`normals`), [`rays`] from the camera, empty-space skipping ([`bricks`]), the camera that
-//!   frames a box (`framing`), the [`Volume`] itself (`grid`) and its loaders ([`load`]);
+//!   (`normals`), rays from the camera and the samples along them (`rays`), empty-space
+//!   skipping (`bricks`), the camera that frames a box (`framing`), the [`Volume`] itself
+//!   (`grid`) and its loaders ([`load`]);
 //! - the options: [`transfer`] functions, how a sample reflects light (`shade`), the
 //!   [`MarchParams`] (`params`), and what both methods share at the frame's edges (`output`);
 //! - the ray marcher: the per-frame state and per-sample reads (`marcher`), the loops per
-//!   mode (`composite`, `intensity`, [`iso`]) and the frame loop ([`mod@raymarch`]);
-//! - the other method, view-aligned [`slice`]s, and a volume as a scene holds it
-//!   ([`scene_volume`]).
+//!   mode (`composite`, `intensity`, `iso`) and the frame loop (`raymarch`);
+//! - the other method, view-aligned slices ([`slice`](mod@slice)), and a volume as a scene
+//!   holds it ([`scene_volume`]).
 
-pub mod bricks;
+mod bricks;
 mod cell;
 mod composite;
 mod framing;
 mod grid;
 mod intensity;
-pub mod iso;
+mod iso;
 pub mod load;
 mod marcher;
 mod normals;
 mod output;
 mod params;
-pub mod raymarch;
-pub mod rays;
+mod raymarch;
+mod rays;
 mod scalar_type;
 pub mod scene_volume;
 mod shade;
 pub mod slice;
 pub mod transfer;
 
+pub use bricks::{Bricks, BRICK};
 pub use framing::vtk_camera_for_bounds;
 pub use grid::Volume;
 pub use iso::iso_hit;

@@ -19,7 +19,7 @@ use crate::camera::{Camera, CameraProjection};
 /// A per-pixel hash in [0, 1) (jitter): the same pixel always gets the same value.
 #[inline]
 #[must_use]
-pub fn pixel_hash(x: u32, y: u32) -> f32 {
+pub(crate) fn pixel_hash(x: u32, y: u32) -> f32 {
     let mut h = x.wrapping_mul(0x8da6_b343) ^ y.wrapping_mul(0xd816_3841) ^ 0x9e37_79b9;
     h ^= h >> 16;
     h = h.wrapping_mul(0x7feb_352d);
@@ -55,8 +55,9 @@ pub fn camera_ray(cam: &Camera, width: u32, height: u32, x: f32, y: f32) -> (Vec
     }
 }
 
-/// The distance along each pixel's ray at which `depth_ndc` (window depth in [0, 1], OpenGL
-/// projection of `camera`, 1 = nothing) lies: the `depth` argument of [`raymarch`].
+/// The distance along each pixel's ray at which `depth_window` (window depth in [0, 1],
+/// OpenGL projection of `camera`, 1 = nothing) lies: the `depth` argument of
+/// [`raymarch`](super::raymarch::raymarch).
 #[must_use]
 pub fn ray_distances_from_depth(
     camera: &Camera,

@@ -14,7 +14,7 @@ use crate::{Error, Result};
 /// How a volume is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Method {
-    /// Rays from the camera ([`super::raymarch`]).
+    /// Rays from the camera ([`raymarch`](super::raymarch::raymarch)).
     #[default]
     Raymarch,
     /// View-aligned slices through the pipeline ([`super::render_slices`]; composite mode).

@@ -155,7 +155,7 @@ impl FragmentShader for SliceShader<'_> {
 
 /// Renders `vol` with view-aligned slices through the pipeline (composite mode only;
 /// post-classification), in rayon's current pool. Same frame conventions as
-/// [`super::raymarch`].
+/// [`raymarch`](super::raymarch::raymarch).
 ///
 /// # Errors
 /// [`Error::Parameter`] for a bad camera, size or step; [`Error::Unsupported`] for a mode
@@ -172,8 +172,8 @@ pub fn render_slices(
 }
 
 /// [`render_slices`] with the rays stopped at `depth` (per pixel, row-major, the eye
-/// distance of the surface in front, as [`super::raymarch`]'s `depth`): fragments farther
-/// than their pixel's distance are dropped.
+/// distance of the surface in front, as [`raymarch`](super::raymarch::raymarch)'s
+/// `depth`): fragments farther than their pixel's distance are dropped.
 ///
 /// # Errors
 /// As [`render_slices`], and [`Error::Parameter`] for a depth buffer of the wrong length.
