@@ -10,8 +10,11 @@
 //!   positions never move, so skipping changes no pixel (tested). The jump aims 1/1000 of a
 //!   step short of the exit, so a sample within rounding of the brick's face is looked at
 //!   again (it is still in the brick) rather than passed over.
-//! - The composite loops walk a ray's samples with [`SampleWalk`], which looks a brick up once,
+//! - The composite loops test bricks through a [`BrickCursor`], which looks a brick up once,
 //!   at its first sample: the samples before the exit of a brick found non-empty need no test.
+//!   (Iso rays test every sample: [`EmptyBricks::skip`].) A cursor that yielded the samples to
+//!   take (an iterator owning the sample index) cost the shaded loop more instructions than
+//!   this test inside the caller's loop.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -194,60 +197,39 @@ impl BrickWalk {
     }
 }
 
-/// A ray's samples in order, less those in empty bricks, each brick looked up once (at the
-/// first of its samples).
-pub(crate) struct SampleWalk<'a> {
-    samples: &'a RaySamples,
+/// Where a ray's walk is among the bricks: the brick tests of one ray's composite loop, each
+/// brick looked up once, at the first of its samples.
+pub(crate) struct BrickCursor<'a> {
     empty: &'a EmptyBricks,
     walk: BrickWalk,
-    /// The next sample.
-    k: u32,
     /// The first sample not known to lie in a non-empty brick.
     until: u32,
 }
 
-/// A sample to take.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Sample {
-    /// Its voxel-space position.
-    pub q: Vec3,
-    /// Empty bricks were crossed since the sample before (or before the first).
-    pub after_skip: bool,
-}
-
-impl<'a> SampleWalk<'a> {
-    /// The walk over `samples`, crossing the bricks `empty` marks when `skipping`.
+impl<'a> BrickCursor<'a> {
+    /// The cursor for `samples`, crossing the bricks `empty` marks when `skipping`.
     #[inline(always)]
-    pub fn new(samples: &'a RaySamples, empty: &'a EmptyBricks, skipping: bool) -> Self {
-        SampleWalk {
-            samples,
+    pub fn new(samples: &RaySamples, empty: &'a EmptyBricks, skipping: bool) -> Self {
+        BrickCursor {
             empty,
             walk: BrickWalk::new(samples),
-            k: 0,
             until: if skipping { 0 } else { u32::MAX },
         }
     }
 
-    /// The next sample to take, if any.
+    /// The sample to go on at when sample `k` (voxel-space `q`) lies in an empty brick;
+    /// `None` when it is to be taken.
     #[inline(always)]
-    pub fn next_sample(&mut self) -> Option<Sample> {
-        let mut after_skip = false;
-        while self.k < self.samples.count {
-            let k = self.k;
-            let q = self.samples.at(k);
-            if k >= self.until {
-                match self.empty.step(&self.walk, q, k) {
-                    BrickStep::Skip { next } => {
-                        self.k = next;
-                        after_skip = true;
-                        continue;
-                    }
-                    BrickStep::Sample { until } => self.until = until,
-                }
-            }
-            self.k = k + 1;
-            return Some(Sample { q, after_skip });
+    pub fn skip(&mut self, q: Vec3, k: u32) -> Option<u32> {
+        if k < self.until {
+            return None;
         }
-        None
+        match self.empty.step(&self.walk, q, k) {
+            BrickStep::Skip { next } => Some(next),
+            BrickStep::Sample { until } => {
+                self.until = until;
+                None
+            }
+        }
     }
 }

@@ -17,7 +17,7 @@
 
 use glam::{Vec3, Vec4};
 
-use super::bricks::SampleWalk;
+use super::bricks::BrickCursor;
 use super::cell::{blend_cell, corners_at, voxel_count, Cell};
 use super::marcher::{Marcher, Traced};
 use super::normals::{direction_or_zero, normal_of, trilinear_normal};
@@ -101,13 +101,17 @@ pub(crate) fn cells<const SHADE: bool>(
     normals: &[[i8; 4]],
 ) -> Traced {
     let (mut rgb, mut a) = (Vec3::ZERO, 0.0f32);
-    let mut taken = 0u64;
+    let (mut k, mut taken) = (0u32, 0u64);
     let stop = m.p.early_termination;
-    let mut walk = SampleWalk::new(s, &m.empty, m.p.empty_space_skipping);
+    let mut bricks = BrickCursor::new(s, &m.empty, m.p.empty_space_skipping);
     let mut cell = CellCache::new();
     let mut acc = Vec4::ZERO;
-    while let Some(sample) = walk.next_sample() {
-        let q = sample.q;
+    while k < s.count {
+        let q = s.at(k);
+        if let Some(next) = bricks.skip(q, k) {
+            k = next;
+            continue;
+        }
         taken += 1;
         let level = cell.value(m.data, m.dims, q);
         if !SHADE {
@@ -115,6 +119,7 @@ pub(crate) fn cells<const SHADE: bool>(
             if acc.w >= stop {
                 break;
             }
+            k += 1;
             continue;
         }
         let c = m.classify(level);
@@ -127,6 +132,7 @@ pub(crate) fn cells<const SHADE: bool>(
                 break;
             }
         }
+        k += 1;
     }
     let color = if SHADE { rgb.extend(a) } else { acc };
     Traced {
@@ -144,12 +150,15 @@ pub(crate) fn general(m: &Marcher, s: &RaySamples, dir: Vec3) -> Traced {
     let mut taken = 0u64;
     let shade = m.p.shade;
     let grad_op = !m.p.gradient_opacity.is_empty();
+    let mut k = 0u32;
     let mut prev: Option<f32> = None;
-    let mut walk = SampleWalk::new(s, &m.empty, m.p.empty_space_skipping);
-    while let Some(sample) = walk.next_sample() {
-        let q = sample.q;
-        if sample.after_skip {
+    let mut bricks = BrickCursor::new(s, &m.empty, m.p.empty_space_skipping);
+    while k < s.count {
+        let q = s.at(k);
+        if let Some(next) = bricks.skip(q, k) {
+            k = next;
             prev = None;
+            continue;
         }
         taken += 1;
         let (c, alpha) = match m.p.classification {
@@ -198,6 +207,7 @@ pub(crate) fn general(m: &Marcher, s: &RaySamples, dir: Vec3) -> Traced {
                 break;
             }
         }
+        k += 1;
     }
     Traced {
         color: rgb.extend(a),
