@@ -84,6 +84,9 @@ pub(crate) struct EmptyBricks {
     empty: Vec<bool>,
     counts: [u32; 3],
     dims: [u32; 3],
+    /// Whether a brick may be skipped at all; when not ([`Self::none`]), the composite
+    /// loops never look a brick up.
+    any: bool,
 }
 
 /// What a ray does at a sample whose brick it looked up.
@@ -108,13 +111,17 @@ impl EmptyBricks {
                 .collect(),
             counts: bricks.counts,
             dims,
+            any: true,
         }
     }
 
     /// No brick is skipped.
     #[must_use]
     pub fn none(bricks: &Bricks, dims: [u32; 3]) -> Self {
-        Self::new(bricks, dims, |_, _| false)
+        EmptyBricks {
+            any: false,
+            ..Self::new(bricks, dims, |_, _| false)
+        }
     }
 
     /// The brick holding the trilinear cell of `q` (clamped as the cell is), as its index and
@@ -207,13 +214,13 @@ pub(crate) struct BrickCursor<'a> {
 }
 
 impl<'a> BrickCursor<'a> {
-    /// The cursor for `samples`, crossing the bricks `empty` marks when `skipping`.
+    /// The cursor for `samples`, crossing the bricks `empty` marks.
     #[inline(always)]
-    pub fn new(samples: &RaySamples, empty: &'a EmptyBricks, skipping: bool) -> Self {
+    pub fn new(samples: &RaySamples, empty: &'a EmptyBricks) -> Self {
         BrickCursor {
             empty,
             walk: BrickWalk::new(samples),
-            until: if skipping { 0 } else { u32::MAX },
+            until: if empty.any { 0 } else { u32::MAX },
         }
     }
 

@@ -103,7 +103,7 @@ pub(crate) fn cells<const SHADE: bool>(
     let (mut rgb, mut a) = (Vec3::ZERO, 0.0f32);
     let (mut k, mut taken) = (0u32, 0u64);
     let stop = m.p.early_termination;
-    let mut bricks = BrickCursor::new(s, &m.empty, m.p.empty_space_skipping);
+    let mut bricks = BrickCursor::new(s, &m.empty);
     let mut cell = CellCache::new();
     let mut acc = Vec4::ZERO;
     while k < s.count {
@@ -152,7 +152,7 @@ pub(crate) fn general(m: &Marcher, s: &RaySamples, dir: Vec3) -> Traced {
     let grad_op = !m.p.gradient_opacity.is_empty();
     let mut k = 0u32;
     let mut prev: Option<f32> = None;
-    let mut bricks = BrickCursor::new(s, &m.empty, m.p.empty_space_skipping);
+    let mut bricks = BrickCursor::new(s, &m.empty);
     while k < s.count {
         let q = s.at(k);
         if let Some(next) = bricks.skip(q, k) {
