@@ -420,7 +420,7 @@ fn orthographic_surface_distances_are_measured_along_the_view_direction() {
     let clip = cam.clip_from_view(1.0) * cam.view_from_world();
     let p = clip * Vec4::new(0.9, -0.9, -2.0, 1.0);
     let z = p.z / p.w * 0.5 + 0.5;
-    let back = texmap::volume::raymarch::ray_distances_from_depth(&cam, 1, 1, &[z]);
+    let back = texmap::volume::ray_distances_from_depth(&cam, 1, 1, &[z]);
     assert!((back[0] - 7.0).abs() < 1e-4, "{}", back[0]);
 }
 

@@ -258,7 +258,7 @@ mod tests {
         for (i, &di) in depth.iter().enumerate() {
             if di.is_finite() {
                 // The surface is at the eye distance of the plane y = 15.5 along this ray.
-                let (o, d) = crate::volume::raymarch::camera_ray(
+                let (o, d) = crate::volume::camera_ray(
                     &cam,
                     w,
                     h,

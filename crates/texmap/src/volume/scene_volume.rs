@@ -6,15 +6,15 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 
-use super::raymarch::{Classification, MarchParams, Mode};
+use super::grid::Volume;
+use super::params::{Classification, MarchParams, Mode};
 use super::transfer::TransferFunction;
-use super::Volume;
 use crate::{Error, Result};
 
 /// How a volume is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Method {
-    /// Rays from the camera ([`super::raymarch`]).
+    /// Rays from the camera ([`raymarch`](super::raymarch::raymarch)).
     #[default]
     Raymarch,
     /// View-aligned slices through the pipeline ([`super::render_slices`]; composite mode).

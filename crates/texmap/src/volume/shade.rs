@@ -14,13 +14,35 @@
 
 use glam::Vec3;
 
-use super::raymarch::Lighting;
 use crate::shading::Light;
+
+/// How a volume sample reflects light: Blinn-Phong coefficients (`k_a`, `k_d`, `k_s` and the
+/// specular power `p` of the rules above), VTK's `vtkVolumeProperty` values in
+/// `vtk_volume.py` by default, for the headlight or the scene's lights
+/// ([`MarchParams::lights`](super::params::MarchParams::lights)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reflectance {
+    pub ambient: f32,
+    pub diffuse: f32,
+    pub specular: f32,
+    pub power: f32,
+}
+
+impl Default for Reflectance {
+    fn default() -> Self {
+        Reflectance {
+            ambient: 0.2,
+            diffuse: 0.7,
+            specular: 0.2,
+            power: 10.0,
+        }
+    }
+}
 
 /// How a volume sample is lit.
 #[derive(Clone, Debug)]
 pub(crate) struct VolumeLights {
-    k: Lighting,
+    k: Reflectance,
     /// Scene lights with unit directions; empty: the headlight.
     lights: Vec<Light>,
 }
@@ -28,7 +50,7 @@ pub(crate) struct VolumeLights {
 impl VolumeLights {
     /// `lights` empty means the headlight; lights that cannot shine (a zero direction) are
     /// dropped.
-    pub fn new(k: Lighting, lights: &[Light]) -> Self {
+    pub fn new(k: Reflectance, lights: &[Light]) -> Self {
         VolumeLights {
             k,
             lights: lights.iter().filter_map(Light::normalized).collect(),
@@ -88,7 +110,7 @@ mod tests {
 
     #[test]
     fn headlight_is_two_sided_and_scene_light_is_not() {
-        let k = Lighting::default();
+        let k = Reflectance::default();
         let c = Vec3::ONE;
         let ray = Vec3::Y;
         let head = VolumeLights::new(k, &[]);
@@ -121,7 +143,7 @@ mod tests {
     #[test]
     fn point_light_uses_the_sample_position() {
         let lit = VolumeLights::new(
-            Lighting::default(),
+            Reflectance::default(),
             &[Light::Point {
                 position: Vec3::new(10.0, 0.0, 0.0),
                 color: Vec3::splat(100.0),

@@ -15,10 +15,12 @@
 
 use glam::{Mat4, Vec3, Vec4};
 
-use super::raymarch::{Classification, MarchParams, Mode};
+use super::grid::Volume;
+use super::normals::{central_difference, trilinear_normal};
+use super::output::{check_request, display_to_frame};
+use super::params::{Classification, MarchParams, Mode};
 use super::shade::VolumeLights;
 use super::transfer::{correct_opacity, gradient_factor, TransferFunction};
-use super::Volume;
 use crate::camera::Camera;
 use crate::frame::{Frame, FrameStats};
 use crate::pipeline::{
@@ -133,16 +135,10 @@ impl FragmentShader for SliceShader<'_> {
             let mut rgb = c.truncate();
             if self.shade && self.gradient_opacity.is_empty() {
                 // The marcher's normals (interpolated per-voxel normals), so both methods shade alike.
-                let g = super::raymarch::trilinear_normal(self.vol.normals(), self.vol.dims(), q);
+                let g = trilinear_normal(self.vol.normals(), self.vol.dims(), q);
                 rgb = self.lights.shade(rgb, g, self.fwd, || world);
             } else if self.shade || !self.gradient_opacity.is_empty() {
-                let g = self.grad_to_world
-                    * Vec3::new(
-                        self.value(q + Vec3::X) - self.value(q - Vec3::X),
-                        self.value(q + Vec3::Y) - self.value(q - Vec3::Y),
-                        self.value(q + Vec3::Z) - self.value(q - Vec3::Z),
-                    )
-                    * 0.5;
+                let g = self.grad_to_world * central_difference(|p| self.value(p), q);
                 if !self.gradient_opacity.is_empty() {
                     a *= gradient_factor(self.gradient_opacity, g.length());
                 }
@@ -159,7 +155,7 @@ impl FragmentShader for SliceShader<'_> {
 
 /// Renders `vol` with view-aligned slices through the pipeline (composite mode only;
 /// post-classification), in rayon's current pool. Same frame conventions as
-/// [`super::raymarch`].
+/// [`raymarch`](super::raymarch::raymarch).
 ///
 /// # Errors
 /// [`Error::Parameter`] for a bad camera, size or step; [`Error::Unsupported`] for a mode
@@ -176,8 +172,8 @@ pub fn render_slices(
 }
 
 /// [`render_slices`] with the rays stopped at `depth` (per pixel, row-major, the eye
-/// distance of the surface in front, as [`super::raymarch`]'s `depth`): fragments farther
-/// than their pixel's distance are dropped.
+/// distance of the surface in front, as [`raymarch`](super::raymarch::raymarch)'s
+/// `depth`): fragments farther than their pixel's distance are dropped.
 ///
 /// # Errors
 /// As [`render_slices`], and [`Error::Parameter`] for a depth buffer of the wrong length.
@@ -190,14 +186,12 @@ pub fn render_slices_until(
     params: &MarchParams,
     depth: Option<&[f32]>,
 ) -> Result<Frame> {
-    camera.validate()?;
-    super::raymarch::check_depth(depth, width, height)?;
+    check_request(camera, width, height, params, depth)?;
     if params.mode != Mode::Composite || params.classification != Classification::Post {
         return Err(Error::Unsupported(
             "--method slices renders composite mode with post-classification only".into(),
         ));
     }
-    super::raymarch::check_frame(width, height, params)?;
     let fwd = (camera.target - camera.eye).normalize();
     let corners = vol.world_corners();
     let depths: Vec<f32> = corners.iter().map(|c| (*c - camera.eye).dot(fwd)).collect();
@@ -254,7 +248,7 @@ pub fn render_slices_until(
         viewer: camera.viewer(),
         fwd,
         shade: params.shade,
-        lights: VolumeLights::new(params.lighting, &params.lights),
+        lights: VolumeLights::new(params.reflectance, &params.lights),
         gradient_opacity: &params.gradient_opacity,
         grad_to_world: glam::Mat3::from_mat4(voxel_from_world).transpose(),
         depth: depth.map(|d| (d, width)),
@@ -280,11 +274,7 @@ pub fn render_slices_until(
         depth_sort: false,
     };
     let (color, st) = pipeline::draw(&[call], &shader, &target);
-    let f = |v: f32| crate::color::srgb_to_linear(v.clamp(0.0, 1.0));
-    let color = color
-        .into_iter()
-        .map(|c| Vec4::new(f(c.x), f(c.y), f(c.z), c.w.clamp(0.0, 1.0)))
-        .collect();
+    let color = color.into_iter().map(display_to_frame).collect();
     Ok(Frame {
         width,
         height,

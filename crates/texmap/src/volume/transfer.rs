@@ -9,7 +9,7 @@
 //! - [`PreIntegrated`]: a table over (front, back) value pairs of a ray segment (Engel et al.
 //!   2001), so features thinner than a step still show.
 //!
-//! Colours are display values composited as VTK composites them (see `raymarch`).
+//! Colours are display values composited as VTK composites them (see `output`).
 
 use std::path::Path;
 
@@ -90,23 +90,13 @@ impl TransferFunction {
         let mut pts = Vec::new();
         for line in s.lines() {
             let line = line.split('#').next().unwrap_or("");
-            for item in line.split(';').map(str::trim).filter(|t| !t.is_empty()) {
-                let bad = || {
+            for item in list_items(line) {
+                let (v, [r, g, b, a]) = parse_point(item).ok_or_else(|| {
                     Error::parameter(format!(
                         "transfer function point \"{item}\" is not value:r,g,b,a"
                     ))
-                };
-                let (v, rgba) = item.split_once(':').ok_or_else(bad)?;
-                let v: f32 = v.trim().parse().map_err(|_| bad())?;
-                let c: Vec<f32> = rgba
-                    .split(',')
-                    .map(|x| x.trim().parse::<f32>())
-                    .collect::<std::result::Result<_, _>>()
-                    .map_err(|_| bad())?;
-                if c.len() != 4 {
-                    return Err(bad());
-                }
-                pts.push((v, Vec4::new(c[0], c[1], c[2], c[3])));
+                })?;
+                pts.push((v, Vec4::new(r, g, b, a)));
             }
         }
         Self::new(pts)
@@ -169,6 +159,24 @@ impl TransferFunction {
     }
 }
 
+/// The non-blank items of a `;`-separated list, trimmed.
+fn list_items(s: &str) -> impl Iterator<Item = &str> {
+    s.split(';').map(str::trim).filter(|t| !t.is_empty())
+}
+
+/// One `key:n1,n2,…` point of a list: the key and exactly `N` numbers; `None` when it is
+/// malformed.
+fn parse_point<const N: usize>(item: &str) -> Option<(f32, [f32; N])> {
+    let (key, rest) = item.split_once(':')?;
+    let key = key.trim().parse().ok()?;
+    let mut numbers = rest.split(',');
+    let mut out = [0.0; N];
+    for o in &mut out {
+        *o = numbers.next()?.trim().parse().ok()?;
+    }
+    numbers.next().is_none().then_some((key, out))
+}
+
 /// Opacity corrected for a step of `step` unit lengths.
 #[inline]
 #[must_use]
@@ -192,15 +200,12 @@ impl TransferFunction2D {
     /// [`Error::Parameter`] for a malformed point.
     pub fn parse_gradient(s: &str) -> Result<Vec<(f32, f32)>> {
         let mut pts = Vec::new();
-        for item in s.split(';').map(str::trim).filter(|t| !t.is_empty()) {
-            let bad =
-                || Error::parameter(format!("gradient opacity point \"{item}\" is not g:factor"));
-            let (g, f) = item.split_once(':').ok_or_else(bad)?;
-            let g: f32 = g.trim().parse().map_err(|_| bad())?;
-            let f: f32 = f.trim().parse().map_err(|_| bad())?;
-            if !g.is_finite() || !f.is_finite() {
-                return Err(bad());
-            }
+        for item in list_items(s) {
+            let (g, [f]) = parse_point(item)
+                .filter(|(g, [f])| g.is_finite() && f.is_finite())
+                .ok_or_else(|| {
+                    Error::parameter(format!("gradient opacity point \"{item}\" is not g:factor"))
+                })?;
             pts.push((g, f));
         }
         if pts.is_empty() {
@@ -246,6 +251,13 @@ fn piecewise_linear<T: Copy>(
         1.0
     };
     Some(lerp(a.1, b.1, t))
+}
+
+/// The nearest of `n` table entries for value `v`, the first at `lo` and `scale` entries per
+/// value unit (clamped to the table).
+#[inline(always)]
+fn nearest_entry(v: f32, lo: f32, scale: f32, n: usize) -> usize {
+    (((v - lo) * scale + 0.5).max(0.0) as usize).min(n - 1)
 }
 
 /// Number of entries of a [`TransferLut`].
@@ -299,8 +311,7 @@ impl TransferLut {
     #[inline(always)]
     #[must_use]
     pub fn index(&self, v: f32) -> usize {
-        let f = (v - self.lo) * self.scale + 0.5;
-        (f.max(0.0) as usize).min(self.table.len() - 1)
+        nearest_entry(v, self.lo, self.scale, self.table.len())
     }
 
     /// `[r, g, b, a_step]` at value `v`.
@@ -389,7 +400,7 @@ impl PreIntegrated {
     #[inline(always)]
     #[must_use]
     pub fn get(&self, sf: f32, sb: f32) -> Vec4 {
-        let idx = |v: f32| (((v - self.lo) * self.scale + 0.5).max(0.0) as usize).min(self.n - 1);
+        let idx = |v: f32| nearest_entry(v, self.lo, self.scale, self.n);
         self.table[idx(sf) * self.n + idx(sb)]
     }
 }
@@ -498,6 +509,30 @@ mod tests {
         assert!(e.to_string().contains("10:1,1,1"), "{e}");
         assert!(TransferFunction::parse("").is_err());
         assert!(TransferFunction::parse("x:1,1,1,1").is_err());
+    }
+
+    #[test]
+    fn gradient_syntax_errors_name_the_point() {
+        let g = TransferFunction2D::parse_gradient(" 50:1 ; 0:0 ;").unwrap();
+        assert_eq!(g, vec![(0.0, 0.0), (50.0, 1.0)]);
+        for bad in ["0:0;10:1,2", "0:0;10:", "0:0;x:1", "0:0;10:inf"] {
+            let e = TransferFunction2D::parse_gradient(bad).unwrap_err();
+            let item = bad.rsplit(';').next().unwrap();
+            assert!(e.to_string().contains(item), "{bad}: {e}");
+        }
+        assert!(TransferFunction2D::parse_gradient(" ; ").is_err());
+    }
+
+    #[test]
+    fn points_take_exactly_their_numbers() {
+        assert_eq!(
+            parse_point::<4>(" 3 : 1, 2 ,3,4"),
+            Some((3.0, [1.0, 2.0, 3.0, 4.0]))
+        );
+        assert_eq!(parse_point::<4>("3:1,2,3"), None);
+        assert_eq!(parse_point::<4>("3:1,2,3,4,"), None);
+        assert_eq!(parse_point::<1>("3:1"), Some((3.0, [1.0])));
+        assert_eq!(parse_point::<1>("3"), None);
     }
 
     #[test]

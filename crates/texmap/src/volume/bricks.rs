@@ -1,0 +1,242 @@
+//! Empty-space skipping: the box is cut into bricks of 8³ cells, each with the min/max of its
+//! voxels, and a ray crosses a brick its classification leaves transparent in one jump.
+//!
+//! Rules:
+//! - Brick `b` covers cells `[8b, 8b + 8)`, i.e. voxels `8b ..= 8b + 8` (neighbours share a
+//!   face of voxels), so a trilinear value anywhere in its cells lies within its min/max.
+//! - A brick is empty for a frame when its whole value interval is transparent under the
+//!   frame's table (composite) or lies below the iso-value (iso); MIP and X-ray skip nothing.
+//! - A ray in an empty brick jumps to the first sample position past the brick's box. Sample
+//!   positions never move, so skipping changes no pixel (tested). The jump aims 1/1000 of a
+//!   step short of the exit, so a sample within rounding of the brick's face is looked at
+//!   again (it is still in the brick) rather than passed over.
+//! - The composite loops test bricks through a [`BrickCursor`], which looks a brick up once,
+//!   at its first sample: the samples before the exit of a brick found non-empty need no test.
+//!   (Iso rays test every sample: [`EmptyBricks::skip`].) A cursor that yielded the samples to
+//!   take (an iterator owning the sample index) cost the shaded loop more instructions than
+//!   this test inside the caller's loop.
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::rays::RaySamples;
+
+/// Cells per brick side for empty-space skipping.
+pub const BRICK: u32 = 8;
+
+/// Min/max 16-bit level of the voxels of each brick (computed once per volume).
+#[derive(Clone, Debug)]
+pub struct Bricks {
+    pub counts: [u32; 3],
+    pub min_max: Vec<(f32, f32)>,
+}
+
+impl Bricks {
+    /// The bricks of the 16-bit `levels` of a `dims` grid (x fastest): brick `b` covers cells
+    /// `[8b, 8b + 8)`, i.e. voxels `8b ..= 8b + 8`.
+    #[must_use]
+    pub fn new(levels: &[u16], dims: [u32; 3]) -> Self {
+        let d = dims;
+        let cells = d.map(|n| (n - 1).max(1));
+        let counts = cells.map(|c| c.div_ceil(BRICK));
+        let data = levels;
+        let (nx, ny) = (d[0] as usize, d[1] as usize);
+        let slabs: Vec<Vec<(f32, f32)>> = (0..counts[2])
+            .into_par_iter()
+            .map(|bz| {
+                let mut out =
+                    vec![(f32::INFINITY, f32::NEG_INFINITY); (counts[0] * counts[1]) as usize];
+                let z0 = bz * BRICK;
+                let z1 = (z0 + BRICK).min(d[2] - 1);
+                for z in z0..=z1 {
+                    for y in 0..d[1] {
+                        let by_lo = (y.saturating_sub(1) / BRICK).min(counts[1] - 1);
+                        let by_hi = (y / BRICK).min(counts[1] - 1);
+                        let row = &data[(z as usize * ny + y as usize) * nx..][..nx];
+                        for (x, &v) in row.iter().enumerate() {
+                            let v = f32::from(v);
+                            let x = x as u32;
+                            let bx_lo = (x.saturating_sub(1) / BRICK).min(counts[0] - 1);
+                            let bx_hi = (x / BRICK).min(counts[0] - 1);
+                            for by in by_lo..=by_hi {
+                                for bx in bx_lo..=bx_hi {
+                                    let m = &mut out[(by * counts[0] + bx) as usize];
+                                    m.0 = m.0.min(v);
+                                    m.1 = m.1.max(v);
+                                }
+                            }
+                        }
+                    }
+                }
+                out
+            })
+            .collect();
+        Bricks {
+            counts,
+            min_max: slabs.concat(),
+        }
+    }
+}
+
+/// Which bricks one frame's rays may cross in one jump, under its classification.
+#[derive(Clone, Debug)]
+pub(crate) struct EmptyBricks {
+    empty: Vec<bool>,
+    counts: [u32; 3],
+    dims: [u32; 3],
+    /// Whether a brick may be skipped at all; when not ([`Self::none`]), the composite
+    /// loops never look a brick up.
+    any: bool,
+}
+
+/// What a ray does at a sample whose brick it looked up.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum BrickStep {
+    /// The brick is empty: go on at sample `next`, the first past it.
+    Skip { next: u32 },
+    /// The brick is not empty: take the samples before `until`, the first past it, without
+    /// looking again.
+    Sample { until: u32 },
+}
+
+impl EmptyBricks {
+    /// Each brick of `bricks` (of a `dims` grid) marked by `is_empty(min, max)` of its levels.
+    #[must_use]
+    pub fn new(bricks: &Bricks, dims: [u32; 3], is_empty: impl Fn(f32, f32) -> bool) -> Self {
+        EmptyBricks {
+            empty: bricks
+                .min_max
+                .iter()
+                .map(|&(lo, hi)| is_empty(lo, hi))
+                .collect(),
+            counts: bricks.counts,
+            dims,
+            any: true,
+        }
+    }
+
+    /// No brick is skipped.
+    #[must_use]
+    pub fn none(bricks: &Bricks, dims: [u32; 3]) -> Self {
+        EmptyBricks {
+            any: false,
+            ..Self::new(bricks, dims, |_, _| false)
+        }
+    }
+
+    /// The brick holding the trilinear cell of `q` (clamped as the cell is), as its index and
+    /// its brick coordinates.
+    #[inline(always)]
+    fn brick_of(&self, q: Vec3) -> (usize, [u32; 3]) {
+        let c = |v: f32, n: u32, k: u32| {
+            let i = (v.max(0.0) as u32).min(n.saturating_sub(2));
+            (i / BRICK).min(k - 1)
+        };
+        let b = [
+            c(q.x, self.dims[0], self.counts[0]),
+            c(q.y, self.dims[1], self.counts[1]),
+            c(q.z, self.dims[2], self.counts[2]),
+        ];
+        (
+            ((b[2] * self.counts[1] + b[1]) * self.counts[0] + b[0]) as usize,
+            b,
+        )
+    }
+
+    /// At sample `k` (voxel-space `q`) of `walk`'s ray: skip the brick or sample it.
+    #[inline(always)]
+    fn step(&self, walk: &BrickWalk, q: Vec3, k: u32) -> BrickStep {
+        let (i, b) = self.brick_of(q);
+        let past = walk.first_sample_past(b, k);
+        if self.empty[i] {
+            BrickStep::Skip { next: past }
+        } else {
+            BrickStep::Sample { until: past }
+        }
+    }
+
+    /// The sample to go on at when sample `k` (voxel-space `q`) lies in an empty brick;
+    /// `None` when its brick is not empty (no exit is computed then).
+    #[inline(always)]
+    pub fn skip(&self, walk: &BrickWalk, q: Vec3, k: u32) -> Option<u32> {
+        let (i, b) = self.brick_of(q);
+        self.empty[i].then(|| walk.first_sample_past(b, k))
+    }
+}
+
+/// A ray's samples as the brick tests need them: the reciprocal direction and step, so an
+/// exit costs multiplications only.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BrickWalk {
+    origin: Vec3,
+    inv_dir: Vec3,
+    t0: f32,
+    inv_step: f32,
+    jitter: f32,
+}
+
+impl BrickWalk {
+    #[inline]
+    pub fn new(samples: &RaySamples) -> Self {
+        BrickWalk {
+            origin: samples.ray.origin,
+            inv_dir: samples.ray.dir.recip(),
+            t0: samples.t0,
+            inv_step: samples.inv_step,
+            jitter: samples.jitter,
+        }
+    }
+
+    /// The first sample after `k` past brick `b`'s box (aimed 1/1000 of a step short).
+    #[inline(always)]
+    fn first_sample_past(&self, b: [u32; 3], k: u32) -> u32 {
+        let lo = Vec3::new(b[0] as f32, b[1] as f32, b[2] as f32) * BRICK as f32;
+        let hi = lo + BRICK as f32;
+        let mut t_exit = f32::INFINITY;
+        for a in 0..3 {
+            if self.inv_dir[a].is_finite() {
+                let edge = if self.inv_dir[a] > 0.0 { hi[a] } else { lo[a] };
+                t_exit = t_exit.min((edge - self.origin[a]) * self.inv_dir[a]);
+            }
+        }
+        let past = ((t_exit - self.t0) * self.inv_step - self.jitter - 1e-3).floor() + 1.0;
+        (past.max(0.0) as u32).max(k + 1)
+    }
+}
+
+/// Where a ray's walk is among the bricks: the brick tests of one ray's composite loop, each
+/// brick looked up once, at the first of its samples.
+pub(crate) struct BrickCursor<'a> {
+    empty: &'a EmptyBricks,
+    walk: BrickWalk,
+    /// The first sample not known to lie in a non-empty brick.
+    until: u32,
+}
+
+impl<'a> BrickCursor<'a> {
+    /// The cursor for `samples`, crossing the bricks `empty` marks.
+    #[inline(always)]
+    pub fn new(samples: &RaySamples, empty: &'a EmptyBricks) -> Self {
+        BrickCursor {
+            empty,
+            walk: BrickWalk::new(samples),
+            until: if empty.any { 0 } else { u32::MAX },
+        }
+    }
+
+    /// The sample to go on at when sample `k` (voxel-space `q`) lies in an empty brick;
+    /// `None` when it is to be taken.
+    #[inline(always)]
+    pub fn skip(&mut self, q: Vec3, k: u32) -> Option<u32> {
+        if k < self.until {
+            return None;
+        }
+        match self.empty.step(&self.walk, q, k) {
+            BrickStep::Skip { next } => Some(next),
+            BrickStep::Sample { until } => {
+                self.until = until;
+                None
+            }
+        }
+    }
+}

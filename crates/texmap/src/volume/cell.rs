@@ -1,0 +1,165 @@
+//! Trilinear reads of a voxel grid (values x fastest, voxels at the integer points): the cell
+//! a point falls in, its eight corners and their blend.
+//!
+//! Rules:
+//! - Points are clamped to the box `[0, n − 1]`. On a one-voxel axis the stride is 0, so every
+//!   corner read stays inside the grid and the blend along that axis changes nothing.
+//! - Corners are read without bounds checks: [`Cell::locate`] checks that the data holds the
+//!   whole grid, and the largest index a cell names, `index + sx + sy + sz`, is then one of its
+//!   voxels. Checked reads cost eight compares and branches per sample in the marcher's inner
+//!   loop.
+//! - One blend order for every caller (x, then y, then z): the marcher's cached cells, the
+//!   plain reads and the normals give the same bits at the same point.
+
+use glam::Vec3;
+
+/// The trilinear cell of a voxel-space point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Cell {
+    /// Index of the lowest corner, x fastest.
+    pub index: usize,
+    /// Index steps to the next voxel along x, y and z (0 on a one-voxel axis).
+    pub strides: [usize; 3],
+    /// Position inside the cell, each component in `[0, 1]`.
+    pub frac: Vec3,
+}
+
+impl Cell {
+    /// The cell of voxel-space `p` in a `dims` grid, `p` clamped to the box. `None` when a
+    /// side is zero or `len`, the data's length, is short of the grid's voxel count.
+    #[inline(always)]
+    pub fn locate(dims: [u32; 3], p: Vec3, len: usize) -> Option<Cell> {
+        let [nx, ny, nz] = dims;
+        if nx == 0 || ny == 0 || nz == 0 || len < voxel_count(dims) {
+            return None;
+        }
+        let x = p.x.clamp(0.0, (nx - 1) as f32);
+        let y = p.y.clamp(0.0, (ny - 1) as f32);
+        let z = p.z.clamp(0.0, (nz - 1) as f32);
+        let (ix, iy, iz) = (
+            (x as u32).min(nx.saturating_sub(2)),
+            (y as u32).min(ny.saturating_sub(2)),
+            (z as u32).min(nz.saturating_sub(2)),
+        );
+        Some(Cell {
+            index: (iz as usize * ny as usize + iy as usize) * nx as usize + ix as usize,
+            strides: Self::strides(dims),
+            frac: Vec3::new(x - ix as f32, y - iy as f32, z - iz as f32),
+        })
+    }
+
+    /// The index steps to the next voxel along x, y and z in a `dims` grid (0 on a one-voxel
+    /// axis), the same for every cell.
+    #[inline(always)]
+    pub fn strides(dims: [u32; 3]) -> [usize; 3] {
+        let [nx, ny, nz] = dims;
+        [
+            usize::from(nx > 1),
+            if ny > 1 { nx as usize } else { 0 },
+            if nz > 1 { nx as usize * ny as usize } else { 0 },
+        ]
+    }
+
+    /// The cell's eight voxels of `data`, each through `convert`, in [`blend_cell`]'s order:
+    /// c000, c100, c010, c110, c001, c101, c011, c111.
+    ///
+    /// # Safety
+    /// `data` holds at least the voxel count of the grid the cell was located in (what
+    /// [`Cell::locate`] checks when given `data.len()`).
+    #[inline(always)]
+    pub unsafe fn corners<T: Copy, V>(&self, data: &[T], convert: impl Fn(T) -> V) -> [V; 8] {
+        let (i, [sx, sy, sz]) = (self.index, self.strides);
+        // SAFETY: `locate` keeps ix ≤ nx − 2 when sx = 1 (else sx = 0), likewise y and z, so
+        // the largest index, i + sx + sy + sz, is a voxel of the grid, which `data` holds.
+        let g = |k: usize| convert(unsafe { *data.get_unchecked(k) });
+        [
+            g(i),
+            g(i + sx),
+            g(i + sy),
+            g(i + sx + sy),
+            g(i + sz),
+            g(i + sx + sz),
+            g(i + sy + sz),
+            g(i + sx + sy + sz),
+        ]
+    }
+}
+
+/// The number of voxels of a `dims` grid.
+#[inline(always)]
+pub(crate) fn voxel_count(dims: [u32; 3]) -> usize {
+    dims.iter().map(|&d| d as usize).product()
+}
+
+/// A value a cell's corners can be blended in (scalars and vectors, each with its own lerp).
+pub(crate) trait CellValue: Copy {
+    fn mix(self, other: Self, t: f32) -> Self;
+}
+
+impl CellValue for f32 {
+    #[inline(always)]
+    fn mix(self, other: f32, t: f32) -> f32 {
+        self + (other - self) * t
+    }
+}
+
+impl CellValue for Vec3 {
+    #[inline(always)]
+    fn mix(self, other: Vec3, t: f32) -> Vec3 {
+        self.lerp(other, t)
+    }
+}
+
+/// Trilinear blend of a cell's corners ([`Cell::corners`]) at fractions `f` (x first, then
+/// y, then z).
+#[inline(always)]
+pub(crate) fn blend_cell<T: CellValue>(c: &[T; 8], f: Vec3) -> T {
+    let c00 = c[0].mix(c[1], f.x);
+    let c10 = c[2].mix(c[3], f.x);
+    let c01 = c[4].mix(c[5], f.x);
+    let c11 = c[6].mix(c[7], f.x);
+    c00.mix(c10, f.y).mix(c01.mix(c11, f.y), f.z)
+}
+
+/// A cell's eight voxels (in [`blend_cell`]'s order) and the point's position inside it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Corners<V> {
+    pub values: [V; 8],
+    pub frac: Vec3,
+}
+
+/// The corners of the cell of voxel-space `p` (clamped to the box) in `data` (x fastest,
+/// `dims`), each voxel read through `convert`; `None` when `data` is short of the grid.
+#[inline(always)]
+pub(crate) fn corners_at<T: Copy, V>(
+    data: &[T],
+    dims: [u32; 3],
+    p: Vec3,
+    convert: impl Fn(T) -> V,
+) -> Option<Corners<V>> {
+    let cell = Cell::locate(dims, p, data.len())?;
+    Some(Corners {
+        // SAFETY: `locate` was given `data.len()` and checked it.
+        values: unsafe { cell.corners(data, convert) },
+        frac: cell.frac,
+    })
+}
+
+/// Trilinear interpolation of `data` (x fastest, `dims`) at voxel-space `p`, clamped to the
+/// box, each voxel read through `convert`; `None` when `data` is short of the grid.
+#[inline(always)]
+pub(crate) fn interpolate<T: Copy, V: CellValue>(
+    data: &[T],
+    dims: [u32; 3],
+    p: Vec3,
+    convert: impl Fn(T) -> V,
+) -> Option<V> {
+    corners_at(data, dims, p, convert).map(|c| blend_cell(&c.values, c.frac))
+}
+
+/// The trilinear 16-bit level (fractional) of `data` (x fastest, `dims`) at voxel-space `p`,
+/// clamped to the box; 0 when `data` is short of the grid.
+#[inline(always)]
+pub(crate) fn trilinear(data: &[u16], dims: [u32; 3], p: Vec3) -> f32 {
+    interpolate(data, dims, p, f32::from).unwrap_or(0.0)
+}

@@ -1,0 +1,107 @@
+//! The options of a volume render, read by both methods (rays and slices): what a ray
+//! computes, where classification happens, the sample distance, shading, skipping and the
+//! early stop.
+//!
+//! Rules:
+//! - Lengths are world units (the file's spacing units), like VTK's `SampleDistance`.
+//! - The step (0.5), the reflectance and the early stop follow `vtk_volume.py` and VTK (whose
+//!   fixed-point mapper stops a ray when its remaining transparency falls below 255/32768,
+//!   hence 0.992). Jitter is on by default, where the peer turns VTK's off: it turns
+//!   wood-grain banding into fine noise.
+//! - Every option is plain data; the renderers check them (`check_step`) and derive their
+//!   tables from them once per frame.
+
+use super::shade::Reflectance;
+use crate::shading::Light;
+use crate::{Error, Result};
+
+/// What a ray computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Mode {
+    /// Direct volume rendering: classification and front-to-back compositing.
+    #[default]
+    Composite,
+    /// Maximum intensity projection (grey, the value range mapped to [0, 1]).
+    Mip,
+    /// The first crossing of the iso-value, refined by bisection, shaded.
+    Iso,
+    /// The average value along the ray (grey, the value range mapped to [0, 1]).
+    Xray,
+}
+
+/// Where classification happens relative to interpolation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Classification {
+    /// Interpolate values, then classify (the default; sharpest).
+    #[default]
+    Post,
+    /// Classify the eight voxels, then interpolate premultiplied colour and opacity.
+    Pre,
+    /// Classify each segment between two samples from a pre-integrated table.
+    PreIntegrated,
+}
+
+/// How a volume is rendered.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MarchParams {
+    pub mode: Mode,
+    /// Distance between samples along a ray, world units (> 0).
+    pub step: f32,
+    /// Blinn-Phong shading from central-difference gradients (composite mode).
+    pub shade: bool,
+    pub classification: Classification,
+    /// How samples reflect light when shaded (Blinn-Phong coefficients).
+    pub reflectance: Reflectance,
+    /// Lights for shading, world space (a scene's lights); empty: a white headlight along
+    /// the view direction (see `volume::shade`).
+    pub lights: Vec<Light>,
+    /// Iso-value for [`Mode::Iso`] (default: the transfer function's first opaque value).
+    pub iso: Option<f32>,
+    /// Opacity × a piecewise-linear function of the gradient magnitude: `(g, factor)` points
+    /// (the 2D transfer function); empty for none.
+    pub gradient_opacity: Vec<(f32, f32)>,
+    /// Jittered ray starts (hides wood-grain banding).
+    pub jitter: bool,
+    pub empty_space_skipping: bool,
+    /// Stop a ray once its opacity reaches this (1 or more: never). Default 0.992: VTK's
+    /// fixed-point mapper stops when the remaining opacity falls below 255/32768.
+    pub early_termination: f32,
+    /// Read values through the texture engine instead of the plain copy (slow; for checks).
+    pub engine_sampling: bool,
+}
+
+impl Default for MarchParams {
+    fn default() -> Self {
+        MarchParams {
+            mode: Mode::Composite,
+            step: 0.5,
+            shade: false,
+            classification: Classification::Post,
+            reflectance: Reflectance::default(),
+            lights: Vec::new(),
+            iso: None,
+            gradient_opacity: Vec::new(),
+            jitter: true,
+            empty_space_skipping: true,
+            early_termination: 0.992,
+            engine_sampling: false,
+        }
+    }
+}
+
+impl MarchParams {
+    /// The step must be positive and finite.
+    ///
+    /// # Errors
+    /// [`Error::Parameter`] naming `--step` otherwise.
+    pub fn check_step(&self) -> Result<()> {
+        if self.step.is_finite() && self.step > 0.0 {
+            Ok(())
+        } else {
+            Err(Error::parameter(format!(
+                "--step {} must be > 0",
+                self.step
+            )))
+        }
+    }
+}
