@@ -150,7 +150,7 @@ impl Camera {
 
     /// How far along its pixel's ray `p` lies from the ray's origin: the distance from the
     /// eye (perspective), or along the view direction from the eye's plane (orthographic
-    /// rays start there, see `volume::raymarch::camera_ray`).
+    /// rays start there, see `volume::camera_ray`).
     #[must_use]
     pub fn ray_distance(&self, p: Vec3) -> f32 {
         match self.projection {
