@@ -1,0 +1,193 @@
+//! Which render flags apply to a scene: every flag acts on the scene it is given or is
+//! refused here, with one line naming it (a flag that parses but changes nothing is a bug).
+//! Texture flags need an image texture that reads the value (the LOD rule only matters to
+//! OpenGL's mipmapped filters, bias and clamps also to anisotropic and EWA filters, the border
+//! colour only to a border wrap); mesh flags need meshes, volume flags volumes, framing flags
+//! the default camera of a scene with volumes, load flags a file; `--cull` a single-sided
+//! material.
+
+use texmap::render::TextureOverrides;
+use texmap::texture::{Filter, LodRule, Sampler, Wrap};
+use texmap::Error;
+
+use super::{Built, InterpArg, LodRuleArg, RenderArgs};
+
+/// The user's sampler flags, laid over every texture read.
+pub(super) fn texture_overrides(args: &RenderArgs) -> TextureOverrides {
+    let mut o = TextureOverrides::default();
+    o.filter = args.filter;
+    o.wrap = args.wrap;
+    o.lod_bias = args.lod_bias;
+    o.lod_rule = args.lod_rule.map(|r| match r {
+        LodRuleArg::Gl => LodRule::GlMax,
+        LodRuleArg::Rss => LodRule::RootSumSquares,
+    });
+    o.min_lod = args.min_lod;
+    o.max_lod = args.max_lod;
+    // Given straight; the sampler holds it premultiplied.
+    o.border = args.border.map(|b| (b.truncate() * b.w).extend(b.w));
+    o
+}
+
+/// The distinct filters of `filters`, by name.
+fn describe(filters: &[Filter]) -> String {
+    let mut names: Vec<String> = filters.iter().map(|f| format!("{f:?}")).collect();
+    names.sort();
+    names.dedup();
+    names.join(", ")
+}
+
+/// Refuses every flag that would change nothing in this scene, naming it: texture flags on a
+/// scene that reads no image texture, mesh flags on a scene without meshes, volume flags on a
+/// scene without volumes, load flags on a built-in scene.
+pub(super) fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error> {
+    let name = args.scene.as_deref().unwrap_or("builtin:demo");
+    let given = |flags: &[(&'static str, bool)]| -> Vec<&'static str> {
+        flags.iter().filter(|(_, g)| *g).map(|(f, _)| *f).collect()
+    };
+    let refuse = |flags: Vec<&str>, why: String| -> Result<(), Error> {
+        match flags.first() {
+            None => Ok(()),
+            Some(_) => Err(Error::parameter(format!("{}: {why}", flags.join(", ")))),
+        }
+    };
+    if built.scene.meshes.is_empty() {
+        refuse(
+            given(&[
+                ("--texture", args.texture.is_some()),
+                ("--interp", args.interp.is_some()),
+                ("--subdivide-error", args.subdivide_error.is_some()),
+                ("--shading", args.shading.is_some()),
+                ("--visibility", args.visibility.is_some()),
+                ("--cull", args.cull.is_some()),
+                ("--msaa", args.msaa.is_some()),
+                ("--ssaa", args.ssaa.is_some()),
+                ("--unlit", args.unlit),
+            ]),
+            format!("{name} has no meshes to draw (these flags act on meshes)"),
+        )?;
+    }
+    // --texture gives the scene image textures, so sampler flags then act.
+    let samplers = built.scene.texture_samplers();
+    if samplers.is_empty() && args.texture.is_none() {
+        refuse(
+            given(&[
+                ("--filter", args.filter.is_some()),
+                ("--wrap", args.wrap.is_some()),
+                ("--uv-scale", args.uv_scale.is_some()),
+                ("--lod-rule", args.lod_rule.is_some()),
+                ("--lod-bias", args.lod_bias.is_some()),
+                ("--min-lod", args.min_lod.is_some()),
+                ("--max-lod", args.max_lod.is_some()),
+                ("--border", args.border.is_some()),
+            ]),
+            format!("{name} reads no image texture (its colours are procedural or constant)"),
+        )?;
+    }
+    // The border colour is read only where a texture clamps to its border; a --texture slot
+    // added to a material starts from the default sampler.
+    let overrides = texture_overrides(args);
+    let added = args.texture.as_ref().map(|_| Sampler::default());
+    let border_read = samplers
+        .iter()
+        .copied()
+        .chain(added)
+        .map(|s| overrides.apply(s))
+        .any(|s| [s.wrap_u, s.wrap_v, s.wrap_w].contains(&Wrap::ClampToBorder));
+    refuse(
+        given(&[("--border", args.border.is_some() && !border_read)]),
+        format!("no texture of {name} clamps to its border (add --wrap border)"),
+    )?;
+    // Which sampler state the effective filters read: GL's mipmapped filters choose levels by
+    // the LOD rule, and with anisotropic and EWA filters they read the bias and clamps; the
+    // summed-area table and the unmipmapped GL filters read none of it.
+    let filters: Vec<Filter> = samplers
+        .iter()
+        .copied()
+        .chain(added)
+        .map(|s| overrides.apply(s).filter)
+        .collect();
+    let gl_mip = |f: &Filter| matches!(f, Filter::Gl { .. }) && f.uses_mipmaps();
+    let reads_lod =
+        |f: &Filter| gl_mip(f) || matches!(f, Filter::Anisotropic { .. } | Filter::Ewa { .. });
+    if !filters.is_empty() && !filters.iter().any(gl_mip) {
+        refuse(
+            given(&[("--lod-rule", args.lod_rule.is_some())]),
+            format!(
+                "the LOD rule is read by OpenGL's mipmapped filters; {name} filters with {} \
+                 (add --filter trilinear)",
+                describe(&filters)
+            ),
+        )?;
+    }
+    if !filters.is_empty() && !filters.iter().any(reads_lod) {
+        refuse(
+            given(&[
+                ("--lod-bias", args.lod_bias.is_some()),
+                ("--min-lod", args.min_lod.is_some()),
+                ("--max-lod", args.max_lod.is_some()),
+            ]),
+            format!(
+                "levels of detail are read by mipmapped, anisotropic and EWA filters; {name} \
+                 filters with {}",
+                describe(&filters)
+            ),
+        )?;
+    }
+    let meshes = &built.scene.meshes;
+    let single_sided = meshes.iter().any(|m| {
+        built
+            .scene
+            .materials
+            .get(m.material)
+            .is_some_and(|mat| !mat.double_sided)
+    });
+    refuse(
+        given(&[(
+            "--cull",
+            args.cull.is_some() && !single_sided && !meshes.is_empty(),
+        )]),
+        format!("every material of {name} is double-sided (never culled)"),
+    )?;
+    refuse(
+        given(&[(
+            "--color-space",
+            args.color_space.is_some() && args.texture.is_none(),
+        )]),
+        "applies to the image given with --texture".into(),
+    )?;
+    let subdivide = matches!(args.interp, Some(InterpArg::Subdivide));
+    refuse(
+        given(&[(
+            "--subdivide-error",
+            args.subdivide_error.is_some() && !subdivide,
+        )]),
+        "applies with --interp subdivide".into(),
+    )?;
+    if built.builtin.is_some() && args.volume.meshes.is_empty() {
+        refuse(
+            given(&[
+                ("--lenient", args.lenient),
+                ("--allow-outside-paths", args.allow_outside_paths),
+            ]),
+            format!("{name} is built in: these flags apply to loading files"),
+        )?;
+    }
+    if built.volumes.is_empty() {
+        refuse(
+            args.volume.given_volume_flags(),
+            format!("{name} has no volumes (these flags act on volumes)"),
+        )?;
+    }
+    let framed_by_volumes =
+        !built.volumes.is_empty() && (built.scene.camera.is_none() || args.auto_camera);
+    if !framed_by_volumes {
+        refuse(
+            args.volume.given_framing_flags(),
+            format!(
+                "{name}: --dolly and --azimuth move the default camera of a scene with volumes"
+            ),
+        )?;
+    }
+    Ok(())
+}

@@ -1,0 +1,264 @@
+//! Materials: what a surface is made of — the Phong coefficients and the glTF
+//! metallic-roughness factors, the base colour and its texture, procedural colour sources,
+//! the other texture maps by channel, solid textures on channels, alpha and sidedness.
+
+use std::sync::Arc;
+
+use glam::{Vec3, Vec4};
+
+use crate::geometry::Projection;
+use crate::texture::procedural::Solid;
+use crate::texture::{Sampler, Texture2D, Texture3D, TextureTransform};
+
+/// A texture bound to a material: the image, how it is read, and the uv transform.
+///
+/// The uv used for sampling is `transform.apply(uv) · uv_scale`.
+#[derive(Clone, Debug)]
+pub struct TextureSlot {
+    pub texture: Arc<Texture2D>,
+    pub sampler: Sampler,
+    pub transform: TextureTransform,
+    pub uv_scale: f32,
+    /// Which texture coordinate set the slot reads: 0 (`Mesh::uvs`) or 1 (`Mesh::uvs1`).
+    pub tex_coord: u32,
+}
+
+impl TextureSlot {
+    /// A slot with the identity transform and a uv scale of 1.
+    #[must_use]
+    pub fn new(texture: Arc<Texture2D>, sampler: Sampler) -> Self {
+        TextureSlot {
+            texture,
+            sampler,
+            transform: TextureTransform::default(),
+            uv_scale: 1.0,
+            tex_coord: 0,
+        }
+    }
+}
+
+/// A colour computed from the surface point rather than read through the mesh's UVs. It
+/// multiplies the base colour (and the base-colour texture, if any), like a texture.
+#[derive(Clone, Debug)]
+pub enum Procedural {
+    /// A solid texture evaluated at the object-space position: the object looks carved from
+    /// the block, and the pattern moves with it. With `antialias`, the pattern is box-filtered
+    /// over the pixel's footprint (|∂P/∂x| + |∂P/∂y|); without, it is point-sampled.
+    Solid {
+        solid: Solid,
+        /// Linear RGB for pattern values 0 and 1.
+        colors: [Vec3; 2],
+        antialias: bool,
+    },
+    /// An image texture whose coordinates a projection generates per pixel from the
+    /// object-space position (and normal, for cube faces and cylinder caps), with analytic
+    /// derivatives for the footprint — no seam where u wraps. A bounding-sphere projection
+    /// whose centre is not finite (NaN) is centred on each mesh's bounding box.
+    Projected {
+        slot: TextureSlot,
+        projection: Projection,
+    },
+    /// A 3D texture (the texture engine's [`Texture3D`]) as a solid texture: the object-space
+    /// box `[min, max]` maps onto the texture's unit cube, `uvw = (P − min)/(max − min)`, read
+    /// through `sampler` over the pixel's footprint (∂uvw/∂x, ∂uvw/∂y from the position's
+    /// derivatives: trilinear with mip levels, as [`crate::texture::sample_3d`]). The red
+    /// channel (a scan's value, a baked pattern) is mapped through `colors` (0 → first,
+    /// 1 → second); the ramp is linear, so filtering the values equals filtering the colours.
+    Texture3D {
+        texture: Arc<Texture3D>,
+        sampler: Sampler,
+        min: Vec3,
+        max: Vec3,
+        colors: [Vec3; 2],
+    },
+}
+
+/// How a material's alpha is used (glTF's `alphaMode`).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum AlphaMode {
+    /// Alpha is ignored and written as 1.
+    #[default]
+    Opaque,
+    /// Fragments with alpha below the cutoff are discarded; the others are opaque.
+    Mask(f32),
+    /// Premultiplied "over" blending, drawn after every opaque surface, back to front.
+    Blend,
+}
+
+/// Which reflection model lights a material.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ShadingModel {
+    /// The Phong model of the module docs: K_A, K_D, K_S and the exponent n.
+    #[default]
+    Phong,
+    /// glTF's metallic-roughness BRDF ([`super::pbr`]): base colour, metallic and roughness (K_A
+    /// still scales the ambient term; K_D, K_S and n are not used).
+    MetallicRoughness,
+}
+
+/// A solid texture feeding a material channel other than the colour, evaluated at the
+/// object-space position like [`Procedural::Solid`], with the same footprint filtering.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolidMap {
+    pub solid: Solid,
+    pub channel: SolidChannel,
+    /// Filter the pattern (and its gradient) over the pixel's footprint.
+    pub antialias: bool,
+}
+
+/// What a [`SolidMap`] feeds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SolidChannel {
+    /// Roughness = `range[0] + (range[1] − range[0])·value`, replacing the factor. Phong
+    /// materials take it as the exponent `n = 2/α² − 2` (α = roughness², at least 1).
+    Roughness { range: [f32; 2] },
+    /// A height field `scale·value` in object units: the normal is tilted by the pattern's
+    /// analytic gradient projected onto the surface.
+    Bump { scale: f32 },
+}
+
+/// A surface's appearance: Phong coefficients, base colour and its texture.
+#[derive(Clone, Debug)]
+pub struct Material {
+    /// The reflection model (Phong by default; glTF materials are metallic-roughness).
+    pub model: ShadingModel,
+    /// Linear RGBA, straight (not premultiplied) alpha.
+    pub base_color: Vec4,
+    pub base_color_texture: Option<TextureSlot>,
+    /// K_A: the fraction of the ambient light reflected.
+    pub ambient: f32,
+    /// K_D: the diffuse reflection coefficient.
+    pub diffuse: f32,
+    /// K_S: the specular reflection coefficient.
+    pub specular: f32,
+    /// n: the Phong exponent.
+    pub shininess: f32,
+    /// I_E: linear light emitted by the surface.
+    pub emissive: Vec3,
+    /// When true, the colour is the surface colour `C` and lights are ignored.
+    pub unlit: bool,
+    /// When false, back faces may be culled (see `render::CullMode`); when true their normal
+    /// is flipped towards the viewer before lighting.
+    pub double_sided: bool,
+    pub alpha_mode: AlphaMode,
+    /// A procedural colour (solid texture or projected image), multiplying the base colour.
+    pub procedural: Option<Procedural>,
+    /// glTF's metallic factor (0 = dielectric), for metallic-roughness shading.
+    pub metallic: f32,
+    /// glTF's roughness factor (α = roughness²).
+    pub roughness: f32,
+    /// Texture maps other than the base colour (normal, occlusion, emissive, …), each with
+    /// its channel and scale. The renderer reads the channels it implements.
+    pub maps: Vec<MaterialMap>,
+    /// Solid textures on channels other than the colour (roughness, bump height).
+    pub solid_maps: Vec<SolidMap>,
+}
+
+/// What a [`MaterialMap`] feeds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MapChannel {
+    /// glTF metallic (B) and roughness (G), linear.
+    MetallicRoughness,
+    /// Tangent-space normal map, linear; `scale` scales its x and y.
+    Normal,
+    /// Ambient occlusion (R), linear; `scale` is the strength.
+    Occlusion,
+    /// Emissive colour, sRGB; multiplies `Material::emissive`.
+    Emissive,
+    /// OBJ `map_Ka`: ambient colour, sRGB.
+    Ambient,
+    /// OBJ `map_Ks`: specular colour, sRGB.
+    Specular,
+    /// OBJ `map_Ns`: specular exponent (R), linear.
+    Shininess,
+    /// OBJ `map_d`: opacity (R, or alpha when present), linear.
+    Alpha,
+    /// OBJ `bump`/`map_bump`: a height field, linear; `scale` is `-bm`.
+    Bump,
+}
+
+impl MapChannel {
+    /// The lower-case name used in scene files and by `texmap info`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            MapChannel::MetallicRoughness => "metallic_roughness",
+            MapChannel::Normal => "normal",
+            MapChannel::Occlusion => "occlusion",
+            MapChannel::Emissive => "emissive",
+            MapChannel::Ambient => "ambient",
+            MapChannel::Specular => "specular",
+            MapChannel::Shininess => "shininess",
+            MapChannel::Alpha => "alpha",
+            MapChannel::Bump => "bump",
+        }
+    }
+
+    /// True for channels that hold colour (decoded from sRGB); the others hold linear data.
+    #[must_use]
+    pub fn is_color(self) -> bool {
+        matches!(
+            self,
+            MapChannel::Emissive | MapChannel::Ambient | MapChannel::Specular
+        )
+    }
+}
+
+/// A texture map of a material other than the base colour.
+#[derive(Clone, Debug)]
+pub struct MaterialMap {
+    pub channel: MapChannel,
+    pub slot: TextureSlot,
+    /// Normal scale, occlusion strength or bump multiplier (1 otherwise).
+    pub scale: f32,
+}
+
+impl Material {
+    /// The first map feeding `channel`, if any.
+    #[must_use]
+    pub fn map(&self, channel: MapChannel) -> Option<&MaterialMap> {
+        self.maps.iter().find(|m| m.channel == channel)
+    }
+
+    /// The first solid texture on the roughness channel and its range, if any.
+    #[must_use]
+    pub fn solid_roughness(&self) -> Option<(&SolidMap, [f32; 2])> {
+        self.solid_maps.iter().find_map(|m| match m.channel {
+            SolidChannel::Roughness { range } => Some((m, range)),
+            SolidChannel::Bump { .. } => None,
+        })
+    }
+
+    /// The first solid texture on the bump channel and its scale, if any.
+    #[must_use]
+    pub fn solid_bump(&self) -> Option<(&SolidMap, f32)> {
+        self.solid_maps.iter().find_map(|m| match m.channel {
+            SolidChannel::Bump { scale } => Some((m, scale)),
+            SolidChannel::Roughness { .. } => None,
+        })
+    }
+}
+
+impl Default for Material {
+    /// White, K_A 0.2, K_D 0.8, no specular, opaque, single-sided.
+    fn default() -> Self {
+        Material {
+            base_color: Vec4::ONE,
+            base_color_texture: None,
+            ambient: 0.2,
+            diffuse: 0.8,
+            specular: 0.0,
+            shininess: 32.0,
+            emissive: Vec3::ZERO,
+            unlit: false,
+            double_sided: false,
+            alpha_mode: AlphaMode::Opaque,
+            procedural: None,
+            metallic: 0.0,
+            roughness: 1.0,
+            maps: Vec::new(),
+            solid_maps: Vec::new(),
+            model: ShadingModel::Phong,
+        }
+    }
+}
