@@ -78,8 +78,10 @@ impl Format {
         )
     }
 
-    /// Encodes one linear, straight-alpha RGBA value into `out` (`bytes_per_texel` long).
-    pub fn encode(self, c: Vec4, srgb: bool, out: &mut [u8]) {
+    /// Encodes one linear, straight-alpha RGBA value into `out` (`bytes_per_texel` long),
+    /// colour channels in `color_space` (alpha and float formats are always linear).
+    pub fn encode(self, c: Vec4, color_space: ColorSpace, out: &mut [u8]) {
+        let srgb = color_space == ColorSpace::Srgb;
         let enc8 = |v: f32| {
             if srgb {
                 crate::color::linear_to_srgb8(v)
@@ -407,7 +409,7 @@ mod tests {
             Format::Rgba32F,
         ] {
             let mut buf = vec![0u8; f.bytes_per_texel()];
-            f.encode(c, false, &mut buf);
+            f.encode(c, ColorSpace::Linear, &mut buf);
             let lut: &[f32] = if f.bytes_per_texel() / f.channels() == 2 && f.is_unorm() {
                 crate::color::lut16(false)
             } else {

@@ -180,10 +180,10 @@ impl Texture2D {
     /// Linear premultiplied texels → row-major bytes of the stored format.
     fn encode_level(&self, texels: &[Vec4]) -> Vec<u8> {
         let bpp = self.stored.bytes_per_texel();
-        let srgb = self.color_space == ColorSpace::Srgb;
         let mut bytes = vec![0u8; texels.len() * bpp];
         for (c, out) in texels.iter().zip(bytes.chunks_exact_mut(bpp)) {
-            self.stored.encode(mip::unpremultiply(*c), srgb, out);
+            self.stored
+                .encode(mip::unpremultiply(*c), self.color_space, out);
         }
         bytes
     }

@@ -46,7 +46,12 @@ impl Texture3D {
                 texels.len()
             )));
         }
-        let srgb = format.is_unorm() && color_space == ColorSpace::Srgb;
+        let color_space = if format.is_unorm() {
+            color_space
+        } else {
+            ColorSpace::Linear
+        };
+        let srgb = color_space == ColorSpace::Srgb;
         let lut = match format {
             Format::R16 | Format::Rgba16 => crate::color::lut16(srgb),
             _ => crate::color::lut8(srgb),
@@ -70,7 +75,7 @@ impl Texture3D {
                 for (i, c) in next.iter().enumerate() {
                     format.encode(
                         super::mip::unpremultiply(*c),
-                        srgb,
+                        color_space,
                         &mut bytes[i * bpp..(i + 1) * bpp],
                     );
                 }
