@@ -63,18 +63,31 @@ pub enum LodRule {
     /// OpenGL's: λ = log2 of the longer of the two derivative vectors.
     #[default]
     GlMax,
-    /// The article's: λ = ½·log2(Σ of the four squared derivatives).
+    /// The article's: λ = ½·log2(Σ of the squared derivatives).
     RootSumSquares,
 }
 
 impl LodRule {
-    /// λ for derivatives already scaled to texels.
+    /// λ for 2D derivatives already scaled to texels.
     #[inline]
     #[must_use]
     pub fn lod(self, dx: Vec2, dy: Vec2) -> f32 {
+        self.lod_of_squares(dx.length_squared(), dy.length_squared())
+    }
+
+    /// λ for 3D derivatives already scaled to texels (texels of level 0 on each axis).
+    #[inline]
+    #[must_use]
+    pub fn lod3(self, dx: Vec3, dy: Vec3) -> f32 {
+        self.lod_of_squares(dx.length_squared(), dy.length_squared())
+    }
+
+    /// λ from the squared lengths of the two derivative vectors.
+    #[inline(always)]
+    fn lod_of_squares(self, lx: f32, ly: f32) -> f32 {
         match self {
-            LodRule::GlMax => 0.5 * fast_log2(dx.length_squared().max(dy.length_squared())),
-            LodRule::RootSumSquares => 0.5 * fast_log2(dx.length_squared() + dy.length_squared()),
+            LodRule::GlMax => 0.5 * fast_log2(lx.max(ly)),
+            LodRule::RootSumSquares => 0.5 * fast_log2(lx + ly),
         }
     }
 }

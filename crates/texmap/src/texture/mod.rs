@@ -8,6 +8,7 @@ pub(crate) mod filter;
 pub(crate) mod footprint;
 pub(crate) mod format;
 pub mod load;
+mod lod;
 mod mip;
 pub mod procedural;
 mod sampler;
@@ -22,6 +23,7 @@ pub use filter::{
 };
 pub use footprint::{CubeFootprint, Footprint, Footprint3, LodRule};
 pub use format::{f16_to_f32, f32_to_f16, ColorSpace, Format};
+pub use lod::{MipBlend, MipChoice, TexelFilter};
 pub use mip::level_count;
 pub use sampler::{Filter, MagFilter, MinFilter, Sampler};
 pub use storage::{Layout, Level, Storage, Texture2D, TextureOptions};

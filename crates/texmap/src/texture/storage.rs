@@ -188,6 +188,18 @@ impl Texture2D {
         bytes
     }
 
+    /// Overwrites every level's texels with `f(level, x, y)` (linear, premultiplied), in the
+    /// stored format: for tests that need levels unlike a box-filtered chain.
+    #[cfg(test)]
+    pub(crate) fn replace_levels(&mut self, f: impl Fn(usize, u32, u32) -> Vec4) {
+        for i in 0..self.levels.len() {
+            let (w, h) = (self.levels[i].width, self.levels[i].height);
+            let texels: Vec<Vec4> = (0..w * h).map(|k| f(i, k % w, k / w)).collect();
+            let bytes = self.encode_level(&texels);
+            self.levels[i] = self.store_level(w, h, &bytes);
+        }
+    }
+
     /// Builds an RGBA8 texture (full mip chain, tiled) from row-major RGBA bytes.
     pub fn from_rgba8(
         width: u32,
