@@ -856,7 +856,7 @@ fn pattern(name: &str) -> Result<Solid> {
 }
 
 fn parse_filter(f: &str) -> Result<Filter> {
-    Filter::parse(f).ok_or_else(|| {
+    Filter::parse(f).ok().ok_or_else(|| {
         Error::parameter(format!(
             "filter {f:?}: expected nearest, bilinear, trilinear, aniso1..aniso16, ewa or sat"
         ))
@@ -864,7 +864,7 @@ fn parse_filter(f: &str) -> Result<Filter> {
 }
 
 fn parse_wrap(w: &str) -> Result<Wrap> {
-    Wrap::parse(w).ok_or_else(|| {
+    Wrap::parse(w).ok().ok_or_else(|| {
         Error::parameter(format!(
             "wrap {w:?}: expected repeat, mirror, clamp, border or mirror-clamp"
         ))

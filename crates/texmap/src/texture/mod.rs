@@ -25,7 +25,7 @@ pub use footprint::{CubeFootprint, Footprint, Footprint3, LodRule};
 pub use format::{f16_to_f32, f32_to_f16, ColorSpace, Format};
 pub use lod::{MipBlend, MipChoice, TexelFilter};
 pub use mip::level_count;
-pub use sampler::{Filter, MagFilter, MinFilter, Sampler};
+pub use sampler::{Filter, MagFilter, MinFilter, Sampler, UnknownName};
 pub use storage::{Layout, Level, Storage, Texture2D, TextureOptions};
 pub use texture3d::{sample_3d, Texture3D};
 pub use transform::TextureTransform;

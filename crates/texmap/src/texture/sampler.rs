@@ -1,4 +1,10 @@
 //! Sampler state: wrap modes, filter, level-of-detail bias and clamps, border colour.
+//!
+//! Filters and wrap modes have one list of names each ([`Filter::SPELLINGS`],
+//! [`Wrap::SPELLINGS`]): the parsers read them, their errors ([`UnknownName`]) quote them, and
+//! the command line's help shows them, so the three cannot disagree.
+
+use std::fmt;
 
 use glam::Vec4;
 
@@ -62,25 +68,128 @@ impl Filter {
         min: MinFilter::LinearMipmapLinear,
     };
 
-    /// Parses the command-line spelling: `nearest`, `bilinear`, `trilinear`, `anisoN`
-    /// (N in 1..=16), `ewa`, `sat`.
-    pub fn parse(s: &str) -> Option<Filter> {
-        Some(match s {
-            "nearest" => Filter::NEAREST,
-            "bilinear" => Filter::BILINEAR,
-            "trilinear" => Filter::TRILINEAR,
-            "ewa" => Filter::Ewa {
-                max_eccentricity: 16.0,
-            },
-            "sat" => Filter::SummedArea,
-            _ => {
-                let n: u32 = s.strip_prefix("aniso")?.parse().ok()?;
-                if !(1..=16).contains(&n) {
-                    return None;
-                }
-                Filter::Anisotropic { max_aniso: n }
+    /// Every spelling [`Filter::parse`] accepts, as `--help` text and error messages list them.
+    pub const SPELLINGS: &'static str = "nearest, bilinear, trilinear, nearest-mipmap-nearest, \
+        bilinear-mipmap-nearest, nearest-mipmap-linear, aniso1..aniso16, ewa, sat \
+        (an OpenGL name may end in -mag-nearest or -mag-linear for the other magnification filter)";
+
+    /// The OpenGL filters by name, each minification filter with its natural magnification
+    /// filter: `nearest*` magnify nearest, `bilinear*` and `trilinear` linearly.
+    const GL_NAMES: [(&'static str, MinFilter, MagFilter); 6] = [
+        ("nearest", MinFilter::Nearest, MagFilter::Nearest),
+        ("bilinear", MinFilter::Linear, MagFilter::Linear),
+        (
+            "trilinear",
+            MinFilter::LinearMipmapLinear,
+            MagFilter::Linear,
+        ),
+        (
+            "nearest-mipmap-nearest",
+            MinFilter::NearestMipmapNearest,
+            MagFilter::Nearest,
+        ),
+        (
+            "bilinear-mipmap-nearest",
+            MinFilter::LinearMipmapNearest,
+            MagFilter::Linear,
+        ),
+        (
+            "nearest-mipmap-linear",
+            MinFilter::NearestMipmapLinear,
+            MagFilter::Nearest,
+        ),
+    ];
+
+    /// The suffixes that set the magnification filter other than the name's natural one.
+    const MAG_SUFFIXES: [(&'static str, MagFilter); 2] = [
+        ("-mag-nearest", MagFilter::Nearest),
+        ("-mag-linear", MagFilter::Linear),
+    ];
+
+    /// Parses one of [`Filter::SPELLINGS`]: an OpenGL pair by its minification filter's name
+    /// (`trilinear` is `GL_LINEAR_MIPMAP_LINEAR` magnifying with `GL_LINEAR`;
+    /// `trilinear-mag-nearest` magnifies with `GL_NEAREST`), `anisoN` for N in 1..=16,
+    /// `ewa` (eccentricity at most 16) or `sat`.
+    ///
+    /// ```
+    /// use texmap::texture::{Filter, MagFilter, MinFilter};
+    /// assert_eq!(Filter::parse("trilinear"), Ok(Filter::TRILINEAR));
+    /// assert_eq!(
+    ///     Filter::parse("nearest-mipmap-linear"),
+    ///     Ok(Filter::Gl { mag: MagFilter::Nearest, min: MinFilter::NearestMipmapLinear })
+    /// );
+    /// assert_eq!(Filter::parse("aniso8"), Ok(Filter::Anisotropic { max_aniso: 8 }));
+    /// assert!(Filter::parse("aniso32").unwrap_err().to_string().contains(Filter::SPELLINGS));
+    /// ```
+    pub fn parse(s: &str) -> Result<Filter, UnknownName> {
+        let unknown = || UnknownName {
+            given: s.to_string(),
+            expected: Filter::SPELLINGS,
+        };
+        let gl = |name: &str| {
+            Self::GL_NAMES
+                .iter()
+                .find(|(n, ..)| *n == name)
+                .map(|&(_, min, mag)| (min, mag))
+        };
+        if let Some((min, mag)) = gl(s) {
+            return Ok(Filter::Gl { mag, min });
+        }
+        for (suffix, mag) in Self::MAG_SUFFIXES {
+            if let Some((min, _)) = s.strip_suffix(suffix).and_then(gl) {
+                return Ok(Filter::Gl { mag, min });
             }
-        })
+        }
+        match s {
+            "ewa" => Ok(Filter::Ewa {
+                max_eccentricity: 16.0,
+            }),
+            "sat" => Ok(Filter::SummedArea),
+            _ => {
+                let digits = s.strip_prefix("aniso").ok_or_else(unknown)?;
+                if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+                    return Err(unknown());
+                }
+                match digits.parse::<u32>() {
+                    Ok(n) if (1..=16).contains(&n) => Ok(Filter::Anisotropic { max_aniso: n }),
+                    _ => Err(unknown()),
+                }
+            }
+        }
+    }
+
+    /// The spelling of this filter, which [`Filter::parse`] reads back to the same filter
+    /// for every filter it can return and every OpenGL pair.
+    ///
+    /// Two filters have no spelling of their own and are named by the nearest one: an
+    /// anisotropic count outside 1..=16 by the count sampling clamps it to (the same reads),
+    /// and an EWA bound on the eccentricity other than 16 as `ewa`.
+    ///
+    /// ```
+    /// use texmap::texture::{Filter, MagFilter, MinFilter};
+    /// assert_eq!(Filter::TRILINEAR.name(), "trilinear");
+    /// let f = Filter::Gl { mag: MagFilter::Nearest, min: MinFilter::LinearMipmapLinear };
+    /// assert_eq!(f.name(), "trilinear-mag-nearest");
+    /// assert_eq!(Filter::parse(&f.name()), Ok(f));
+    /// ```
+    #[must_use]
+    pub fn name(self) -> String {
+        match self {
+            Filter::Gl { mag, min } => {
+                let (name, natural) = Self::GL_NAMES
+                    .iter()
+                    .find(|(_, m, _)| *m == min)
+                    .map(|&(n, _, mag)| (n, mag))
+                    .expect("every min filter has a name");
+                match Self::MAG_SUFFIXES.iter().find(|(_, m)| *m == mag) {
+                    Some((suffix, _)) if mag != natural => format!("{name}{suffix}"),
+                    _ => name.to_string(),
+                }
+            }
+            Filter::Anisotropic { max_aniso } => format!("aniso{}", max_aniso.clamp(1, 16)),
+            Filter::Ewa { .. } => "ewa".to_string(),
+            Filter::SummedArea => "sat".to_string(),
+        }
     }
 
     /// True when the filter reads mip levels below 0.
@@ -95,6 +204,24 @@ impl Filter {
         )
     }
 }
+
+/// A name [`Filter::parse`] or [`Wrap::parse`] does not know. Its message lists the names
+/// that are known (callers quote the name given, as a command line or a file names it).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnknownName {
+    /// The name given.
+    pub given: String,
+    /// The names accepted: [`Filter::SPELLINGS`] or [`Wrap::SPELLINGS`].
+    pub expected: &'static str,
+}
+
+impl fmt::Display for UnknownName {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "expected one of: {}", self.expected)
+    }
+}
+
+impl std::error::Error for UnknownName {}
 
 /// Everything about how a texture is read, apart from the texture and the footprint.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -147,5 +274,129 @@ impl Sampler {
     #[must_use]
     pub fn adjust_lod(&self, lod: f32) -> f32 {
         (lod + self.lod_bias).clamp(self.min_lod, self.max_lod)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every filter a spelling names: the twelve OpenGL pairs, anisotropy 1..=16, EWA, SAT.
+    fn named_filters() -> Vec<Filter> {
+        let mins = Filter::GL_NAMES.map(|(_, min, _)| min);
+        let mut v: Vec<Filter> = mins
+            .iter()
+            .flat_map(|&min| {
+                [MagFilter::Nearest, MagFilter::Linear].map(|mag| Filter::Gl { mag, min })
+            })
+            .collect();
+        v.extend((1..=16).map(|max_aniso| Filter::Anisotropic { max_aniso }));
+        v.extend([
+            Filter::Ewa {
+                max_eccentricity: 16.0,
+            },
+            Filter::SummedArea,
+        ]);
+        v
+    }
+
+    #[test]
+    fn every_named_filter_round_trips_through_its_name() {
+        for f in named_filters() {
+            assert_eq!(Filter::parse(&f.name()), Ok(f), "{}", f.name());
+        }
+    }
+
+    #[test]
+    fn plain_names_keep_their_filters() {
+        assert_eq!(Filter::parse("nearest"), Ok(Filter::NEAREST));
+        assert_eq!(Filter::parse("bilinear"), Ok(Filter::BILINEAR));
+        assert_eq!(Filter::parse("trilinear"), Ok(Filter::TRILINEAR));
+        let gl = |mag, min| Ok(Filter::Gl { mag, min });
+        use {MagFilter as Mag, MinFilter as Min};
+        let named = [
+            (
+                "nearest-mipmap-nearest",
+                gl(Mag::Nearest, Min::NearestMipmapNearest),
+            ),
+            (
+                "bilinear-mipmap-nearest",
+                gl(Mag::Linear, Min::LinearMipmapNearest),
+            ),
+            (
+                "nearest-mipmap-linear",
+                gl(Mag::Nearest, Min::NearestMipmapLinear),
+            ),
+            (
+                "trilinear-mag-nearest",
+                gl(Mag::Nearest, Min::LinearMipmapLinear),
+            ),
+            ("nearest-mag-linear", gl(Mag::Linear, Min::Nearest)),
+            ("bilinear-mag-linear", gl(Mag::Linear, Min::Linear)),
+        ];
+        for (name, want) in named {
+            assert_eq!(Filter::parse(name), want, "{name}");
+        }
+    }
+
+    #[test]
+    fn every_listed_spelling_parses_and_every_name_is_listed() {
+        // The list's entries up to the parenthesis, with aniso1..aniso16 as its two ends.
+        let list = Filter::SPELLINGS.split(" (").next().unwrap();
+        for entry in list.split(", ") {
+            for name in entry.split("..") {
+                assert!(
+                    Filter::parse(name).is_ok(),
+                    "{name:?} is listed but does not parse"
+                );
+            }
+        }
+        for f in named_filters() {
+            let name = f.name();
+            let base = Filter::MAG_SUFFIXES
+                .iter()
+                .find_map(|(suffix, _)| name.strip_suffix(suffix))
+                .unwrap_or(&name);
+            assert!(
+                base.starts_with("aniso") || list.split(", ").any(|e| e == base),
+                "{name} is not listed"
+            );
+        }
+    }
+
+    #[test]
+    fn unknown_names_are_refused_with_the_list() {
+        for bad in [
+            "",
+            "linear",
+            "aniso",
+            "aniso0",
+            "aniso17",
+            "aniso+4",
+            "ewa16",
+            "Trilinear",
+            "sat-mag-nearest",
+            "aniso4-mag-linear",
+        ] {
+            let e = Filter::parse(bad).unwrap_err();
+            assert_eq!(e.given, bad);
+            assert_eq!(
+                e.to_string(),
+                format!("expected one of: {}", Filter::SPELLINGS)
+            );
+        }
+    }
+
+    #[test]
+    fn filters_without_a_spelling_are_named_by_the_nearest_one() {
+        assert_eq!(Filter::Anisotropic { max_aniso: 0 }.name(), "aniso1");
+        assert_eq!(Filter::Anisotropic { max_aniso: 64 }.name(), "aniso16");
+        assert_eq!(
+            Filter::Ewa {
+                max_eccentricity: 4.0
+            }
+            .name(),
+            "ewa"
+        );
     }
 }
