@@ -202,11 +202,7 @@ fn sample_cube_with<C: Codec>(cube: &TextureCube, s: &Sampler, fp: &CubeFootprin
             sum / taps
         }
         Filter::Ewa { .. } | Filter::SummedArea => {
-            let clamped = Sampler {
-                wrap_u: Wrap::ClampToEdge,
-                wrap_v: Wrap::ClampToEdge,
-                ..*s
-            };
+            let clamped = s.with_wraps(Wrap::ClampToEdge, Wrap::ClampToEdge, s.wrap_w);
             sample(&cube.faces[face], &clamped, &ffp)
         }
     }

@@ -224,9 +224,25 @@ impl fmt::Display for UnknownName {
 impl std::error::Error for UnknownName {}
 
 /// Everything about how a texture is read, apart from the texture and the footprint.
+///
+/// Built from [`Sampler::new`] or [`Sampler::default`] and the `with_*` methods, so a field
+/// added later breaks no caller (the type is `#[non_exhaustive]`); the fields stay public to
+/// read and assign.
+///
+/// ```
+/// use texmap::texture::{Filter, LodRule, Sampler, Wrap};
+/// let s = Sampler::new(Filter::TRILINEAR, Wrap::ClampToEdge)
+///     .with_lod_bias(0.5)
+///     .with_lod_clamp(0.0, 4.0)
+///     .with_lod_rule(LodRule::RootSumSquares);
+/// assert_eq!((s.wrap_u, s.lod_bias, s.max_lod), (Wrap::ClampToEdge, 0.5, 4.0));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Sampler {
+    /// The wrap mode along u (texel columns).
     pub wrap_u: Wrap,
+    /// The wrap mode along v (texel rows).
     pub wrap_v: Wrap,
     /// The third axis, for 3D textures.
     pub wrap_w: Wrap,
@@ -235,12 +251,17 @@ pub struct Sampler {
     pub border: Vec4,
     /// Added to λ before clamping.
     pub lod_bias: f32,
+    /// The smallest λ after the bias (at most `max_lod`; reads panic otherwise).
     pub min_lod: f32,
+    /// The largest λ after the bias.
     pub max_lod: f32,
+    /// How λ comes from the footprint's derivatives.
     pub lod_rule: LodRule,
 }
 
 impl Default for Sampler {
+    /// Trilinear, repeat on every axis, a transparent black border, no bias, λ unclamped
+    /// (±1000), OpenGL's λ rule.
     fn default() -> Self {
         Sampler {
             wrap_u: Wrap::Repeat,
@@ -257,16 +278,64 @@ impl Default for Sampler {
 }
 
 impl Sampler {
-    /// A sampler with `filter` and the same `wrap` on every axis.
+    /// A sampler with `filter` and the same `wrap` on every axis (the rest as
+    /// [`Sampler::default`]).
     #[must_use]
     pub fn new(filter: Filter, wrap: Wrap) -> Self {
-        Sampler {
-            wrap_u: wrap,
-            wrap_v: wrap,
-            wrap_w: wrap,
-            filter,
-            ..Default::default()
-        }
+        Sampler::default().with_filter(filter).with_wrap(wrap)
+    }
+
+    /// This sampler with `filter`.
+    #[must_use]
+    pub fn with_filter(mut self, filter: Filter) -> Self {
+        self.filter = filter;
+        self
+    }
+
+    /// This sampler with `wrap` on every axis.
+    #[must_use]
+    pub fn with_wrap(self, wrap: Wrap) -> Self {
+        self.with_wraps(wrap, wrap, wrap)
+    }
+
+    /// This sampler with a wrap mode per axis (`w` for 3D textures).
+    #[must_use]
+    pub fn with_wraps(mut self, u: Wrap, v: Wrap, w: Wrap) -> Self {
+        (self.wrap_u, self.wrap_v, self.wrap_w) = (u, v, w);
+        self
+    }
+
+    /// This sampler with the border colour (linear, premultiplied) of
+    /// [`Wrap::ClampToBorder`].
+    #[must_use]
+    pub fn with_border(mut self, border: Vec4) -> Self {
+        self.border = border;
+        self
+    }
+
+    /// This sampler with `bias` added to every λ.
+    #[must_use]
+    pub fn with_lod_bias(mut self, bias: f32) -> Self {
+        self.lod_bias = bias;
+        self
+    }
+
+    /// This sampler with λ clamped to `[min, max]` after the bias.
+    ///
+    /// # Panics
+    /// If `min > max` or either is NaN.
+    #[must_use]
+    pub fn with_lod_clamp(mut self, min: f32, max: f32) -> Self {
+        assert!(min <= max, "level-of-detail clamp {min}..{max} is empty");
+        (self.min_lod, self.max_lod) = (min, max);
+        self
+    }
+
+    /// This sampler with λ from the derivatives by `rule`.
+    #[must_use]
+    pub fn with_lod_rule(mut self, rule: LodRule) -> Self {
+        self.lod_rule = rule;
+        self
     }
 
     /// Applies bias and clamps to a raw λ.
@@ -398,5 +467,49 @@ mod tests {
             .name(),
             "ewa"
         );
+    }
+
+    #[test]
+    fn builders_set_their_fields_and_nothing_else() {
+        let s = Sampler::new(Filter::NEAREST, Wrap::ClampToBorder);
+        let d = Sampler::default();
+        assert_eq!(
+            (s.wrap_u, s.wrap_v, s.wrap_w),
+            (
+                Wrap::ClampToBorder,
+                Wrap::ClampToBorder,
+                Wrap::ClampToBorder
+            )
+        );
+        assert_eq!(s.filter, Filter::NEAREST);
+        assert_eq!(
+            (s.border, s.lod_bias, s.min_lod, s.max_lod, s.lod_rule),
+            (d.border, d.lod_bias, d.min_lod, d.max_lod, d.lod_rule)
+        );
+        let t = s
+            .with_wraps(Wrap::Repeat, Wrap::MirroredRepeat, Wrap::ClampToEdge)
+            .with_border(Vec4::ONE)
+            .with_lod_bias(-0.5)
+            .with_lod_clamp(1.0, 3.0)
+            .with_lod_rule(LodRule::RootSumSquares)
+            .with_filter(Filter::SummedArea);
+        assert_eq!(
+            (t.wrap_u, t.wrap_v, t.wrap_w),
+            (Wrap::Repeat, Wrap::MirroredRepeat, Wrap::ClampToEdge)
+        );
+        assert_eq!(
+            (t.border, t.lod_bias, t.min_lod, t.max_lod),
+            (Vec4::ONE, -0.5, 1.0, 3.0)
+        );
+        assert_eq!(
+            (t.lod_rule, t.filter),
+            (LodRule::RootSumSquares, Filter::SummedArea)
+        );
+    }
+
+    #[test]
+    #[should_panic(expected = "is empty")]
+    fn an_empty_lod_clamp_panics_when_built() {
+        let _ = Sampler::default().with_lod_clamp(2.0, 1.0);
     }
 }

@@ -61,7 +61,11 @@ pub enum Storage {
 }
 
 /// Options for building a texture from texels.
+///
+/// Built from [`TextureOptions::default`] and the `with_*` methods, so an option added later
+/// breaks no caller (the type is `#[non_exhaustive]`); the fields stay public.
 #[derive(Clone, Copy, Debug)]
+#[non_exhaustive]
 pub struct TextureOptions {
     /// Build the full mip chain down to 1×1 (default true).
     pub mipmaps: bool,
@@ -78,6 +82,29 @@ impl Default for TextureOptions {
             layout: Layout::Tiled4x4,
             storage: Storage::Linear16,
         }
+    }
+}
+
+impl TextureOptions {
+    /// These options with (`true`) or without the mip chain.
+    #[must_use]
+    pub fn with_mipmaps(mut self, mipmaps: bool) -> Self {
+        self.mipmaps = mipmaps;
+        self
+    }
+
+    /// These options with the texels in `layout`.
+    #[must_use]
+    pub fn with_layout(mut self, layout: Layout) -> Self {
+        self.layout = layout;
+        self
+    }
+
+    /// These options with the texels held as `storage` says.
+    #[must_use]
+    pub fn with_storage(mut self, storage: Storage) -> Self {
+        self.storage = storage;
+        self
     }
 }
 
@@ -430,10 +457,7 @@ mod tests {
         let (w, h) = (13u32, 7u32);
         let rgba: Vec<u8> = (0..w * h * 4).map(|i| (i * 7 % 251) as u8).collect();
         let make = |storage, format: Format, bytes: &[u8]| {
-            let options = TextureOptions {
-                storage,
-                ..Default::default()
-            };
+            let options = TextureOptions::default().with_storage(storage);
             Texture2D::from_texels(w, h, format, ColorSpace::Srgb, bytes, options).unwrap()
         };
         let rgb: Vec<u8> = rgba
@@ -476,10 +500,7 @@ mod tests {
     fn tiled_and_row_major_hold_the_same_texels() {
         let (w, h) = (13u32, 7u32);
         let rgba: Vec<u8> = (0..w * h * 4).map(|i| (i * 7 % 251) as u8).collect();
-        let opts = |layout| TextureOptions {
-            layout,
-            ..Default::default()
-        };
+        let opts = |layout| TextureOptions::default().with_layout(layout);
         let a = Texture2D::from_texels(
             w,
             h,

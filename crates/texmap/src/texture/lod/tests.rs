@@ -267,9 +267,10 @@ fn gl_level_choice_is_the_same_for_2d_cube_and_3d_reads() {
         );
         for mag in MAGS {
             for (k, min) in MINS.into_iter().enumerate() {
-                let mut s = Sampler::new(Filter::Gl { mag, min }, Wrap::ClampToEdge);
-                (s.lod_rule, s.lod_bias, s.min_lod, s.max_lod) =
-                    (set.rule, set.bias, set.clamp.0, set.clamp.1);
+                let s = Sampler::new(Filter::Gl { mag, min }, Wrap::ClampToEdge)
+                    .with_lod_rule(set.rule)
+                    .with_lod_bias(set.bias)
+                    .with_lod_clamp(set.clamp.0, set.clamp.1);
                 let want = expected(set.lod, mag, k);
                 let check = |kind: &str, got: Vec4, tol: f32| {
                     assert!(
