@@ -7,6 +7,9 @@
 //! direction hits — so there is no seam at edges, at any level. Anisotropic taps are spread
 //! along the direction's derivative and each tap is seamless too. EWA and summed-area filters
 //! run on the centre's face with clamp-to-edge (a documented approximation near edges).
+//!
+//! λ comes from the face coordinates' derivatives (the quotient rule on the direction's) and
+//! OpenGL filters choose their levels from it as 2D reads do ([`MipChoice::gl`]).
 
 use glam::{Vec2, Vec3, Vec4};
 

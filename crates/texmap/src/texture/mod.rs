@@ -1,7 +1,15 @@
 //! The texture sampling engine: storage, mip chains, wrap modes and filters.
 //!
-//! Every texture read in texmap goes through [`sample`] (2D), [`sample_cube`] or
-//! [`sample_3d`], which take the pixel's footprint and return linear, premultiplied RGBA.
+//! Every texture read in texmap goes through [`sample`] (2D, with [`sample_quad`] and
+//! [`sample_quads_lanes`] for the rasterizer's quads), [`sample_cube`] or [`sample_3d`], which
+//! take the pixel's footprint and return linear, premultiplied RGBA.
+//!
+//! A read runs the same steps whatever the texture kind: the footprint's derivatives give λ
+//! ([`LodRule`], `footprint.rs`), the sampler's bias and clamps adjust it ([`Sampler`]),
+//! OpenGL filters choose their levels from it ([`MipChoice`], `lod.rs`, written once for every
+//! kind), and the filter reads those levels (`filter/`, `cube.rs`, `texture3d.rs`). Nothing
+//! here knows the pipeline: the module uses only `color`, the crate's `Error`, `glam` and,
+//! to decode files, `image`.
 
 mod cube;
 pub(crate) mod filter;

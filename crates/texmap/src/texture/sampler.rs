@@ -191,18 +191,6 @@ impl Filter {
             Filter::SummedArea => "sat".to_string(),
         }
     }
-
-    /// True when the filter reads mip levels below 0.
-    #[must_use]
-    pub fn uses_mipmaps(self) -> bool {
-        !matches!(
-            self,
-            Filter::Gl {
-                min: MinFilter::Nearest | MinFilter::Linear,
-                ..
-            }
-        )
-    }
 }
 
 /// A name [`Filter::parse`] or [`Wrap::parse`] does not know. Its message lists the names

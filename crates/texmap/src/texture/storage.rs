@@ -3,13 +3,15 @@
 //! By default 8-bit colour (RGB8, RGBA8, sRGB or linear) is stored decoded, as 16-bit linear
 //! premultiplied RGBA ([`Storage::Linear16`], 8 bytes a texel): a read is one 8-byte load
 //! and a conversion, where the native format costs a table lookup per channel and a multiply
-//! by alpha — 5× more instructions per texel in the trilinear path. 16 bits in linear light
-//! hold every 8-bit sRGB value to within 8·10⁻⁶, and the mip levels keep that precision
-//! instead of being rounded back to 8-bit sRGB. [`Storage::Native`] keeps the texels in their
-//! own [`Format`] (half the memory) and decodes them when read. Each level is stored in 4×4 tiles by default: one tile of RGBA8 is 64
-//! bytes, one cache line, so the 2×2 neighbourhood a bilinear tap reads usually sits in one
-//! line whatever the direction the footprint walks. [`Layout::RowMajor`] is kept so the gain can
-//! be measured (`cargo bench --bench sampling -- layout`).
+//! by alpha. 16 bits in linear light hold every 8-bit sRGB value to within 8·10⁻⁶, and the mip
+//! levels keep that precision instead of being rounded back to 8-bit sRGB.
+//! [`Storage::Native`] keeps the texels in their own [`Format`] (half the memory) and decodes
+//! them when read.
+//!
+//! Each level is stored in 4×4 tiles by default: one tile of RGBA8 is 64 bytes, one cache
+//! line, so the 2×2 neighbourhood a bilinear tap reads usually sits in one line whatever the
+//! direction the footprint walks. [`Layout::RowMajor`] is kept so the gain can be measured
+//! (`cargo bench --bench sampling -- layout`).
 
 use glam::Vec4;
 

@@ -2,6 +2,10 @@
 //!
 //! Voxels are stored row-major, x fastest, in any [`Format`]. Mip levels halve each axis
 //! (`max(1, ⌊n/2⌋)`) with the same exact-area box as 2D levels, in linear light.
+//!
+//! Reads choose λ and their levels as 2D reads do ([`super::LodRule::lod3`],
+//! [`MipChoice::gl`]); within a level a linear read is trilinear (eight voxels). Anisotropic,
+//! EWA and summed-area filters have no 3D form here and read as trilinear between levels.
 
 use glam::{Vec3, Vec4};
 

@@ -13,11 +13,11 @@
 //!
 //! The float filters ([`super::bilinear`] on each level, blended) give the same value within
 //! 1.6·10⁻⁴ (eight weights off by at most half a step of 1/32767, plus the dropped bit), about
-//! half the smallest step an 8-bit sRGB output can show (3·10⁻⁴, at black): the trilinear
-//! plane at 1080p is 79.9 dB PSNR from the float filter's image (RMSE 0.026 of an 8-bit
-//! level). GPUs filter with 8-bit weights; these are 15-bit. It takes
-//! about half the instructions of the float filter: two loads, an interleave, a shift, a
-//! multiply-add and an add per pair of taps.
+//! half the smallest step an 8-bit sRGB output can show (3·10⁻⁴, at black). GPUs filter with
+//! 8-bit weights; these are 15-bit. A pair of taps costs two loads, an interleave, a shift, a
+//! multiply-add and an add, where the float filter converts, scales and interpolates each tap.
+//!
+//! The levels and their weights come from [`MipChoice::gl`] like every other OpenGL read.
 //!
 //! Only the repeat and clamp-to-edge wraps are handled here (indices by integer wrapping and
 //! float clamps); other wraps, other formats and other targets return `None` and the float
@@ -98,8 +98,8 @@ mod sse2 {
     use crate::texture::storage::LevelRef;
     use crate::texture::{MipChoice, Sampler, Texture2D, Wrap};
 
-    // Inlined into the quad read, as it was before the level choice became a `MipChoice`:
-    // as a call it cost 5% more instructions in the sampler (callgrind, trilinear plane).
+    // Inlined into the quad read: as a call (which the compiler chose once the level choice
+    // became a `MipChoice`) it cost the trilinear quad path measurably more instructions.
     #[inline(always)]
     pub(super) fn linear_quad(
         tex: &Texture2D,
