@@ -146,6 +146,21 @@ impl Format {
     }
 }
 
+/// The table a texture of `format` with channels in `color_space` decodes through (16-bit
+/// codes for the 16-bit unorm formats, 8-bit codes otherwise): 2D and 3D textures choose it
+/// the same way.
+#[must_use]
+pub(crate) fn decode_table(format: Format, color_space: ColorSpace) -> &'static [f32] {
+    use crate::color::{lut16, lut8};
+    let sixteen_bit = matches!(format, Format::R16 | Format::Rgba16);
+    match (sixteen_bit, color_space) {
+        (true, ColorSpace::Srgb) => lut16(true),
+        (true, ColorSpace::Linear) => lut16(false),
+        (false, ColorSpace::Srgb) => lut8(true),
+        (false, ColorSpace::Linear) => lut8(false),
+    }
+}
+
 /// Decodes one texel of a format: the static half of the sampler state, so the filters are
 /// compiled once per format and the per-texel loop has no format branch.
 pub(crate) trait Codec: Copy + Send + Sync + 'static {

@@ -15,7 +15,7 @@
 
 use glam::Vec4;
 
-use super::format::{with_codec, Codec, ColorSpace, Format};
+use super::format::{decode_table, with_codec, Codec, ColorSpace, Format};
 use super::mip;
 use crate::{Error, Result};
 
@@ -165,11 +165,7 @@ impl Texture2D {
         } else {
             ColorSpace::Linear
         };
-        let srgb = color_space == ColorSpace::Srgb;
-        let lut_of = |f: Format| match f {
-            Format::R16 | Format::Rgba16 => crate::color::lut16(srgb),
-            _ => crate::color::lut8(srgb),
-        };
+        let lut_of = |f: Format| decode_table(f, color_space);
         let stored = match (options.storage, format) {
             (Storage::Linear16, Format::Rgb8 | Format::Rgba8) => Format::Rgba16Premultiplied,
             _ => format,

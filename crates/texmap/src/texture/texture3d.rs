@@ -10,7 +10,7 @@
 use glam::{Vec3, Vec4};
 
 use super::filter::floor_index;
-use super::format::{with_codec, Codec};
+use super::format::{decode_table, with_codec, Codec};
 use super::{ColorSpace, Filter, Footprint3, Format, MipChoice, Sampler, TexelFilter, BORDER};
 use crate::{Error, Result};
 
@@ -55,11 +55,7 @@ impl Texture3D {
         } else {
             ColorSpace::Linear
         };
-        let srgb = color_space == ColorSpace::Srgb;
-        let lut = match format {
-            Format::R16 | Format::Rgba16 => crate::color::lut16(srgb),
-            _ => crate::color::lut8(srgb),
-        };
+        let lut = decode_table(format, color_space);
         let mut tex = Texture3D {
             format,
             levels: vec![Level3 {
@@ -197,10 +193,29 @@ fn sample_3d_with<C: Codec>(tex: &Texture3D, s: &Sampler, fp: &Footprint3) -> Ve
             MipChoice::trilinear(lod, tex.levels.len())
         }
     };
-    choice.read(|level| match choice.texels {
-        TexelFilter::Nearest => nearest3::<C>(tex, s, level, fp.uvw),
-        TexelFilter::Linear => trilinear3::<C>(tex, s, level, fp.uvw),
-    })
+    let a = read_level3::<C>(tex, s, choice.level, choice.texels, fp.uvw);
+    match choice.blend {
+        Some(b) => a.lerp(
+            read_level3::<C>(tex, s, b.level, choice.texels, fp.uvw),
+            b.weight,
+        ),
+        None => a,
+    }
+}
+
+/// Level `level` read at `p` with `texels`.
+#[inline(always)]
+fn read_level3<C: Codec>(
+    tex: &Texture3D,
+    s: &Sampler,
+    level: usize,
+    texels: TexelFilter,
+    p: Vec3,
+) -> Vec4 {
+    match texels {
+        TexelFilter::Nearest => nearest3::<C>(tex, s, level, p),
+        TexelFilter::Linear => trilinear3::<C>(tex, s, level, p),
+    }
 }
 
 #[inline(always)]

@@ -268,7 +268,9 @@ fn truncate4(v: Vec4) -> [i32; 4] {
     }
 }
 
-#[inline]
+// Inlined into each entry point (as the compiler chose before the OpenGL read became
+// `read_choice`): as a call it cost anisotropic filtering 0.6% more instructions.
+#[inline(always)]
 fn sample_with<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint) -> Vec4 {
     match s.filter {
         Filter::Gl { mag, min } => gl::<C>(tex, s, fp, mag, min),
@@ -392,8 +394,38 @@ fn repeat_pair(i: i32, n: i32) -> (i32, i32) {
 /// Bilinear on the two levels around `lod`, blended (the minification half of trilinear).
 #[inline(always)]
 pub(crate) fn trilinear_at<C: Codec>(tex: &Texture2D, s: &Sampler, uv: Vec2, lod: f32) -> Vec4 {
-    MipChoice::trilinear(lod, tex.levels().len())
-        .read(|level| bilinear::<C>(&tex.level(level), s, uv))
+    read_choice::<C>(tex, s, uv, MipChoice::trilinear(lod, tex.levels().len()))
+}
+
+/// The levels `choice` names, read at `uv` and blended. A function, not a closure passed to
+/// [`MipChoice::read`]: as a closure the compiler left each level's read out of line (it
+/// cost anisotropic filtering's trilinear taps 12% more instructions).
+#[inline(always)]
+fn read_choice<C: Codec>(tex: &Texture2D, s: &Sampler, uv: Vec2, choice: MipChoice) -> Vec4 {
+    let a = read_level::<C>(tex, s, uv, choice.level, choice.texels);
+    match choice.blend {
+        Some(b) => a.lerp(
+            read_level::<C>(tex, s, uv, b.level, choice.texels),
+            b.weight,
+        ),
+        None => a,
+    }
+}
+
+/// Level `level` read at `uv` with `texels`.
+#[inline(always)]
+fn read_level<C: Codec>(
+    tex: &Texture2D,
+    s: &Sampler,
+    uv: Vec2,
+    level: usize,
+    texels: TexelFilter,
+) -> Vec4 {
+    let lv = tex.level(level);
+    match texels {
+        TexelFilter::Nearest => nearest::<C>(&lv, s, uv),
+        TexelFilter::Linear => bilinear::<C>(&lv, s, uv),
+    }
 }
 
 /// OpenGL's filtering: λ from the footprint, the levels from [`MipChoice::gl`].
@@ -406,14 +438,12 @@ fn gl<C: Codec>(
 ) -> Vec4 {
     let (dx, dy) = texel_derivatives(tex, fp);
     let lod = s.adjust_lod(s.lod_rule.lod(dx, dy));
-    let choice = MipChoice::gl(lod, tex.levels().len(), mag, min);
-    choice.read(|level| {
-        let lv = tex.level(level);
-        match choice.texels {
-            TexelFilter::Nearest => nearest::<C>(&lv, s, fp.uv),
-            TexelFilter::Linear => bilinear::<C>(&lv, s, fp.uv),
-        }
-    })
+    read_choice::<C>(
+        tex,
+        s,
+        fp.uv,
+        MipChoice::gl(lod, tex.levels().len(), mag, min),
+    )
 }
 
 /// The ellipse a footprint's derivatives describe (texel units of level 0): the unit major
