@@ -37,10 +37,7 @@ fn texture(layout: Layout) -> Texture2D {
         Format::Rgba8,
         ColorSpace::Srgb,
         &rgba,
-        TextureOptions {
-            layout,
-            ..Default::default()
-        },
+        TextureOptions::default().with_layout(layout),
     )
     .unwrap()
 }

@@ -30,10 +30,7 @@ fn main() {
             (s >> 24) as u8
         })
         .collect();
-    let options = TextureOptions {
-        layout,
-        ..Default::default()
-    };
+    let options = TextureOptions::default().with_layout(layout);
     let tex =
         Texture2D::from_texels(N, N, Format::Rgba8, ColorSpace::Srgb, &rgba, options).unwrap();
     let sampler = Sampler::new(Filter::TRILINEAR, Wrap::Repeat);

@@ -72,7 +72,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let all = "nearest,bilinear,trilinear,aniso2,aniso4,aniso8,aniso16,ewa,sat".to_string();
     for name in args.get(4).unwrap_or(&all).split(',') {
-        let sampler = Sampler::new(Filter::parse(name).ok_or("bad filter")?, Wrap::Repeat);
+        let sampler = Sampler::new(Filter::parse(name)?, Wrap::Repeat);
         let start = Instant::now();
         let rows: Vec<Vec<u8>> = (0..h)
             .into_par_iter()

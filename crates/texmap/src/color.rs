@@ -70,39 +70,45 @@ pub fn linear_to_unorm8(c: f32) -> u8 {
     (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
 }
 
-fn table<const N: usize>(srgb: bool) -> Box<[f32]> {
-    let max = (N - 1) as f32;
-    (0..N)
-        .map(|i| {
-            let c = i as f32 / max;
-            if srgb {
-                srgb_to_linear(c)
-            } else {
-                c
-            }
-        })
-        .collect()
+/// What the stored values of a colour channel mean.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum ColorSpace {
+    /// sRGB-encoded colour (the default for colour images): decoded before filtering.
+    #[default]
+    Srgb,
+    /// Linear data (normal, roughness, height maps; float images).
+    Linear,
 }
 
-/// Decoding table for 8-bit codes: `lut8(true)[code]` is the linear value of an sRGB code.
-pub fn lut8(srgb: bool) -> &'static [f32] {
+/// The linear value of every `N`-level code in `color_space`. One loop per space, so the
+/// linear table never evaluates the sRGB curve.
+fn table<const N: usize>(color_space: ColorSpace) -> Box<[f32]> {
+    let max = (N - 1) as f32;
+    let codes = (0..N).map(|i| i as f32 / max);
+    match color_space {
+        ColorSpace::Srgb => codes.map(srgb_to_linear).collect(),
+        ColorSpace::Linear => codes.collect(),
+    }
+}
+
+/// Decoding table for 8-bit codes: `lut8(ColorSpace::Srgb)[code]` is the linear value of an
+/// sRGB code.
+pub fn lut8(color_space: ColorSpace) -> &'static [f32] {
     static LIN: OnceLock<Box<[f32]>> = OnceLock::new();
     static SRGB: OnceLock<Box<[f32]>> = OnceLock::new();
-    if srgb {
-        SRGB.get_or_init(|| table::<256>(true))
-    } else {
-        LIN.get_or_init(|| table::<256>(false))
+    match color_space {
+        ColorSpace::Srgb => SRGB.get_or_init(|| table::<256>(color_space)),
+        ColorSpace::Linear => LIN.get_or_init(|| table::<256>(color_space)),
     }
 }
 
 /// Decoding table for 16-bit codes, as [`lut8`].
-pub fn lut16(srgb: bool) -> &'static [f32] {
+pub fn lut16(color_space: ColorSpace) -> &'static [f32] {
     static LIN: OnceLock<Box<[f32]>> = OnceLock::new();
     static SRGB: OnceLock<Box<[f32]>> = OnceLock::new();
-    if srgb {
-        SRGB.get_or_init(|| table::<65536>(true))
-    } else {
-        LIN.get_or_init(|| table::<65536>(false))
+    match color_space {
+        ColorSpace::Srgb => SRGB.get_or_init(|| table::<65536>(color_space)),
+        ColorSpace::Linear => LIN.get_or_init(|| table::<65536>(color_space)),
     }
 }
 
@@ -113,7 +119,7 @@ mod tests {
     #[test]
     fn srgb_round_trips_every_8bit_code() {
         for i in 0..=255u8 {
-            let lin = lut8(true)[i as usize];
+            let lin = lut8(ColorSpace::Srgb)[i as usize];
             assert_eq!(linear_to_srgb8(lin), i);
         }
     }

@@ -7,7 +7,7 @@
 //! material.
 
 use texmap::render::TextureOverrides;
-use texmap::texture::{Filter, LodRule, Sampler, Wrap};
+use texmap::texture::{Filter, LodRule, MinFilter, Sampler, Wrap};
 use texmap::Error;
 
 use super::{Built, InterpArg, LodRuleArg, RenderArgs};
@@ -31,7 +31,7 @@ pub(super) fn texture_overrides(args: &RenderArgs) -> TextureOverrides {
 
 /// The distinct filters of `filters`, by name.
 fn describe(filters: &[Filter]) -> String {
-    let mut names: Vec<String> = filters.iter().map(|f| format!("{f:?}")).collect();
+    let mut names: Vec<String> = filters.iter().map(|f| f.name()).collect();
     names.sort();
     names.dedup();
     names.join(", ")
@@ -107,7 +107,7 @@ pub(super) fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error>
         .chain(added)
         .map(|s| overrides.apply(s).filter)
         .collect();
-    let gl_mip = |f: &Filter| matches!(f, Filter::Gl { .. }) && f.uses_mipmaps();
+    let gl_mip = |f: &Filter| matches!(f, Filter::Gl { min, .. } if !matches!(min, MinFilter::Nearest | MinFilter::Linear));
     let reads_lod =
         |f: &Filter| gl_mip(f) || matches!(f, Filter::Anisotropic { .. } | Filter::Ewa { .. });
     if !filters.is_empty() && !filters.iter().any(gl_mip) {

@@ -65,12 +65,10 @@ pub struct RenderArgs {
         conflicts_with = "fov"
     )]
     ortho: Option<Option<f32>>,
-    /// nearest | bilinear | trilinear | aniso2 | aniso4 | aniso8 | aniso16 | ewa | sat:
-    /// replaces every texture's filter.
-    #[arg(long, value_parser = parse_filter)]
+    // The help is the library's list of names (a doc comment cannot name a constant).
+    #[arg(long, value_parser = Filter::parse, help = Filter::SPELLINGS)]
     filter: Option<Filter>,
-    /// repeat | mirror | clamp | border | mirror-clamp: replaces every texture's wrap modes.
-    #[arg(long, value_parser = parse_wrap)]
+    #[arg(long, value_parser = Wrap::parse, help = Wrap::SPELLINGS)]
     wrap: Option<Wrap>,
     /// Texture coordinate scale: multiplies every texture's coordinates (the plane's repeat
     /// count, 64 by default, as in gl_render.py).
@@ -203,15 +201,6 @@ fn parse_vec3(s: &str) -> Result<Vec3, String> {
         return Err("expected three finite numbers x,y,z".into());
     }
     Ok(Vec3::new(v[0], v[1], v[2]))
-}
-
-fn parse_filter(s: &str) -> Result<Filter, String> {
-    Filter::parse(s)
-        .ok_or_else(|| "expected nearest, bilinear, trilinear, aniso2..aniso16, ewa or sat".into())
-}
-
-fn parse_wrap(s: &str) -> Result<Wrap, String> {
-    Wrap::parse(s).ok_or_else(|| "expected repeat, mirror, clamp, border or mirror-clamp".into())
 }
 
 fn parse_rgba(s: &str) -> Result<Vec4, String> {
@@ -495,7 +484,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             "scene": args.scene.as_deref().unwrap_or("builtin:demo"),
             "size": [frame.width, frame.height],
             "threads": pool.current_num_threads(),
-            "filter": args.filter.map(|f| format!("{f:?}")),
+            "filter": args.filter.map(Filter::name),
             "frames": args.frames,
             "setup_ms": round2(setup_ms),
             "frame_ms": {"min": round2(sorted[0]), "median": round2(median), "max": round2(sorted[sorted.len() - 1])},
@@ -534,4 +523,49 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
 
 fn round2(v: f64) -> f64 {
     (v * 100.0).round() / 100.0
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::{Args, Command};
+
+    use super::*;
+
+    fn command() -> Command {
+        RenderArgs::augment_args(Command::new("render"))
+    }
+
+    #[test]
+    fn filter_and_wrap_help_is_the_library_list() {
+        let cmd = command();
+        let help = |id: &str| {
+            let arg = cmd.get_arguments().find(|a| a.get_id() == id);
+            arg.and_then(|a| a.get_help()).map(|h| h.to_string())
+        };
+        assert_eq!(help("filter").as_deref(), Some(Filter::SPELLINGS));
+        assert_eq!(help("wrap").as_deref(), Some(Wrap::SPELLINGS));
+    }
+
+    #[test]
+    fn unknown_filter_and_wrap_names_are_refused_with_the_list() {
+        let refused = |args: &[&str]| {
+            let e = command().try_get_matches_from(args).unwrap_err();
+            e.to_string()
+        };
+        let e = refused(&["render", "--filter", "aniso32"]);
+        assert!(e.contains(Filter::SPELLINGS), "{e}");
+        let e = refused(&["render", "--wrap", "tile"]);
+        assert!(e.contains(Wrap::SPELLINGS), "{e}");
+    }
+
+    #[test]
+    fn mipmapped_filter_names_reach_the_sampler() {
+        let m = command()
+            .try_get_matches_from(["render", "--filter", "nearest-mipmap-linear"])
+            .unwrap();
+        assert_eq!(
+            m.get_one::<Filter>("filter").map(|f| f.name()).as_deref(),
+            Some("nearest-mipmap-linear")
+        );
+    }
 }

@@ -7,13 +7,16 @@
 //! direction hits — so there is no seam at edges, at any level. Anisotropic taps are spread
 //! along the direction's derivative and each tap is seamless too. EWA and summed-area filters
 //! run on the centre's face with clamp-to-edge (a documented approximation near edges).
+//!
+//! λ comes from the face coordinates' derivatives (the quotient rule on the direction's) and
+//! OpenGL filters choose their levels from it as 2D reads do ([`MipChoice::gl`]).
 
 use glam::{Vec2, Vec3, Vec4};
 
 use super::filter::{ellipse_axes, floor_index};
 use super::format::{with_codec, Codec};
 use super::{
-    sample, CubeFootprint, Filter, Footprint, MagFilter, MinFilter, Sampler, Texture2D, Wrap,
+    sample, CubeFootprint, Filter, Footprint, MipChoice, Sampler, TexelFilter, Texture2D, Wrap,
 };
 use crate::{Error, Result};
 
@@ -165,45 +168,11 @@ fn sample_cube_with<C: Codec>(cube: &TextureCube, s: &Sampler, fp: &CubeFootprin
     match s.filter {
         Filter::Gl { mag, min } => {
             let lod = s.adjust_lod(s.lod_rule.lod(dx, dy));
-            if !(lod > 0.0) {
-                return match mag {
-                    MagFilter::Nearest => nearest_cube::<C>(cube, face, ffp.uv, 0),
-                    MagFilter::Linear => bilinear_cube::<C>(cube, face, ffp.uv, 0),
-                };
-            }
-            let last = levels - 1;
-            let nearest_level = if lod <= 0.5 {
-                0
-            } else {
-                ((lod + 0.5).ceil() as usize - 1).min(last)
-            };
-            let between = |read: &dyn Fn(usize) -> Vec4| {
-                let l = lod.min(last as f32);
-                let d = l.floor();
-                let f = l - d;
-                let a = read(d as usize);
-                if f > 0.0 {
-                    a.lerp(read(d as usize + 1), f)
-                } else {
-                    a
-                }
-            };
-            match min {
-                MinFilter::Nearest => nearest_cube::<C>(cube, face, ffp.uv, 0),
-                MinFilter::Linear => bilinear_cube::<C>(cube, face, ffp.uv, 0),
-                MinFilter::NearestMipmapNearest => {
-                    nearest_cube::<C>(cube, face, ffp.uv, nearest_level)
-                }
-                MinFilter::LinearMipmapNearest => {
-                    bilinear_cube::<C>(cube, face, ffp.uv, nearest_level)
-                }
-                MinFilter::NearestMipmapLinear => {
-                    between(&|l| nearest_cube::<C>(cube, face, ffp.uv, l))
-                }
-                MinFilter::LinearMipmapLinear => {
-                    between(&|l| bilinear_cube::<C>(cube, face, ffp.uv, l))
-                }
-            }
+            let choice = MipChoice::gl(lod, levels, mag, min);
+            choice.read(|level| match choice.texels {
+                TexelFilter::Nearest => nearest_cube::<C>(cube, face, ffp.uv, level),
+                TexelFilter::Linear => bilinear_cube::<C>(cube, face, ffp.uv, level),
+            })
         }
         Filter::Anisotropic { max_aniso } => {
             let (_, major, minor) = ellipse_axes(dx, dy);
@@ -223,8 +192,7 @@ fn sample_cube_with<C: Codec>(cube: &TextureCube, s: &Sampler, fp: &CubeFootprin
             } else {
                 fp.ddir_dy
             };
-            let (last, l) = ((levels - 1) as f32, lod.clamp(0.0, (levels - 1) as f32));
-            let (d, f) = (l.floor(), l - l.floor());
+            let choice = MipChoice::trilinear(lod, levels);
             let mut sum = Vec4::ZERO;
             for i in 0..taps as u32 {
                 let t = (i as f32 + 0.5) / taps - 0.5;
@@ -232,21 +200,12 @@ fn sample_cube_with<C: Codec>(cube: &TextureCube, s: &Sampler, fp: &CubeFootprin
                     let (tf, sc, tc, ma) = CubeFace::select(fp.dir + axis * t);
                     (tf, Vec2::new(0.5 * (sc / ma + 1.0), 0.5 * (tc / ma + 1.0)))
                 };
-                let a = bilinear_cube::<C>(cube, tf, tuv, d as usize);
-                sum += if f > 0.0 && d < last {
-                    a.lerp(bilinear_cube::<C>(cube, tf, tuv, d as usize + 1), f)
-                } else {
-                    a
-                };
+                sum += choice.read(|level| bilinear_cube::<C>(cube, tf, tuv, level));
             }
             sum / taps
         }
         Filter::Ewa { .. } | Filter::SummedArea => {
-            let clamped = Sampler {
-                wrap_u: Wrap::ClampToEdge,
-                wrap_v: Wrap::ClampToEdge,
-                ..*s
-            };
+            let clamped = s.with_wraps(Wrap::ClampToEdge, Wrap::ClampToEdge, s.wrap_w);
             sample(&cube.faces[face], &clamped, &ffp)
         }
     }

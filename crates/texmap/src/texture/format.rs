@@ -24,15 +24,7 @@ pub enum Format {
     Rgba16Premultiplied,
 }
 
-/// What the stored values of a colour channel mean.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
-pub enum ColorSpace {
-    /// sRGB-encoded colour (the default for colour images): decoded before filtering.
-    #[default]
-    Srgb,
-    /// Linear data (normal, roughness, height maps; float images).
-    Linear,
-}
+pub use crate::color::ColorSpace;
 
 impl Format {
     /// Bytes per texel.
@@ -78,8 +70,10 @@ impl Format {
         )
     }
 
-    /// Encodes one linear, straight-alpha RGBA value into `out` (`bytes_per_texel` long).
-    pub fn encode(self, c: Vec4, srgb: bool, out: &mut [u8]) {
+    /// Encodes one linear, straight-alpha RGBA value into `out` (`bytes_per_texel` long),
+    /// colour channels in `color_space` (alpha and float formats are always linear).
+    pub fn encode(self, c: Vec4, color_space: ColorSpace, out: &mut [u8]) {
+        let srgb = color_space == ColorSpace::Srgb;
         let enc8 = |v: f32| {
             if srgb {
                 crate::color::linear_to_srgb8(v)
@@ -141,6 +135,19 @@ impl Format {
                 }
             }
         }
+    }
+}
+
+/// The table a texture of `format` with channels in `color_space` decodes through (16-bit
+/// codes for the 16-bit unorm formats, 8-bit codes otherwise): 2D and 3D textures choose it
+/// the same way.
+#[must_use]
+pub(crate) fn decode_table(format: Format, color_space: ColorSpace) -> &'static [f32] {
+    use crate::color::{lut16, lut8};
+    let sixteen_bit = matches!(format, Format::R16 | Format::Rgba16);
+    match (sixteen_bit, color_space) {
+        (true, cs) => lut16(cs),
+        (false, cs) => lut8(cs),
     }
 }
 
@@ -407,11 +414,11 @@ mod tests {
             Format::Rgba32F,
         ] {
             let mut buf = vec![0u8; f.bytes_per_texel()];
-            f.encode(c, false, &mut buf);
+            f.encode(c, ColorSpace::Linear, &mut buf);
             let lut: &[f32] = if f.bytes_per_texel() / f.channels() == 2 && f.is_unorm() {
-                crate::color::lut16(false)
+                crate::color::lut16(ColorSpace::Linear)
             } else {
-                crate::color::lut8(false)
+                crate::color::lut8(ColorSpace::Linear)
             };
             let d = with_codec!(f, C => C::decode(&buf, lut));
             for i in 0..f.channels() {

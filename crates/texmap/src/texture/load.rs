@@ -9,7 +9,17 @@ use super::{ColorSpace, Format, Texture2D, TextureOptions};
 use crate::{Error, Result};
 
 /// Upper bounds on what a file may make texmap allocate.
+///
+/// Built from [`Limits::default`] and the `with_*` methods, so a bound added later breaks no
+/// caller (the type is `#[non_exhaustive]`); the fields stay public to read and assign.
+///
+/// ```
+/// use texmap::texture::load::Limits;
+/// let l = Limits::default().with_max_dimension(4096).with_max_bytes(256 << 20);
+/// assert_eq!((l.max_width, l.max_height, l.max_bytes), (4096, 4096, 256 << 20));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct Limits {
     /// Largest accepted width in texels (default 16384).
     pub max_width: u32,
@@ -26,6 +36,35 @@ impl Default for Limits {
             max_height: 16384,
             max_bytes: 1 << 30,
         }
+    }
+}
+
+impl Limits {
+    /// These limits with the largest width and height both `texels`.
+    #[must_use]
+    pub fn with_max_dimension(self, texels: u32) -> Self {
+        self.with_max_width(texels).with_max_height(texels)
+    }
+
+    /// These limits with the largest width `texels`.
+    #[must_use]
+    pub fn with_max_width(mut self, texels: u32) -> Self {
+        self.max_width = texels;
+        self
+    }
+
+    /// These limits with the largest height `texels`.
+    #[must_use]
+    pub fn with_max_height(mut self, texels: u32) -> Self {
+        self.max_height = texels;
+        self
+    }
+
+    /// These limits with the largest decoded size `bytes`.
+    #[must_use]
+    pub fn with_max_bytes(mut self, bytes: u64) -> Self {
+        self.max_bytes = bytes;
+        self
     }
 }
 
@@ -227,17 +266,11 @@ mod tests {
     fn oversized_image_is_refused_before_decoding() {
         let p = tmp("big.png");
         image::RgbImage::new(64, 40).save(&p).unwrap();
-        let limits = Limits {
-            max_width: 32,
-            ..Default::default()
-        };
+        let limits = Limits::default().with_max_width(32);
         let e = load_texture(&p, ColorSpace::Srgb, &limits).unwrap_err();
         assert!(matches!(e, Error::Limits { .. }), "{e}");
         assert!(e.to_string().contains("64x40"), "{e}");
-        let limits = Limits {
-            max_bytes: 1000,
-            ..Default::default()
-        };
+        let limits = Limits::default().with_max_bytes(1000);
         assert!(matches!(
             load_texture(&p, ColorSpace::Srgb, &limits),
             Err(Error::Limits { .. })

@@ -1,13 +1,22 @@
 //! The texture sampling engine: storage, mip chains, wrap modes and filters.
 //!
-//! Every texture read in texmap goes through [`sample`] (2D), [`sample_cube`] or
-//! [`sample_3d`], which take the pixel's footprint and return linear, premultiplied RGBA.
+//! Every texture read in texmap goes through [`sample`] (2D, with [`sample_quad`] and
+//! [`sample_quads_lanes`] for the rasterizer's quads), [`sample_cube`] or [`sample_3d`], which
+//! take the pixel's footprint and return linear, premultiplied RGBA.
+//!
+//! A read runs the same steps whatever the texture kind: the footprint's derivatives give λ
+//! ([`LodRule`], `footprint.rs`), the sampler's bias and clamps adjust it ([`Sampler`]),
+//! OpenGL filters choose their levels from it ([`MipChoice`], `lod.rs`, written once for every
+//! kind), and the filter reads those levels (`filter/`, `cube.rs`, `texture3d.rs`). Nothing
+//! here knows the pipeline: the module uses only `color`, the crate's `Error`, `glam` and,
+//! to decode files, `image`.
 
 mod cube;
 pub(crate) mod filter;
 pub(crate) mod footprint;
 pub(crate) mod format;
 pub mod load;
+mod lod;
 mod mip;
 pub mod procedural;
 mod sampler;
@@ -22,8 +31,9 @@ pub use filter::{
 };
 pub use footprint::{CubeFootprint, Footprint, Footprint3, LodRule};
 pub use format::{f16_to_f32, f32_to_f16, ColorSpace, Format};
+pub use lod::{MipBlend, MipChoice, TexelFilter};
 pub use mip::level_count;
-pub use sampler::{Filter, MagFilter, MinFilter, Sampler};
+pub use sampler::{Filter, MagFilter, MinFilter, Sampler, UnknownName};
 pub use storage::{Layout, Level, Storage, Texture2D, TextureOptions};
 pub use texture3d::{sample_3d, Texture3D};
 pub use transform::TextureTransform;

@@ -3,17 +3,19 @@
 //! By default 8-bit colour (RGB8, RGBA8, sRGB or linear) is stored decoded, as 16-bit linear
 //! premultiplied RGBA ([`Storage::Linear16`], 8 bytes a texel): a read is one 8-byte load
 //! and a conversion, where the native format costs a table lookup per channel and a multiply
-//! by alpha — 5× more instructions per texel in the trilinear path. 16 bits in linear light
-//! hold every 8-bit sRGB value to within 8·10⁻⁶, and the mip levels keep that precision
-//! instead of being rounded back to 8-bit sRGB. [`Storage::Native`] keeps the texels in their
-//! own [`Format`] (half the memory) and decodes them when read. Each level is stored in 4×4 tiles by default: one tile of RGBA8 is 64
-//! bytes, one cache line, so the 2×2 neighbourhood a bilinear tap reads usually sits in one
-//! line whatever the direction the footprint walks. [`Layout::RowMajor`] is kept so the gain can
-//! be measured (`cargo bench --bench sampling -- layout`).
+//! by alpha. 16 bits in linear light hold every 8-bit sRGB value to within 8·10⁻⁶, and the mip
+//! levels keep that precision instead of being rounded back to 8-bit sRGB.
+//! [`Storage::Native`] keeps the texels in their own [`Format`] (half the memory) and decodes
+//! them when read.
+//!
+//! Each level is stored in 4×4 tiles by default: one tile of RGBA8 is 64 bytes, one cache
+//! line, so the 2×2 neighbourhood a bilinear tap reads usually sits in one line whatever the
+//! direction the footprint walks. [`Layout::RowMajor`] is kept so the gain can be measured
+//! (`cargo bench --bench sampling -- layout`).
 
 use glam::Vec4;
 
-use super::format::{with_codec, Codec, ColorSpace, Format};
+use super::format::{decode_table, with_codec, Codec, ColorSpace, Format};
 use super::mip;
 use crate::{Error, Result};
 
@@ -61,7 +63,11 @@ pub enum Storage {
 }
 
 /// Options for building a texture from texels.
+///
+/// Built from [`TextureOptions::default`] and the `with_*` methods, so an option added later
+/// breaks no caller (the type is `#[non_exhaustive]`); the fields stay public.
 #[derive(Clone, Copy, Debug)]
+#[non_exhaustive]
 pub struct TextureOptions {
     /// Build the full mip chain down to 1×1 (default true).
     pub mipmaps: bool,
@@ -78,6 +84,29 @@ impl Default for TextureOptions {
             layout: Layout::Tiled4x4,
             storage: Storage::Linear16,
         }
+    }
+}
+
+impl TextureOptions {
+    /// These options with (`true`) or without the mip chain.
+    #[must_use]
+    pub fn with_mipmaps(mut self, mipmaps: bool) -> Self {
+        self.mipmaps = mipmaps;
+        self
+    }
+
+    /// These options with the texels in `layout`.
+    #[must_use]
+    pub fn with_layout(mut self, layout: Layout) -> Self {
+        self.layout = layout;
+        self
+    }
+
+    /// These options with the texels held as `storage` says.
+    #[must_use]
+    pub fn with_storage(mut self, storage: Storage) -> Self {
+        self.storage = storage;
+        self
     }
 }
 
@@ -136,11 +165,7 @@ impl Texture2D {
         } else {
             ColorSpace::Linear
         };
-        let srgb = color_space == ColorSpace::Srgb;
-        let lut_of = |f: Format| match f {
-            Format::R16 | Format::Rgba16 => crate::color::lut16(srgb),
-            _ => crate::color::lut8(srgb),
-        };
+        let lut_of = |f: Format| decode_table(f, color_space);
         let stored = match (options.storage, format) {
             (Storage::Linear16, Format::Rgb8 | Format::Rgba8) => Format::Rgba16Premultiplied,
             _ => format,
@@ -180,12 +205,24 @@ impl Texture2D {
     /// Linear premultiplied texels → row-major bytes of the stored format.
     fn encode_level(&self, texels: &[Vec4]) -> Vec<u8> {
         let bpp = self.stored.bytes_per_texel();
-        let srgb = self.color_space == ColorSpace::Srgb;
         let mut bytes = vec![0u8; texels.len() * bpp];
         for (c, out) in texels.iter().zip(bytes.chunks_exact_mut(bpp)) {
-            self.stored.encode(mip::unpremultiply(*c), srgb, out);
+            self.stored
+                .encode(mip::unpremultiply(*c), self.color_space, out);
         }
         bytes
+    }
+
+    /// Overwrites every level's texels with `f(level, x, y)` (linear, premultiplied), in the
+    /// stored format: for tests that need levels unlike a box-filtered chain.
+    #[cfg(test)]
+    pub(crate) fn replace_levels(&mut self, f: impl Fn(usize, u32, u32) -> Vec4) {
+        for i in 0..self.levels.len() {
+            let (w, h) = (self.levels[i].width, self.levels[i].height);
+            let texels: Vec<Vec4> = (0..w * h).map(|k| f(i, k % w, k / w)).collect();
+            let bytes = self.encode_level(&texels);
+            self.levels[i] = self.store_level(w, h, &bytes);
+        }
     }
 
     /// Builds an RGBA8 texture (full mip chain, tiled) from row-major RGBA bytes.
@@ -418,10 +455,7 @@ mod tests {
         let (w, h) = (13u32, 7u32);
         let rgba: Vec<u8> = (0..w * h * 4).map(|i| (i * 7 % 251) as u8).collect();
         let make = |storage, format: Format, bytes: &[u8]| {
-            let options = TextureOptions {
-                storage,
-                ..Default::default()
-            };
+            let options = TextureOptions::default().with_storage(storage);
             Texture2D::from_texels(w, h, format, ColorSpace::Srgb, bytes, options).unwrap()
         };
         let rgb: Vec<u8> = rgba
@@ -464,10 +498,7 @@ mod tests {
     fn tiled_and_row_major_hold_the_same_texels() {
         let (w, h) = (13u32, 7u32);
         let rgba: Vec<u8> = (0..w * h * 4).map(|i| (i * 7 % 251) as u8).collect();
-        let opts = |layout| TextureOptions {
-            layout,
-            ..Default::default()
-        };
+        let opts = |layout| TextureOptions::default().with_layout(layout);
         let a = Texture2D::from_texels(
             w,
             h,

@@ -2,12 +2,16 @@
 //!
 //! Voxels are stored row-major, x fastest, in any [`Format`]. Mip levels halve each axis
 //! (`max(1, ⌊n/2⌋)`) with the same exact-area box as 2D levels, in linear light.
+//!
+//! Reads choose λ and their levels as 2D reads do ([`super::LodRule::lod3`],
+//! [`MipChoice::gl`]); within a level a linear read is trilinear (eight voxels). Anisotropic,
+//! EWA and summed-area filters have no 3D form here and read as trilinear between levels.
 
 use glam::{Vec3, Vec4};
 
 use super::filter::floor_index;
-use super::format::{with_codec, Codec};
-use super::{ColorSpace, Filter, Footprint3, Format, MagFilter, MinFilter, Sampler, BORDER};
+use super::format::{decode_table, with_codec, Codec};
+use super::{ColorSpace, Filter, Footprint3, Format, MipChoice, Sampler, TexelFilter, BORDER};
 use crate::{Error, Result};
 
 #[derive(Clone, Debug)]
@@ -46,11 +50,12 @@ impl Texture3D {
                 texels.len()
             )));
         }
-        let srgb = format.is_unorm() && color_space == ColorSpace::Srgb;
-        let lut = match format {
-            Format::R16 | Format::Rgba16 => crate::color::lut16(srgb),
-            _ => crate::color::lut8(srgb),
+        let color_space = if format.is_unorm() {
+            color_space
+        } else {
+            ColorSpace::Linear
         };
+        let lut = decode_table(format, color_space);
         let mut tex = Texture3D {
             format,
             levels: vec![Level3 {
@@ -70,7 +75,7 @@ impl Texture3D {
                 for (i, c) in next.iter().enumerate() {
                     format.encode(
                         super::mip::unpremultiply(*c),
-                        srgb,
+                        color_space,
                         &mut bytes[i * bpp..(i + 1) * bpp],
                     );
                 }
@@ -115,6 +120,24 @@ impl Texture3D {
     }
 }
 
+#[cfg(test)]
+impl Texture3D {
+    /// Overwrites every level's voxels with `f(level, x, y, z)` (linear, premultiplied; the
+    /// texture must be linear): for tests that need levels unlike a box-filtered chain.
+    pub(crate) fn replace_levels(&mut self, f: impl Fn(usize, u32, u32, u32) -> Vec4) {
+        let bpp = self.format.bytes_per_texel();
+        for (i, level) in self.levels.iter_mut().enumerate() {
+            let [w, h, _] = level.dims;
+            for (k, out) in level.data.chunks_exact_mut(bpp).enumerate() {
+                let k = k as u32;
+                let c = f(i, k % w, k / w % h, k / (w * h));
+                self.format
+                    .encode(super::mip::unpremultiply(c), ColorSpace::Linear, out);
+            }
+        }
+    }
+}
+
 /// Exact-area box reduction of one 3D level (separable, axis by axis).
 fn reduce3(d: [u32; 3], src: &[Vec4]) -> ([u32; 3], Vec<Vec4>) {
     let nd = d.map(|n| (n / 2).max(1));
@@ -151,8 +174,10 @@ fn reduce3(d: [u32; 3], src: &[Vec4]) -> ([u32; 3], Vec<Vec4>) {
 
 /// Reads a 3D texture over a footprint: linear, premultiplied RGBA.
 ///
-/// Nearest filters read the nearest voxel; every other filter is trilinear within a level,
-/// and mipmapped filters blend the two levels around λ (λ from the longer derivative).
+/// λ comes from the sampler's [`super::LodRule`] on the three-component derivatives, and
+/// OpenGL filters choose their levels as in 2D ([`MipChoice::gl`]), a linear read being
+/// trilinear within a level. Filters with no 3D form (anisotropic, EWA, summed-area) read as
+/// trilinear between levels.
 #[must_use]
 pub fn sample_3d(tex: &Texture3D, sampler: &Sampler, fp: &Footprint3) -> Vec4 {
     with_codec!(tex.format, C => sample_3d_with::<C>(tex, sampler, fp))
@@ -161,39 +186,35 @@ pub fn sample_3d(tex: &Texture3D, sampler: &Sampler, fp: &Footprint3) -> Vec4 {
 fn sample_3d_with<C: Codec>(tex: &Texture3D, s: &Sampler, fp: &Footprint3) -> Vec4 {
     let size = Vec3::from_array(tex.dims().map(|v| v as f32));
     let (dx, dy) = (fp.duvw_dx * size, fp.duvw_dy * size);
-    let lod = s.adjust_lod(0.5 * dx.length_squared().max(dy.length_squared()).log2());
-    let (nearest, mip) = match s.filter {
-        Filter::Gl { mag, .. } if !(lod > 0.0) => (mag == MagFilter::Nearest, false),
-        Filter::Gl { min, .. } => (
-            matches!(
-                min,
-                MinFilter::Nearest
-                    | MinFilter::NearestMipmapNearest
-                    | MinFilter::NearestMipmapLinear
-            ),
-            !matches!(min, MinFilter::Nearest | MinFilter::Linear),
-        ),
-        _ => (false, lod > 0.0),
-    };
-    let read = |level: usize| {
-        if nearest {
-            nearest3::<C>(tex, s, level, fp.uvw)
-        } else {
-            trilinear3::<C>(tex, s, level, fp.uvw)
+    let lod = s.adjust_lod(s.lod_rule.lod3(dx, dy));
+    let choice = match s.filter {
+        Filter::Gl { mag, min } => MipChoice::gl(lod, tex.levels.len(), mag, min),
+        Filter::Anisotropic { .. } | Filter::Ewa { .. } | Filter::SummedArea => {
+            MipChoice::trilinear(lod, tex.levels.len())
         }
     };
-    if !mip {
-        return read(0);
+    let a = read_level3::<C>(tex, s, choice.level, choice.texels, fp.uvw);
+    match choice.blend {
+        Some(b) => a.lerp(
+            read_level3::<C>(tex, s, b.level, choice.texels, fp.uvw),
+            b.weight,
+        ),
+        None => a,
     }
-    let last = (tex.levels.len() - 1) as f32;
-    let l = lod.clamp(0.0, last);
-    let d = l.floor();
-    let f = l - d;
-    let a = read(d as usize);
-    if f > 0.0 {
-        a.lerp(read(d as usize + 1), f)
-    } else {
-        a
+}
+
+/// Level `level` read at `p` with `texels`.
+#[inline(always)]
+fn read_level3<C: Codec>(
+    tex: &Texture3D,
+    s: &Sampler,
+    level: usize,
+    texels: TexelFilter,
+    p: Vec3,
+) -> Vec4 {
+    match texels {
+        TexelFilter::Nearest => nearest3::<C>(tex, s, level, p),
+        TexelFilter::Linear => trilinear3::<C>(tex, s, level, p),
     }
 }
 

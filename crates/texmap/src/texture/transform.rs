@@ -38,12 +38,6 @@ impl TextureTransform {
         )
     }
 
-    /// True when the transform changes nothing.
-    #[must_use]
-    pub fn is_identity(&self) -> bool {
-        *self == TextureTransform::default()
-    }
-
     /// Transforms a coordinate.
     #[must_use]
     pub fn apply(&self, uv: Vec2) -> Vec2 {

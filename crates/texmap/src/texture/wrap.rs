@@ -1,5 +1,7 @@
 //! Wrap modes: what a texel index outside the image reads, per axis, with OpenGL semantics.
 
+use super::UnknownName;
+
 /// What a texel index outside `[0, n)` reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum Wrap {
@@ -51,16 +53,51 @@ impl Wrap {
         }
     }
 
-    /// Parses the command-line spelling (`repeat`, `mirror`, `clamp`, `border`, `mirror-clamp`).
-    pub fn parse(s: &str) -> Option<Wrap> {
-        Some(match s {
-            "repeat" => Wrap::Repeat,
-            "mirror" | "mirrored-repeat" => Wrap::MirroredRepeat,
-            "clamp" | "clamp-to-edge" => Wrap::ClampToEdge,
-            "border" | "clamp-to-border" => Wrap::ClampToBorder,
-            "mirror-clamp" | "mirror-clamp-to-edge" => Wrap::MirrorClampToEdge,
-            _ => return None,
-        })
+    /// Every spelling [`Wrap::parse`] accepts, as `--help` text and error messages list them.
+    pub const SPELLINGS: &'static str = "repeat, mirror, clamp, border, mirror-clamp \
+        (or OpenGL's mirrored-repeat, clamp-to-edge, clamp-to-border, mirror-clamp-to-edge)";
+
+    /// Each mode's short name and OpenGL's, in [`Wrap::SPELLINGS`] order.
+    const NAMES: [(&'static str, &'static str, Wrap); 5] = [
+        ("repeat", "repeat", Wrap::Repeat),
+        ("mirror", "mirrored-repeat", Wrap::MirroredRepeat),
+        ("clamp", "clamp-to-edge", Wrap::ClampToEdge),
+        ("border", "clamp-to-border", Wrap::ClampToBorder),
+        (
+            "mirror-clamp",
+            "mirror-clamp-to-edge",
+            Wrap::MirrorClampToEdge,
+        ),
+    ];
+
+    /// Parses one of [`Wrap::SPELLINGS`].
+    ///
+    /// ```
+    /// use texmap::texture::Wrap;
+    /// assert_eq!(Wrap::parse("mirror"), Ok(Wrap::MirroredRepeat));
+    /// assert_eq!(Wrap::parse("clamp-to-edge"), Ok(Wrap::ClampToEdge));
+    /// assert!(Wrap::parse("wrap").is_err());
+    /// ```
+    pub fn parse(s: &str) -> Result<Wrap, UnknownName> {
+        Self::NAMES
+            .iter()
+            .find(|(short, gl, _)| *short == s || *gl == s)
+            .map(|&(.., w)| w)
+            .ok_or_else(|| UnknownName {
+                given: s.to_string(),
+                expected: Wrap::SPELLINGS,
+            })
+    }
+
+    /// The short spelling of this mode (`mirror` for [`Wrap::MirroredRepeat`]), which
+    /// [`Wrap::parse`] reads back.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        Self::NAMES
+            .iter()
+            .find(|(.., w)| *w == self)
+            .map(|&(short, ..)| short)
+            .expect("every wrap mode has a name")
     }
 }
 
@@ -112,6 +149,22 @@ mod tests {
         assert_eq!(
             row(Wrap::MirrorClampToEdge, 3),
             [2, 2, 2, 1, 0, 0, 1, 2, 2, 2, 2, 2, 2]
+        );
+    }
+
+    #[test]
+    fn every_name_parses_back_and_is_listed() {
+        for (short, gl, w) in Wrap::NAMES {
+            assert_eq!(Wrap::parse(short), Ok(w));
+            assert_eq!(Wrap::parse(gl), Ok(w));
+            assert_eq!(Wrap::parse(w.name()), Ok(w));
+            assert!(Wrap::SPELLINGS.contains(short) && Wrap::SPELLINGS.contains(gl));
+        }
+        let e = Wrap::parse("tile").unwrap_err();
+        assert_eq!(e.given, "tile");
+        assert_eq!(
+            e.to_string(),
+            format!("expected one of: {}", Wrap::SPELLINGS)
         );
     }
 

@@ -147,7 +147,7 @@ fn solid_texture(dir: &Path, t: &SolidTextureSpec) -> Result<Procedural> {
     let filter = match t.filter.as_deref() {
         None => Filter::TRILINEAR,
         Some(f) => match Filter::parse(f) {
-            Some(f @ Filter::Gl { .. }) => f,
+            Ok(f @ Filter::Gl { .. }) => f,
             _ => {
                 return Err(filter_or_wrap_error(
                     "solid_texture: filter",

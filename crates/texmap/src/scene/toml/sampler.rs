@@ -31,25 +31,24 @@ pub(super) enum Spellings {
 }
 
 /// The error for a `filter` or `wrap` value (named `key` in the message) that is not one of
-/// `spellings`. The one place these messages list the spellings: when `Filter` and `Wrap`
-/// publish their lists, each arm below becomes that list.
+/// `spellings`: the library's own lists, the ones the command line's help shows.
 pub(super) fn filter_or_wrap_error(key: &str, value: &str, spellings: Spellings) -> Error {
     let expected = match spellings {
-        Spellings::Filter => "nearest, bilinear, trilinear, aniso1..aniso16, ewa or sat",
-        Spellings::GlFilter => "nearest, bilinear or trilinear",
-        Spellings::Wrap => "repeat, mirror, clamp, border or mirror-clamp",
+        Spellings::Filter => Filter::SPELLINGS,
+        Spellings::GlFilter => Filter::GL_SPELLINGS,
+        Spellings::Wrap => Wrap::SPELLINGS,
     };
-    Error::parameter(format!("{key} {value:?}: expected {expected}"))
+    Error::parameter(format!("{key} {value:?}: expected one of: {expected}"))
 }
 
 /// The filter `value` of key `key` spells.
 pub(super) fn parse_filter(key: &str, value: &str) -> Result<Filter> {
-    Filter::parse(value).ok_or_else(|| filter_or_wrap_error(key, value, Spellings::Filter))
+    Filter::parse(value).map_err(|_| filter_or_wrap_error(key, value, Spellings::Filter))
 }
 
 /// The wrap mode `value` of key `key` spells.
 pub(super) fn parse_wrap(key: &str, value: &str) -> Result<Wrap> {
-    Wrap::parse(value).ok_or_else(|| filter_or_wrap_error(key, value, Spellings::Wrap))
+    Wrap::parse(value).map_err(|_| filter_or_wrap_error(key, value, Spellings::Wrap))
 }
 
 /// The sampler a texture table describes. `Error::Parameter` messages are the table's

@@ -11,7 +11,7 @@ use glam::Vec2;
 use glam::Vec4;
 
 use super::{bilinear, ellipse_axes, texel_derivatives, trilinear_at, Codec};
-use crate::texture::{Footprint, Sampler, Texture2D};
+use crate::texture::{Footprint, MipChoice, Sampler, Texture2D};
 
 pub(crate) fn sample<C: Codec>(
     tex: &Texture2D,
@@ -39,10 +39,19 @@ pub(crate) fn sample<C: Codec>(
     let size = Vec2::new(tex.width() as f32, tex.height() as f32);
     let axis_uv = major_dir * major / size;
     let taps = n as u32;
+    // Every tap reads the same levels: choose them once.
+    let choice = MipChoice::trilinear(lod, tex.levels().len());
+    let first = tex.level(choice.level);
+    let second = choice.blend.map(|b| (tex.level(b.level), b.weight));
     let mut sum = Vec4::ZERO;
     for i in 0..taps {
         let t = (i as f32 + 0.5) / n - 0.5;
-        sum += trilinear_at::<C>(tex, s, fp.uv + axis_uv * t, lod);
+        let uv = fp.uv + axis_uv * t;
+        let a = bilinear::<C>(&first, s, uv);
+        sum += match second {
+            Some((lv, weight)) => a.lerp(bilinear::<C>(&lv, s, uv), weight),
+            None => a,
+        };
     }
     sum / n
 }

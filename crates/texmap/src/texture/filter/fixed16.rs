@@ -13,11 +13,11 @@
 //!
 //! The float filters ([`super::bilinear`] on each level, blended) give the same value within
 //! 1.6·10⁻⁴ (eight weights off by at most half a step of 1/32767, plus the dropped bit), about
-//! half the smallest step an 8-bit sRGB output can show (3·10⁻⁴, at black): the trilinear
-//! plane at 1080p is 79.9 dB PSNR from the float filter's image (RMSE 0.026 of an 8-bit
-//! level). GPUs filter with 8-bit weights; these are 15-bit. It takes
-//! about half the instructions of the float filter: two loads, an interleave, a shift, a
-//! multiply-add and an add per pair of taps.
+//! half the smallest step an 8-bit sRGB output can show (3·10⁻⁴, at black). GPUs filter with
+//! 8-bit weights; these are 15-bit. A pair of taps costs two loads, an interleave, a shift, a
+//! multiply-add and an add, where the float filter converts, scales and interpolates each tap.
+//!
+//! The levels and their weights come from [`MipChoice::gl`] like every other OpenGL read.
 //!
 //! Only the repeat and clamp-to-edge wraps are handled here (indices by integer wrapping and
 //! float clamps); other wraps, other formats and other targets return `None` and the float
@@ -25,7 +25,7 @@
 
 use glam::Vec4;
 
-use super::super::{Format, Layout, Sampler, Texture2D, Wrap};
+use super::super::{Format, Layout, MipChoice, Sampler, TexelFilter, Texture2D, Wrap};
 
 /// The largest 15-bit weight: a read's weights sum to it.
 #[cfg(target_arch = "x86_64")]
@@ -43,16 +43,15 @@ fn handles(tex: &Texture2D, s: &Sampler) -> bool {
 }
 
 /// A quad's reads at `(u, v)` (one pixel per lane, pixels whose `mask` bit is clear left
-/// zero) on level `levels.0`, blended with level `b` by weight `f` when
-/// `levels.1 = Some((b, f))`: bilinear in fixed point when `linear`, else nearest — the same
-/// texels and values as the float path's `nearest` (its wrap of an index that rounds up to
-/// the size, its index 0 for NaN), with the index arithmetic in lanes. `None` when this
-/// texture or sampler is not one this path handles.
+/// zero) on the levels `choice` names: bilinear in fixed point for [`TexelFilter::Linear`],
+/// else nearest — the same texels and values as the float path's `nearest` (its wrap of an
+/// index that rounds up to the size, its index 0 for NaN), with the index arithmetic in
+/// lanes. `None` when this texture or sampler is not one this path handles.
 #[inline]
 pub(super) fn read_quad(
     tex: &Texture2D,
     s: &Sampler,
-    (levels, linear): ((usize, Option<(usize, f32)>), bool),
+    choice: MipChoice,
     u: Vec4,
     v: Vec4,
     mask: u8,
@@ -62,13 +61,16 @@ pub(super) fn read_quad(
     }
     #[cfg(target_arch = "x86_64")]
     {
-        if linear {
-            return Some(sse2::linear_quad(tex, s, levels, u, v, mask));
+        if choice.texels == TexelFilter::Linear {
+            return Some(sse2::linear_quad(tex, s, choice, u, v, mask));
         }
-        let a = sse2::nearest_level(tex.level(levels.0), s, u, v, mask);
-        Some(match levels.1 {
-            Some((b, f)) => {
-                let b = sse2::nearest_level(tex.level(b), s, u, v, mask);
+        let a = sse2::nearest_level(tex.level(choice.level), s, u, v, mask);
+        Some(match choice.blend {
+            Some(b) => {
+                let (f, b) = (
+                    b.weight,
+                    sse2::nearest_level(tex.level(b.level), s, u, v, mask),
+                );
                 std::array::from_fn(|j| a[j].lerp(b[j], f))
             }
             None => a,
@@ -76,7 +78,7 @@ pub(super) fn read_quad(
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        let _ = (levels, linear, u, v, mask);
+        let _ = (choice, u, v, mask);
         None
     }
 }
@@ -94,20 +96,25 @@ mod sse2 {
 
     use super::ONE;
     use crate::texture::storage::LevelRef;
-    use crate::texture::{Sampler, Texture2D, Wrap};
+    use crate::texture::{MipChoice, Sampler, Texture2D, Wrap};
 
+    // Inlined into the quad read: as a call (which the compiler chose once the level choice
+    // became a `MipChoice`) it cost the trilinear quad path measurably more instructions.
     #[inline(always)]
     pub(super) fn linear_quad(
         tex: &Texture2D,
         s: &Sampler,
-        (a, b): (usize, Option<(usize, f32)>),
+        choice: MipChoice,
         u: Vec4,
         v: Vec4,
         mask: u8,
     ) -> [Vec4; 4] {
         // SAFETY: SSE2 is part of x86_64.
         let mut acc = [unsafe { _mm_setzero_si128() }; 4];
-        let (second, f) = b.map_or((None, 0.0), |(b, f)| (Some(b), f));
+        let a = choice.level;
+        let (second, f) = choice
+            .blend
+            .map_or((None, 0.0), |b| (Some(b.level), b.weight));
         // The level weights in 15 bits, summing to ONE ((1 − f)·ONE rounds; NaN gives 0).
         let wa = ((1.0 - f.clamp(0.0, 1.0)) * ONE as f32).round() as i32;
         if wa > 0 {

@@ -148,12 +148,9 @@ fn lod_rules_bias_and_clamps() {
     assert!((LodRule::GlMax.lod(dx, dy) - 12f32.log2()).abs() < 5e-5);
     let rss = 0.5 * (9.0f32 + 16.0 + 144.0).log2();
     assert!((LodRule::RootSumSquares.lod(dx, dy) - rss).abs() < 5e-5);
-    let s = Sampler {
-        lod_bias: 1.0,
-        min_lod: 0.5,
-        max_lod: 2.0,
-        ..Default::default()
-    };
+    let s = Sampler::default()
+        .with_lod_bias(1.0)
+        .with_lod_clamp(0.5, 2.0);
     assert_eq!(s.adjust_lod(-3.0), 0.5);
     assert_eq!(s.adjust_lod(0.7), 1.7);
     assert_eq!(s.adjust_lod(9.0), 2.0);
