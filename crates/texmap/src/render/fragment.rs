@@ -15,7 +15,7 @@
 use glam::{Vec3, Vec4};
 
 use super::draw::{DrawInfo, LightingPath};
-use super::maps::{read_batch, QuadReads};
+use super::maps::{MapRead, QuadMaps, QuadReads};
 use super::varyings::Factors;
 use crate::pipeline::{FragmentShader, Quad, BATCH};
 use crate::shading::lanes::{phong_quad, QuadFactors};
@@ -261,5 +261,57 @@ fn plain_colors(d: &DrawInfo, f: &QuadFactors, texels: Option<&[Vec4; 4]>, out: 
         let a = c.w;
         let straight = if a > 0.0 && a != 1.0 { c / a } else { c };
         out[j] = straight * f.d[j] + f.s[j] + Vec4::W;
+    }
+}
+
+/// The texture reads of `quads` (of draw `d`) into `out`, map by map across the quads, so each
+/// map's reads are staged ([`MapRead::quads`]).
+fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
+    for (o, quad) in out.iter_mut().zip(quads) {
+        // Read only for draws with such maps: a plain draw pays one test per quad.
+        *o = QuadReads {
+            maps: d.surface_maps.then(|| QuadMaps {
+                bumps: d.bump_map.as_ref().map(|t| t.height_slopes(quad)),
+                ..QuadMaps::default()
+            }),
+            ..QuadReads::default()
+        };
+    }
+    let mut buf = [[Vec4::ZERO; 4]; BATCH];
+    let mut fill = |t: &MapRead, set: &dyn Fn(&mut QuadReads, [Vec4; 4])| {
+        for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
+            t.quads(quads, &mut buf[..quads.len()]);
+            for (o, b) in out.iter_mut().zip(&buf) {
+                set(o, *b);
+            }
+        }
+    };
+    if let Some(t) = &d.texture {
+        fill(t, &|r, v| r.texels = Some(v));
+    }
+    if let Some(t) = &d.alpha_map {
+        fill(t, &|r, v| r.opacity = Some(v));
+    }
+    if !d.surface_maps {
+        return;
+    }
+    type Field = fn(&mut QuadMaps) -> &mut Option<[Vec4; 4]>;
+    let maps: [(Option<&MapRead>, Field); 7] = [
+        (d.normal_map.as_ref(), |m| &mut m.normals),
+        (d.occlusion_map.as_ref(), |m| &mut m.occlusion),
+        (d.emissive_map.as_ref(), |m| &mut m.emission),
+        (d.metal_rough_map.as_ref(), |m| &mut m.metal_rough),
+        (d.ambient_map.as_ref(), |m| &mut m.ambient),
+        (d.specular_map.as_ref(), |m| &mut m.specular),
+        (d.shininess_map.as_ref(), |m| &mut m.shininess),
+    ];
+    for (map, field) in maps {
+        if let Some(t) = map {
+            fill(t, &|r, v| {
+                if let Some(m) = r.maps.as_mut() {
+                    *field(m) = Some(v);
+                }
+            });
+        }
     }
 }

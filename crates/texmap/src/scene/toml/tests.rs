@@ -271,7 +271,10 @@ fn bad_lod_clamps_and_borders_name_the_file_and_key() {
         ("wrap = \"clamp\"\nborder = [1, 0, 0, 1]", "no axis does"),
         ("border = [1, 0, 0, 1]", "no axis does"),
         ("wrap = \"border\"\nborder = [1, 0, 0]", "line 4"),
-        ("wrap_v = \"edge\"", "wrap_v \"edge\": expected one of: repeat"),
+        (
+            "wrap_v = \"edge\"",
+            "wrap_v \"edge\": expected one of: repeat",
+        ),
     ] {
         let p = write(
             "bad_sampler_keys.toml",
