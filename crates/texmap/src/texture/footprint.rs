@@ -88,7 +88,7 @@ impl LodRule {
     /// λ for 3D derivatives already scaled to texels (texels of level 0 on each axis).
     ///
     /// The same rule as [`LodRule::lod`], with the exact `f32::log2` that 3D reads have
-    /// always used: [`fast_log2`]'s error (up to 3·10⁻⁵) moves some solid-texture pixels by
+    /// always used: `fast_log2`'s error (up to 3·10⁻⁵) moves some solid-texture pixels by
     /// an 8-bit step.
     #[inline]
     #[must_use]
