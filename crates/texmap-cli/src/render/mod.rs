@@ -18,7 +18,7 @@ use texmap::render::{
 use texmap::scene::builtin::Builtin;
 use texmap::scene::{LoadOptions, Scene};
 use texmap::texture::load::{load_texture, Limits};
-use texmap::texture::{ColorSpace, Filter, Wrap};
+use texmap::texture::{ColorSpace, Filter, Texture2D, Wrap};
 use texmap::volume::SceneVolume;
 use texmap::Error;
 
@@ -227,7 +227,7 @@ struct Built {
 
 /// The scene, its volumes (a volume file's, or a TOML scene's with the volume flags laid
 /// over them), and `--mesh` files added.
-fn build(args: &RenderArgs) -> Result<Built, Error> {
+fn build(args: &RenderArgs, texture: Option<Arc<Texture2D>>) -> Result<Built, Error> {
     let options = LoadOptions::default()
         .allow_outside_paths(args.allow_outside_paths)
         .lenient(args.lenient);
@@ -248,7 +248,7 @@ fn build(args: &RenderArgs) -> Result<Built, Error> {
                 builtin: None,
             }
         }
-        None => build_scene(args, &options)?,
+        None => build_scene(args, &options, texture)?,
     };
     let own_lights = crate::volume::add_meshes(v, &mut built.scene, &options, args.quiet)?;
     if volume_file.is_some() {
@@ -280,10 +280,14 @@ fn build(args: &RenderArgs) -> Result<Built, Error> {
 }
 
 /// A built-in scene or a scene file (without `--mesh` files).
-fn build_scene(args: &RenderArgs, options: &LoadOptions) -> Result<Built, Error> {
+fn build_scene(
+    args: &RenderArgs,
+    options: &LoadOptions,
+    texture: Option<Arc<Texture2D>>,
+) -> Result<Built, Error> {
     let name = args.scene.as_deref().unwrap_or("builtin:demo");
     if let Some(builtin) = Builtin::parse(name)? {
-        let scene = builtin.build(args.tris).map_err(|e| match e {
+        let scene = builtin.build(args.tris, texture).map_err(|e| match e {
             Error::Parameter(m) => Error::parameter(format!("--tris: {m}")),
             other => other,
         })?;
@@ -351,22 +355,29 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
         .map_err(|e| Error::parameter(format!("--threads: {e}")))?;
     let progress = crate::progress::Progress::new(args.frames, args.quiet);
     progress.message("loading");
+    // --texture is read first: the built-in plane and sphere are made with it (their checker
+    // is then never built), every other scene takes it below.
+    let texture = match &args.texture {
+        Some(p) => {
+            let cs = match args.color_space.unwrap_or(ColorSpaceArg::Srgb) {
+                ColorSpaceArg::Srgb => ColorSpace::Srgb,
+                ColorSpaceArg::Linear => ColorSpace::Linear,
+            };
+            Some(Arc::new(load_texture(p, cs, &Limits::default())?))
+        }
+        None => None,
+    };
     let Built {
         mut scene,
         volumes,
         short,
         ..
     } = pool.install(|| {
-        let built = build(&args)?;
+        let built = build(&args, texture.clone())?;
         checks::check_flags(&args, &built)?;
         Ok::<_, Error>(built)
     })?;
-    if let Some(p) = &args.texture {
-        let cs = match args.color_space.unwrap_or(ColorSpaceArg::Srgb) {
-            ColorSpaceArg::Srgb => ColorSpace::Srgb,
-            ColorSpaceArg::Linear => ColorSpace::Linear,
-        };
-        let texture = Arc::new(load_texture(p, cs, &Limits::default())?);
+    if let Some(texture) = texture {
         if scene.set_base_color_texture(texture) == 0 {
             let name = args.scene.as_deref().unwrap_or("builtin:demo");
             return Err(Error::parameter(format!(

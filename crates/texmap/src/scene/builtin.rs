@@ -507,12 +507,15 @@ impl Builtin {
         self == Builtin::Sphere
     }
 
-    /// The scene; `triangles` (8..=50,000,000) sets the sphere's count.
+    /// The scene; `triangles` (8..=50,000,000) sets the sphere's count, and `texture` is the
+    /// image the plane and the sphere wear instead of the checker (which is then never
+    /// built). The other scenes ignore `texture`: [`Scene::set_base_color_texture`] gives any
+    /// scene an image.
     ///
     /// # Errors
     /// [`Error::Parameter`] for a triangle count out of range, or given to a scene that takes
     /// none.
-    pub fn build(self, triangles: Option<usize>) -> Result<Scene> {
+    pub fn build(self, triangles: Option<usize>, texture: Option<Arc<Texture2D>>) -> Result<Scene> {
         if let Some(n) = triangles {
             if !self.takes_triangles() {
                 return Err(Error::parameter(format!(
@@ -528,8 +531,8 @@ impl Builtin {
         }
         Ok(match self {
             Builtin::Demo => demo(),
-            Builtin::Plane => plane(None, 64.0, Sampler::default()),
-            Builtin::Sphere => sphere(triangles.unwrap_or(199_200), None, Sampler::default()),
+            Builtin::Plane => plane(texture, 64.0, Sampler::default()),
+            Builtin::Sphere => sphere(triangles.unwrap_or(199_200), texture, Sampler::default()),
             Builtin::Marble => marble(),
         })
     }
