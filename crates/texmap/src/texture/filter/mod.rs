@@ -398,8 +398,8 @@ pub(crate) fn trilinear_at<C: Codec>(tex: &Texture2D, s: &Sampler, uv: Vec2, lod
 }
 
 /// The levels `choice` names, read at `uv` and blended. A function, not a closure passed to
-/// [`MipChoice::read`]: as a closure the compiler left each level's read out of line (it
-/// cost anisotropic filtering's trilinear taps 12% more instructions).
+/// [`MipChoice::read`]: as a closure the compiler left each level's read out of line, which
+/// cost anisotropic filtering measurably (DESIGN.md's decision log).
 #[inline(always)]
 fn read_choice<C: Codec>(tex: &Texture2D, s: &Sampler, uv: Vec2, choice: MipChoice) -> Vec4 {
     let a = read_level::<C>(tex, s, uv, choice.level, choice.texels);
