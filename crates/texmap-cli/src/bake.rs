@@ -109,10 +109,10 @@ pub fn run(args: BakeArgs) -> Result<(), Error> {
         })
         .collect();
     crate::output::write_png_rgb8(&args.output, w, h, &rows.concat())?;
-    eprintln!(
+    crate::output::stderr_line(&format!(
         "wrote {} ({w}x{h}, {})",
         args.output.display(),
         args.pattern
-    );
+    ));
     Ok(())
 }

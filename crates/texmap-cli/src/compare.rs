@@ -64,15 +64,15 @@ pub fn run(args: CompareArgs) -> Result<(), Error> {
         mask.as_deref(),
     );
     if args.json {
-        println!(
-            "{}",
+        crate::output::stdout(&format!(
+            "{}\n",
             serde_json::json!({"a": args.a, "b": args.b, "psnr_db": c.psnr_db, "rmse": c.rmse, "ssim": c.ssim, "pixels": c.pixels})
-        );
+        ))?;
     } else {
-        println!(
-            "PSNR {:.3} dB  RMSE {:.4}  SSIM {:.5}  ({} pixels)",
+        crate::output::stdout(&format!(
+            "PSNR {:.3} dB  RMSE {:.4}  SSIM {:.5}  ({} pixels)\n",
             c.psnr_db, c.rmse, c.ssim, c.pixels
-        );
+        ))?;
     }
     if let Some(out) = &args.diff {
         let mut rgb = Vec::with_capacity((w * h * 3) as usize);

@@ -8,7 +8,7 @@ use texmap::scene::{LoadOptions, Loaded};
 use texmap::shading::{AlphaMode, Procedural, ShadingModel, SolidChannel};
 use texmap::texture::load::{load_texture, Limits};
 use texmap::texture::ColorSpace;
-use texmap::volume::{load_volume, SceneVolume, Volume};
+use texmap::volume::{load_volume_with, SceneVolume, Volume};
 use texmap::Error;
 
 #[derive(Args)]
@@ -33,12 +33,6 @@ macro_rules! outln {
     }};
 }
 
-/// Writes the report to stdout; a closed pipe (`| head`) is not an error.
-fn emit(s: &str) {
-    use std::io::Write as _;
-    let _ = std::io::stdout().write_all(s.as_bytes());
-}
-
 const IMAGE_EXTENSIONS: &[&str] = &["png", "jpg", "jpeg", "tga", "bmp", "hdr", "exr"];
 
 pub fn run(args: InfoArgs) -> Result<(), Error> {
@@ -61,25 +55,22 @@ pub fn run(args: InfoArgs) -> Result<(), Error> {
             t.format(),
             t.levels().len()
         );
-        emit(out);
-        return Ok(());
-    }
-    if crate::volume::is_volume_path(&path.to_string_lossy()) {
-        let vol = load_volume(path, args.raw.desc().as_ref())?;
-        let mut out = String::new();
-        outln!(out, "{}: volume", path.display());
-        outln!(out, "  {}", describe_volume(&vol));
-        emit(&out);
-        return Ok(());
+        return crate::output::stdout(&out);
     }
     let options = LoadOptions::default()
         .allow_outside_paths(args.allow_outside_paths)
         .lenient(args.lenient);
+    if crate::volume::is_volume_path(&path.to_string_lossy()) {
+        let vol = load_volume_with(path, args.raw.desc().as_ref(), &options.volume_options())?;
+        let mut out = String::new();
+        outln!(out, "{}: volume", path.display());
+        outln!(out, "  {}", describe_volume(&vol));
+        return crate::output::stdout(&out);
+    }
     let loaded = texmap::scene::load(path, &options)?;
     let mut out = String::new();
     print_scene(&mut out, path, &loaded);
-    emit(&out);
-    Ok(())
+    crate::output::stdout(&out)
 }
 
 fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {

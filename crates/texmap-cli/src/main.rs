@@ -43,7 +43,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("texmap: {e}");
+            crate::output::stderr_line(&format!("texmap: {e}"));
             ExitCode::FAILURE
         }
     }

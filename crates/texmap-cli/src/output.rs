@@ -1,15 +1,89 @@
-//! Writing images atomically: a temporary file beside the target, then a rename, so a failed
-//! or interrupted write never leaves a partial file or clobbers the old one.
+//! Writing what the command line produces: images atomically (a temporary file beside the
+//! target, created exclusively, then a rename, so a failed or interrupted write never leaves
+//! a partial file or clobbers the old one), and text to stdout and stderr without panicking.
+//!
+//! Images: `-o -` writes the PNG to stdout; a FIFO or character device (`/dev/null`) is
+//! written through, not replaced; a symbolic link is followed (the file it names is replaced
+//! atomically, the link stays); a dangling link or a directory is an error.
+//!
+//! Standard streams: a closed stdout (`texmap info … | head -1`) ends the program quietly
+//! with success, as Unix filters expect of a reader that stopped reading; any other failure
+//! to write it (a full device) is one line on stderr and exit 1. Lines for stderr are written
+//! if they can be: with stderr gone there is nowhere left to report a failure.
 
-use std::path::Path;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
 
+use image::ImageEncoder;
 use texmap::Error;
 
-/// Writes RGB8 rows as a PNG at `path`, atomically.
+/// Where an image is written.
+enum Target {
+    /// `-`: standard output.
+    Stdout,
+    /// A FIFO or character device (`/dev/null`, a pipe someone reads): written through.
+    Stream(PathBuf),
+    /// A regular file (or none yet): a temporary file beside it, then a rename. A symbolic
+    /// link is followed: the file it points at is replaced, the link stays.
+    File(PathBuf),
+}
+
+fn target(path: &Path) -> Result<Target, Error> {
+    if path.as_os_str() == "-" {
+        return Ok(Target::Stdout);
+    }
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => Err(Error::parameter(format!(
+            "{}: is a directory, not an image file",
+            path.display()
+        ))),
+        Ok(m) if !m.is_file() => Ok(Target::Stream(path.to_path_buf())),
+        Ok(_) => Ok(Target::File(
+            std::fs::canonicalize(path).map_err(|e| Error::io(path, e))?,
+        )),
+        Err(_) if std::fs::symlink_metadata(path).is_ok() => Err(Error::parameter(format!(
+            "{}: is a symbolic link to nothing; give the file itself",
+            path.display()
+        ))),
+        Err(_) => Ok(Target::File(path.to_path_buf())),
+    }
+}
+
+/// Encodes RGB8 rows as PNG into `w`.
+fn encode(
+    w: impl std::io::Write,
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgb: &[u8],
+) -> Result<(), Error> {
+    let mut w = std::io::BufWriter::new(w);
+    image::codecs::png::PngEncoder::new(&mut w)
+        .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
+        .map_err(|e| match e {
+            image::ImageError::IoError(e) => Error::io(path, e),
+            e => Error::decode(path, e.to_string()),
+        })?;
+    w.flush().map_err(|e| Error::io(path, e))
+}
+
+/// Writes RGB8 rows as a PNG at `path`: atomically for a file, through for a FIFO or a
+/// device, to stdout for `-`.
 pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(), Error> {
+    let path = match target(path)? {
+        Target::Stdout => return encode(std::io::stdout().lock(), path, width, height, rgb),
+        Target::Stream(p) => {
+            let f = std::fs::OpenOptions::new()
+                .write(true)
+                .open(&p)
+                .map_err(|e| Error::io(&p, e))?;
+            return encode(f, &p, width, height, rgb);
+        }
+        Target::File(p) => p,
+    };
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
+        _ => PathBuf::from("."),
     };
     let name = path
         .file_name()
@@ -19,17 +93,17 @@ pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Resul
         name.to_string_lossy(),
         std::process::id()
     ));
+    // Created exclusively: never through a file or link planted at the temporary name.
+    let file = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&tmp)
+        .map_err(|e| Error::io(&tmp, e))?;
     let result = (|| {
-        let file = std::fs::File::create(&tmp).map_err(|e| Error::io(path, e))?;
-        let mut w = std::io::BufWriter::new(file);
-        image::codecs::png::PngEncoder::new(&mut w)
-            .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
-            .map_err(|e| Error::decode(path, e.to_string()))?;
-        let file = w
-            .into_inner()
-            .map_err(|e| Error::io(path, e.into_error()))?;
-        file.sync_all().map_err(|e| Error::io(path, e))?;
-        std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
+        let mut file = file;
+        encode(&mut file, &path, width, height, rgb)?;
+        file.sync_all().map_err(|e| Error::io(&path, e))?;
+        std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
@@ -37,4 +111,32 @@ pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Resul
     result
 }
 
-use image::ImageEncoder;
+/// True when `output` names the same existing file as one of `inputs` (which a write would
+/// destroy).
+pub fn is_an_input(output: &Path, inputs: &[&Path]) -> bool {
+    let Ok(out) = std::fs::canonicalize(output) else {
+        return false;
+    };
+    inputs
+        .iter()
+        .filter_map(|p| std::fs::canonicalize(p).ok())
+        .any(|p| p == out)
+}
+
+/// Writes `text` to stdout (see the module docs for a closed pipe).
+///
+/// # Errors
+/// [`Error::Io`] naming `stdout` when the write fails for another reason (a full device).
+pub fn stdout(text: &str) -> Result<(), Error> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        Err(e) => Err(Error::io("stdout", e)),
+    }
+}
+
+/// Writes a line to stderr, if it can.
+pub fn stderr_line(text: &str) {
+    let _ = writeln!(std::io::stderr().lock(), "{text}");
+}

@@ -7,7 +7,8 @@ use clap::{Args, ValueEnum};
 use glam::{Mat4, Vec3};
 use texmap::scene::{LoadOptions, Scene};
 use texmap::volume::{
-    load_volume, Classification, Method, Mode, RawDesc, ScalarType, SceneVolume, TransferFunction2D,
+    load_volume_with, Classification, Method, Mode, RawDesc, ScalarType, SceneVolume,
+    TransferFunction2D,
 };
 use texmap::Error;
 
@@ -189,8 +190,12 @@ pub fn short_name(path: &Path) -> String {
 
 /// A scan named on the command line as a scene: the volume (placed by its file, or by its
 /// spacing with `--ignore-orientation`), with no meshes yet (see [`add_meshes`]).
-pub fn volume_file_scene(v: &VolumeArgs, path: &Path) -> Result<(Scene, SceneVolume), Error> {
-    let vol = load_volume(path, v.raw.desc().as_ref())?;
+pub fn volume_file_scene(
+    v: &VolumeArgs,
+    path: &Path,
+    options: &LoadOptions,
+) -> Result<(Scene, SceneVolume), Error> {
+    let vol = load_volume_with(path, v.raw.desc().as_ref(), &options.volume_options())?;
     let mut sv = SceneVolume::new(vol, path);
     if v.ignore_orientation {
         sv.place(Mat4::IDENTITY, true)?;
@@ -211,7 +216,7 @@ pub fn add_meshes(
         let loaded = texmap::scene::load(file, options)?;
         if !quiet {
             for w in &loaded.warnings {
-                eprintln!("texmap: warning: {w}");
+                crate::output::stderr_line(&format!("texmap: warning: {w}"));
             }
         }
         if !loaded.volumes.is_empty() {

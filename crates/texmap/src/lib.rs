@@ -32,6 +32,7 @@
 pub mod camera;
 pub mod color;
 mod error;
+pub mod files;
 pub mod frame;
 pub mod geometry;
 pub mod metrics;

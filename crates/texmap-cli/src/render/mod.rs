@@ -2,6 +2,7 @@
 //! scan (with `--mesh` files inside it).
 
 mod checks;
+mod limits;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -127,6 +128,10 @@ pub struct RenderArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
+    /// The most memory loading one input and the frame may take, e.g. 8G or 512M (default
+    /// 4G): a larger request is refused before anything is allocated.
+    #[arg(long, value_parser = limits::parse_bytes)]
+    max_memory: Option<u64>,
     /// Turntable frames: the camera orbits the target by 360/N degrees per frame.
     #[arg(long, default_value_t = 1)]
     frames: u32,
@@ -228,9 +233,12 @@ struct Built {
 /// The scene, its volumes (a volume file's, or a TOML scene's with the volume flags laid
 /// over them), and `--mesh` files added.
 fn build(args: &RenderArgs, texture: Option<Arc<Texture2D>>) -> Result<Built, Error> {
-    let options = LoadOptions::default()
+    let mut options = LoadOptions::default()
         .allow_outside_paths(args.allow_outside_paths)
         .lenient(args.lenient);
+    if let Some(bytes) = args.max_memory {
+        options = options.max_memory(bytes);
+    }
     let v = &args.volume;
     let volume_file = args
         .scene
@@ -240,7 +248,7 @@ fn build(args: &RenderArgs, texture: Option<Arc<Texture2D>>) -> Result<Built, Er
     let mut built = match volume_file {
         Some(path) => {
             let path = Path::new(path);
-            let (scene, sv) = crate::volume::volume_file_scene(v, path)?;
+            let (scene, sv) = crate::volume::volume_file_scene(v, path, &options)?;
             Built {
                 scene,
                 volumes: vec![sv],
@@ -267,6 +275,12 @@ fn build(args: &RenderArgs, texture: Option<Arc<Texture2D>>) -> Result<Built, Er
         built.scene.ambient_light = Vec3::ONE;
     } else {
         built.scene.lights.extend(own_lights);
+    }
+    if built.scene.triangle_count() == 0 && built.volumes.is_empty() {
+        let name = args.scene.as_deref().unwrap_or("builtin:demo");
+        return Err(Error::parameter(format!(
+            "{name}: nothing to draw (no triangles and no volumes)"
+        )));
     }
     for sv in &mut built.volumes {
         v.apply(sv).map_err(|e| match e {
@@ -307,7 +321,7 @@ fn build_scene(
     let loaded = texmap::scene::load(path, options)?;
     if !args.quiet {
         for w in &loaded.warnings {
-            eprintln!("texmap: warning: {w}");
+            crate::output::stderr_line(&format!("texmap: warning: {w}"));
         }
     }
     let short = path
@@ -324,9 +338,8 @@ fn build_scene(
 
 pub fn run(args: RenderArgs) -> Result<(), Error> {
     let setup_start = Instant::now();
-    if args.frames == 0 {
-        return Err(Error::parameter("--frames must be at least 1"));
-    }
+    let threads = limits::frames_and_threads(args.frames, args.threads)?;
+    let max_memory = args.max_memory.unwrap_or(texmap::files::DEFAULT_MAX_BYTES);
     let msaa = args.msaa.unwrap_or(1);
     if ![1, 2, 4, 8, 16].contains(&msaa) {
         return Err(Error::parameter(format!(
@@ -349,8 +362,15 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             )));
         }
     }
+    limits::check_frame(args.size.0, args.size.1, ssaa, max_memory)?;
+    if let Some(out) = &args.output {
+        let mut inputs: Vec<&Path> = args.scene.iter().map(Path::new).collect();
+        inputs.extend(args.texture.as_deref());
+        inputs.extend(args.volume.meshes.iter().map(PathBuf::as_path));
+        limits::check_output(out, &inputs)?;
+    }
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
+        .num_threads(threads)
         .build()
         .map_err(|e| Error::parameter(format!("--threads: {e}")))?;
     let progress = crate::progress::Progress::new(args.frames, args.quiet);
@@ -517,9 +537,9 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
                 },
             });
         }
-        println!("{json}");
+        crate::output::stdout(&format!("{json}\n"))?;
     } else if !args.quiet {
-        eprintln!(
+        crate::output::stderr_line(&format!(
             "wrote {} ({}x{}, {} frame{}, median {:.1} ms/frame)",
             output.display(),
             frame.width,
@@ -527,7 +547,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             args.frames,
             if args.frames == 1 { "" } else { "s" },
             median
-        );
+        ));
     }
     Ok(())
 }

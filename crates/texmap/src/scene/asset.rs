@@ -30,6 +30,9 @@ pub struct LoadOptions {
     pub limits: Limits,
     /// Largest file, buffer or decoded data URI accepted, in bytes (default 1 GiB).
     pub max_buffer_bytes: u64,
+    /// The most memory loading one volume may hold (default
+    /// [`crate::files::DEFAULT_MAX_BYTES`]).
+    pub max_volume_bytes: u64,
 }
 
 impl Default for LoadOptions {
@@ -39,6 +42,7 @@ impl Default for LoadOptions {
             lenient: false,
             limits: Limits::default(),
             max_buffer_bytes: 1 << 30,
+            max_volume_bytes: crate::files::DEFAULT_MAX_BYTES,
         }
     }
 }
@@ -70,6 +74,24 @@ impl LoadOptions {
     pub fn max_buffer_bytes(mut self, bytes: u64) -> Self {
         self.max_buffer_bytes = bytes;
         self
+    }
+
+    /// One memory budget for everything a load holds at once (`--max-memory`): the largest
+    /// file or buffer, decoded image and loaded volume.
+    #[must_use]
+    pub fn max_memory(mut self, bytes: u64) -> Self {
+        self.max_buffer_bytes = bytes;
+        self.limits.max_bytes = bytes;
+        self.max_volume_bytes = bytes;
+        self
+    }
+
+    /// How the volumes this load reads are read: the same folder rule, the volume budget.
+    #[must_use]
+    pub fn volume_options(&self) -> crate::volume::VolumeOptions {
+        crate::volume::VolumeOptions::default()
+            .allow_outside_paths(self.allow_outside_paths)
+            .max_bytes(self.max_volume_bytes)
     }
 }
 

@@ -11,24 +11,15 @@
 //! - A file above the byte limit is refused before it is read, a `data:` URI before it is
 //!   decoded (from its length: base64 holds 3 bytes in 4 characters).
 
-use std::path::{Component, Path, PathBuf};
+use std::path::{Path, PathBuf};
 
 use super::asset::LoadOptions;
 use crate::{Error, Result};
 
-/// Reads a whole file, refusing it when it is larger than `max_bytes`.
+/// Reads a whole regular file, refusing it when it is larger than `max_bytes`
+/// ([`crate::files::read_bounded`]).
 pub(crate) fn read_bounded(path: &Path, max_bytes: u64) -> Result<Vec<u8>> {
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
-    if meta.len() > max_bytes {
-        return Err(Error::limits(
-            path,
-            format!(
-                "file is {} bytes, above the limit of {max_bytes}",
-                meta.len()
-            ),
-        ));
-    }
-    std::fs::read(path).map_err(|e| Error::io(path, e))
+    crate::files::read_bounded(path, max_bytes)
 }
 
 /// Resolves a reference `rel` made by the asset `asset` (a file path, already decoded from
@@ -54,47 +45,7 @@ pub(crate) fn resolve_reference(asset: &Path, rel: &str, options: &LoadOptions) 
             )));
         }
     }
-    let base = asset.parent().unwrap_or(Path::new(""));
-    let rel_path = Path::new(rel);
-    let joined = base.join(rel_path);
-    if options.allow_outside_paths {
-        return Ok(joined);
-    }
-    let refused = || {
-        Error::parameter(format!(
-            "{}: refers to {rel}, outside the asset's folder (allow with --allow-outside-paths)",
-            asset.display()
-        ))
-    };
-    // Lexically: no absolute path, and `..` never climbs above the folder.
-    let mut depth = 0i32;
-    for c in rel_path.components() {
-        match c {
-            Component::Prefix(_) | Component::RootDir => return Err(refused()),
-            Component::ParentDir => {
-                depth -= 1;
-                if depth < 0 {
-                    return Err(refused());
-                }
-            }
-            Component::Normal(_) => depth += 1,
-            Component::CurDir => {}
-        }
-    }
-    // Through symbolic links: the real file must be inside the real folder.
-    if let (Ok(real), Ok(real_base)) = (
-        joined.canonicalize(),
-        if base.as_os_str().is_empty() {
-            Path::new(".").canonicalize()
-        } else {
-            base.canonicalize()
-        },
-    ) {
-        if !real.starts_with(&real_base) {
-            return Err(refused());
-        }
-    }
-    Ok(joined)
+    crate::files::resolve_within(asset, rel, options.allow_outside_paths)
 }
 
 /// Decodes `%XX` escapes of a URI path.

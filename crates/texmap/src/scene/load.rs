@@ -9,6 +9,8 @@
 //!   `data:`) are errors.
 //! - Files, buffers and data URIs are bounded by [`LoadOptions::max_buffer_bytes`]; images by
 //!   the texture [`Limits`](crate::texture::load::Limits).
+//! - Triangles with a non-finite vertex (NaN, ±∞) cannot be drawn: they are dropped, with a
+//!   warning naming the file and how many.
 //! - A TOML scene is written by the user, like a command line: its own paths may point
 //!   anywhere (relative ones resolve from the scene file's folder); the assets it names still
 //!   follow the rules above inside their own folders.
@@ -25,9 +27,18 @@ use crate::Result;
 /// An [`Error`](crate::Error) naming the file (the scene file or the asset it references) and
 /// the problem.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
-    match SceneFormat::of(path)? {
+    let mut loaded = match SceneFormat::of(path)? {
         SceneFormat::Gltf => super::gltf::load(path, options),
         SceneFormat::Obj => super::obj::load(path, options),
         SceneFormat::Toml => super::toml::load(path, options),
+    }?;
+    let dropped = loaded.scene.drop_unusable_triangles();
+    if dropped > 0 {
+        loaded.warnings.push(format!(
+            "{}: {dropped} triangle{} with a non-finite position not drawn",
+            path.display(),
+            if dropped == 1 { "" } else { "s" }
+        ));
     }
+    Ok(loaded)
 }

@@ -243,17 +243,47 @@ impl Scene {
         (c, if r > 0.0 { r } else { 1.0 })
     }
 
+    /// The finite world positions of every mesh (a non-finite one frames nothing).
     fn world_positions(&self) -> impl Iterator<Item = Vec3> + '_ {
         self.meshes.iter().flat_map(|m| {
             let identity = m.world_from_object == Mat4::IDENTITY;
-            m.positions.iter().map(move |&p| {
-                if identity {
-                    p
-                } else {
-                    m.world_from_object.transform_point3(p)
-                }
-            })
+            m.positions
+                .iter()
+                .map(move |&p| {
+                    if identity {
+                        p
+                    } else {
+                        m.world_from_object.transform_point3(p)
+                    }
+                })
+                .filter(|p| p.is_finite())
         })
+    }
+
+    /// Removes every triangle with a vertex whose world position is not finite (NaN, ±∞, or
+    /// a transform that overflows it) or whose index is out of range; returns how many went.
+    /// Loaders call it, so such faces are dropped with a warning rather than silently.
+    pub fn drop_unusable_triangles(&mut self) -> usize {
+        let mut dropped = 0;
+        for m in &mut self.meshes {
+            let world: Vec<bool> = m
+                .positions
+                .iter()
+                .map(|&p| m.world_from_object.transform_point3(p).is_finite())
+                .collect();
+            let ok = |i: u32| world.get(i as usize).copied().unwrap_or(false);
+            let before = m.indices.len() / 3;
+            let kept: Vec<u32> = m
+                .indices
+                .chunks_exact(3)
+                .filter(|t| t.iter().all(|&i| ok(i)))
+                .flatten()
+                .copied()
+                .collect();
+            dropped += before - kept.len() / 3;
+            m.indices = kept;
+        }
+        dropped
     }
 }
 

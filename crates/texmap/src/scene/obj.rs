@@ -28,7 +28,9 @@ use crate::{Error, Result};
 /// Loads an `.obj` file and the `.mtl` files it names.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     let bytes = read_bounded(path, options.max_buffer_bytes)?;
-    let text = String::from_utf8_lossy(&bytes);
+    // tobj slices statements by byte offsets after their keyword, which splits a character
+    // when the keyword follows multi-byte whitespace: every line goes in trimmed.
+    let text = trimmed_lines(&String::from_utf8_lossy(&bytes));
     let mtl_errors: RefCell<Vec<Error>> = RefCell::new(Vec::new());
     let load_mtl = |p: &Path| -> tobj::MTLLoadResult {
         let name = p.to_string_lossy().replace('\\', "/");
@@ -36,7 +38,12 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
             .and_then(|full| read_bounded(&full, options.max_buffer_bytes).map(|b| (full, b)));
         match r {
             Ok((full, b)) => {
-                let res = tobj::load_mtl_buf(&mut BufReader::new(&b[..]));
+                let mtl = trimmed_lines(&String::from_utf8_lossy(&b));
+                if let Err(e) = check_mtl(&full, &mtl) {
+                    mtl_errors.borrow_mut().push(e);
+                    return Err(tobj::LoadError::MaterialParseError);
+                }
+                let res = tobj::load_mtl_buf(&mut BufReader::new(mtl.as_bytes()));
                 if let Err(e) = &res {
                     mtl_errors
                         .borrow_mut()
@@ -182,17 +189,49 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
 }
 
 /// One line naming the file, and the first offending line when a parse error can be placed.
+/// `text` with every line's leading whitespace removed.
+fn trimmed_lines(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for l in text.lines() {
+        out.push_str(l.trim_start());
+        out.push('\n');
+    }
+    out
+}
+
+/// Refuses the MTL statements tobj would panic on: a colour (`Ka`, `Kd`, `Ks`, `Ke`) with
+/// fewer than three numbers. The error names the file and line, not the line's content.
+fn check_mtl(path: &Path, text: &str) -> Result<()> {
+    for (n, line) in text.lines().enumerate() {
+        let mut w = line.split_whitespace();
+        if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = w.next() {
+            let numbers = w.take(3).filter(|x| x.parse::<f32>().is_ok()).count();
+            if numbers < 3 {
+                return Err(Error::decode(
+                    path,
+                    format!("line {}: {key} needs three numbers (r g b)", n + 1),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The error for a file tobj refused: the first line whose syntax is wrong, by statement
+/// (the line's content is not quoted: error messages never echo a file).
 fn obj_error(path: &Path, text: &str, e: &tobj::LoadError) -> Error {
     let bad = text.lines().enumerate().find(|(_, l)| !line_is_valid(l));
     match bad {
-        Some((n, l)) => Error::decode(
-            path,
-            format!(
-                "line {}: {e}: {:?}",
-                n + 1,
-                l.chars().take(60).collect::<String>()
-            ),
-        ),
+        Some((n, l)) => {
+            let what = match l.split_whitespace().next() {
+                Some("v" | "vn") => "needs three numbers",
+                Some("vt") => "needs at least one number",
+                Some("f") => "needs three or more vertex references (v, v/vt, v//vn or v/vt/vn)",
+                _ => "is malformed",
+            };
+            let key = l.split_whitespace().next().unwrap_or("statement");
+            Error::decode(path, format!("line {}: `{key}` {what} ({e})", n + 1))
+        }
         None => Error::decode(path, format!("malformed OBJ: {e}")),
     }
 }
@@ -462,6 +501,38 @@ mod tests {
         // vt (0, 0) is the image's bottom-left: v = 1 in texmap's convention.
         let i = m.positions.iter().position(|&q| q == Vec3::ZERO).unwrap();
         assert_eq!(m.uvs[i], Vec2::new(0.0, 1.0));
+    }
+
+    #[test]
+    fn a_colour_with_two_numbers_is_an_error_naming_the_mtl_and_line() {
+        tmp("short.mtl", "newmtl m\nKd 1 1 1\nKs 0 0\n");
+        let p = tmp(
+            "short.obj",
+            "mtllib short.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n",
+        );
+        let e = load(&p, &LoadOptions::default()).unwrap_err().to_string();
+        assert!(
+            e.contains("short.mtl") && e.contains("line 3") && e.contains("Ks"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn statements_after_multibyte_whitespace_keep_their_names() {
+        // U+00A0, U+3000, U+00A0: seven bytes of whitespace before the keyword.
+        let ws = "\u{a0}\u{3000}\u{a0}";
+        tmp("ws.mtl", &format!("{ws}newmtl m\n{ws}Kd 1 0 0\n"));
+        let p = tmp(
+            "ws.obj",
+            &format!(
+                "mtllib ws.mtl\n{ws}o thing\nv 0 0 0\nv 1 0 0\nv 0 1 0\n{ws}usemtl m\nf 1 2 3\n"
+            ),
+        );
+        let l = load(&p, &LoadOptions::default()).unwrap();
+        assert_eq!(l.scene.triangle_count(), 1);
+        // tobj takes an object's name from the byte after the line's first character.
+        assert_eq!(l.info.mesh_names, ["thing"]);
+        assert_eq!(l.info.material_names[0], "m");
     }
 
     #[test]

@@ -52,6 +52,11 @@ pub enum Primitive {
 /// The largest segment count accepted (guards against absurd meshes from scene files).
 pub const MAX_SEGMENTS: u32 = 4096;
 
+/// The most vertices one primitive may have (a 2047² plane): a scene file asking for more is
+/// refused before anything is allocated (at 36 bytes a vertex in the mesh and 136 in the
+/// frame's vertex stage, about 0.7 GB).
+pub const MAX_PRIMITIVE_VERTICES: u64 = 1 << 22;
+
 impl Primitive {
     /// Builds the mesh with material `material`.
     #[must_use]

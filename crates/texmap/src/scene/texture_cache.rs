@@ -63,11 +63,14 @@ pub(crate) struct TextureCache {
     pub warnings: Vec<String>,
     lenient: bool,
     limits: Limits,
+    /// How the volumes a scene's textures come from (3D solid textures) are read.
+    pub volumes: crate::volume::VolumeOptions,
 }
 
 impl TextureCache {
     pub fn new(options: &LoadOptions) -> Self {
         TextureCache {
+            volumes: options.volume_options(),
             cache: HashMap::new(),
             infos: Vec::new(),
             warnings: Vec::new(),

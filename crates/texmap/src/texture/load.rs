@@ -80,6 +80,7 @@ pub fn load_texture(path: &Path, color_space: ColorSpace, limits: &Limits) -> Re
 
 /// Decodes an image file, refusing it before allocation when it breaks `limits`.
 pub fn decode_image(path: &Path, limits: &Limits) -> Result<DynamicImage> {
+    crate::files::check_regular(path)?;
     decode_with(|| ImageReader::open(path), path, limits)
 }
 

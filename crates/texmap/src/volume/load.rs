@@ -3,8 +3,14 @@
 //!
 //! Every error names the file: a header and data size that disagree, an unsupported voxel
 //! type, truncated gzip data, NaN or infinite values.
+//!
+//! Files are read by the crate's file rules ([`crate::files`]): regular files only, gzip
+//! inflated to a bounded size, and a NRRD header's detached `data file` kept inside the
+//! header's folder unless [`VolumeOptions::allow_outside_paths`]. A volume whose loading
+//! would hold more than [`VolumeOptions::max_bytes`] (the file, its voxels as read, as `f32`,
+//! and the two 16-bit copies the renderer keeps) is refused from its header, before the
+//! voxels are decoded.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
@@ -40,18 +46,66 @@ impl RawDesc {
     }
 }
 
+/// How volume files are read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct VolumeOptions {
+    /// Let a NRRD header's detached `data file` leave the header's folder.
+    pub allow_outside_paths: bool,
+    /// The most bytes loading one volume may hold (see the module docs).
+    pub max_bytes: u64,
+}
+
+impl Default for VolumeOptions {
+    /// Data files inside the header's folder; [`crate::files::DEFAULT_MAX_BYTES`].
+    fn default() -> Self {
+        VolumeOptions {
+            allow_outside_paths: false,
+            max_bytes: crate::files::DEFAULT_MAX_BYTES,
+        }
+    }
+}
+
+impl VolumeOptions {
+    #[must_use]
+    pub fn allow_outside_paths(mut self, allow: bool) -> Self {
+        self.allow_outside_paths = allow;
+        self
+    }
+    #[must_use]
+    pub fn max_bytes(mut self, bytes: u64) -> Self {
+        self.max_bytes = bytes;
+        self
+    }
+}
+
 /// Loads a volume, choosing the reader by the file name: `.nii`/`.nii.gz` (NIfTI-1),
-/// `.nrrd`/`.nhdr` (NRRD), anything else as raw (which needs `raw`).
+/// `.nrrd`/`.nhdr` (NRRD), anything else as raw (which needs `raw`), with the default
+/// [`VolumeOptions`].
 ///
 /// # Errors
 /// [`Error::Io`] when a file cannot be read; [`Error::Decode`] (naming the file) for a bad
-/// header, a size mismatch, an unsupported type, truncated gzip data or non-finite values.
+/// header, a size mismatch, an unsupported type, truncated gzip data or non-finite values;
+/// [`Error::Limits`] for a volume above the memory budget or a file that is not a regular
+/// file; [`Error::Parameter`] for a data file outside the header's folder.
 pub fn load_volume(path: &Path, raw: Option<&RawDesc>) -> Result<Volume> {
+    load_volume_with(path, raw, &VolumeOptions::default())
+}
+
+/// [`load_volume`] with `options`.
+///
+/// # Errors
+/// As [`load_volume`].
+pub fn load_volume_with(
+    path: &Path,
+    raw: Option<&RawDesc>,
+    options: &VolumeOptions,
+) -> Result<Volume> {
     let name = path.to_string_lossy().to_ascii_lowercase();
     if name.ends_with(".nii") || name.ends_with(".nii.gz") {
-        load_nifti(path)
+        load_nifti_with(path, options)
     } else if name.ends_with(".nrrd") || name.ends_with(".nhdr") {
-        load_nrrd(path)
+        load_nrrd_with(path, options)
     } else {
         let desc = raw.ok_or_else(|| {
             Error::decode(
@@ -59,32 +113,41 @@ pub fn load_volume(path: &Path, raw: Option<&RawDesc>) -> Result<Volume> {
                 "a raw volume needs its grid: --dims X,Y,Z --dtype TYPE [--spacing x,y,z]",
             )
         })?;
-        load_raw(path, desc)
+        load_raw_with(path, desc, options)
     }
 }
 
-/// Reads a whole file, gunzipping when it starts with the gzip magic.
-fn read_maybe_gzip(path: &Path) -> Result<Vec<u8>> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+/// Reads a whole file of at most `max_bytes`, gunzipping it to at most `max_inflated` when
+/// it starts with the gzip magic.
+fn read_maybe_gzip(path: &Path, max_bytes: u64, max_inflated: u64) -> Result<Vec<u8>> {
+    let bytes = crate::files::read_bounded(path, max_bytes)?;
     if bytes.starts_with(&[0x1f, 0x8b]) {
-        gunzip(path, &bytes)
+        gunzip(path, &bytes, max_inflated)
     } else {
         Ok(bytes)
     }
 }
 
-fn gunzip(path: &Path, bytes: &[u8]) -> Result<Vec<u8>> {
-    let mut out = Vec::with_capacity(bytes.len() * 4);
-    flate2::read::MultiGzDecoder::new(bytes)
-        .read_to_end(&mut out)
-        .map_err(|e| {
-            if e.kind() == std::io::ErrorKind::UnexpectedEof {
-                Error::decode(path, "gzip data is truncated")
-            } else {
-                Error::decode(path, format!("gzip data is corrupt: {e}"))
-            }
-        })?;
-    Ok(out)
+fn gunzip(path: &Path, bytes: &[u8], max_bytes: u64) -> Result<Vec<u8>> {
+    crate::files::gunzip_bounded(path, bytes, max_bytes)
+}
+
+/// Refuses a grid of `count` voxels of `ty` whose loading, beside `held` bytes already read,
+/// would exceed `max_bytes`: the voxels as read, as `f32`, and two 16-bit copies.
+fn check_budget(path: &Path, count: u64, ty: ScalarType, held: u64, max_bytes: u64) -> Result<()> {
+    let need = count
+        .saturating_mul(ty.size() as u64 + 8)
+        .saturating_add(held);
+    if need > max_bytes {
+        return Err(Error::limits(
+            path,
+            format!(
+                "{count} voxels of {ty:?} need about {need} bytes to load, above the limit of \
+                 {max_bytes} (raise it with --max-memory)"
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Decodes `count` voxels of `ty` from `data` into values `v·slope + inter`.
@@ -187,7 +250,29 @@ fn check_dims(path: &Path, dims: &[i64]) -> Result<[u32; 3]> {
 /// # Errors
 /// See [`load_volume`].
 pub fn load_nifti(path: &Path) -> Result<Volume> {
-    let bytes = read_maybe_gzip(path)?;
+    load_nifti_with(path, &VolumeOptions::default())
+}
+
+/// [`load_nifti`] with `options`.
+///
+/// # Errors
+/// See [`load_volume`].
+pub fn load_nifti_with(path: &Path, options: &VolumeOptions) -> Result<Volume> {
+    let file = crate::files::read_bounded(path, options.max_bytes)?;
+    let bytes = if file.starts_with(&[0x1f, 0x8b]) {
+        // Size the data from the header before inflating it: a small file of zeros must not
+        // expand into gigabytes.
+        let max = match nifti_data_bytes(&crate::files::gunzip_prefix(&file, 348)) {
+            Some((count, ty, end)) => {
+                check_budget(path, count, ty, file.len() as u64, options.max_bytes)?;
+                options.max_bytes.min(end.saturating_add(1))
+            }
+            None => options.max_bytes,
+        };
+        gunzip(path, &file, max)?
+    } else {
+        file
+    };
     if bytes.len() < 348 {
         return Err(Error::decode(
             path,
@@ -315,8 +400,65 @@ pub fn load_nifti(path: &Path) -> Result<Volume> {
         ));
     }
     let count = dims.iter().map(|&d| d as usize).product();
+    check_budget(
+        path,
+        count as u64,
+        ty,
+        bytes.len() as u64,
+        options.max_bytes,
+    )?;
     let values = decode_voxels(path, &bytes[off..], ty, big, count, slope, inter)?;
     make_volume(path, dims, m, values, ty)
+}
+
+/// From a NIfTI-1 header alone: the voxel count, type, and where the first volume's data
+/// ends; `None` when the header is not one (the full parse says why).
+fn nifti_data_bytes(h: &[u8]) -> Option<(u64, ScalarType, u64)> {
+    if h.len() < 348 {
+        return None;
+    }
+    let big = match i32::from_le_bytes([h[0], h[1], h[2], h[3]]) {
+        348 => false,
+        _ if i32::from_be_bytes([h[0], h[1], h[2], h[3]]) == 348 => true,
+        _ => return None,
+    };
+    let i16_at = |o: usize| {
+        let a = [h[o], h[o + 1]];
+        if big {
+            i16::from_be_bytes(a)
+        } else {
+            i16::from_le_bytes(a)
+        }
+    };
+    let ty = match i16_at(70) {
+        2 => ScalarType::U8,
+        4 => ScalarType::I16,
+        8 => ScalarType::I32,
+        16 => ScalarType::F32,
+        64 => ScalarType::F64,
+        256 => ScalarType::I8,
+        512 => ScalarType::U16,
+        768 => ScalarType::U32,
+        _ => return None,
+    };
+    let ndim = usize::try_from(i16_at(40)).ok()?.clamp(1, 3);
+    let count: u64 = (0..ndim)
+        .map(|i| u64::try_from(i16_at(42 + 2 * i)).unwrap_or(0).max(1))
+        .product();
+    let off = {
+        let a = [h[108], h[109], h[110], h[111]];
+        let v = if big {
+            f32::from_be_bytes(a)
+        } else {
+            f32::from_le_bytes(a)
+        };
+        if v.is_finite() && v >= 348.0 {
+            v as u64
+        } else {
+            352
+        }
+    };
+    Some((count, ty, off + count * ty.size() as u64))
 }
 
 /// Reads a NRRD file with an attached (`.nrrd`) or detached (`.nhdr` + `data file:`) header;
@@ -326,7 +468,15 @@ pub fn load_nifti(path: &Path) -> Result<Volume> {
 /// # Errors
 /// See [`load_volume`].
 pub fn load_nrrd(path: &Path) -> Result<Volume> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    load_nrrd_with(path, &VolumeOptions::default())
+}
+
+/// [`load_nrrd`] with `options`.
+///
+/// # Errors
+/// See [`load_volume`].
+pub fn load_nrrd_with(path: &Path, options: &VolumeOptions) -> Result<Volume> {
+    let bytes = crate::files::read_bounded(path, options.max_bytes)?;
     if !bytes.starts_with(b"NRRD000") {
         return Err(Error::decode(path, "not a NRRD file (no NRRD000x magic)"));
     }
@@ -474,8 +624,8 @@ pub fn load_nrrd(path: &Path) -> Result<Volume> {
                 if f.starts_with("LIST") || f.contains('%') {
                     return Err(Error::decode(path, "NRRD multi-file data is not supported"));
                 }
-                let p = path.parent().unwrap_or(Path::new(".")).join(f);
-                let d = std::fs::read(&p).map_err(|e| Error::io(&p, e))?;
+                let p = crate::files::resolve_within(path, f, options.allow_outside_paths)?;
+                let d = crate::files::read_bounded(&p, options.max_bytes)?;
                 (p, d)
             }
             None => (path.to_path_buf(), bytes[pos..].to_vec()),
@@ -498,8 +648,14 @@ pub fn load_nrrd(path: &Path) -> Result<Volume> {
         s.parse()
             .map_err(|_| Error::decode(path, "bad NRRD byte skip"))
     })?;
+    check_budget(path, count as u64, ty, data.len() as u64, options.max_bytes)?;
     if gz {
-        data = gunzip(&data_path, &data)?;
+        // The voxels, and a little more (NRRD allows trailing bytes with `byte skip: -1`).
+        let expected = (count * ty.size()) as u64;
+        let max = options
+            .max_bytes
+            .min(expected.saturating_mul(2).saturating_add(1 << 20));
+        data = gunzip(&data_path, &data, max)?;
     }
     let data = if byte_skip == -1 {
         let need = count * ty.size();
@@ -532,9 +688,21 @@ pub fn load_nrrd(path: &Path) -> Result<Volume> {
 /// # Errors
 /// See [`load_volume`].
 pub fn load_raw(path: &Path, desc: &RawDesc) -> Result<Volume> {
+    load_raw_with(path, desc, &VolumeOptions::default())
+}
+
+/// [`load_raw`] with `options`.
+///
+/// # Errors
+/// See [`load_volume`].
+pub fn load_raw_with(path: &Path, desc: &RawDesc, options: &VolumeOptions) -> Result<Volume> {
     let dims = check_dims(path, &desc.dims.map(i64::from))?;
-    let bytes = read_maybe_gzip(path)?;
     let count: usize = dims.iter().map(|&d| d as usize).product();
+    check_budget(path, count as u64, desc.scalar, 0, options.max_bytes)?;
+    let expected = (count * desc.scalar.size()) as u64 + desc.header_bytes;
+    // Inflated data beyond the grid is an error below; a byte past it is enough to tell.
+    let inflated = options.max_bytes.min(expected.saturating_add(1));
+    let bytes = read_maybe_gzip(path, options.max_bytes, inflated)?;
     let skip = usize::try_from(desc.header_bytes)
         .ok()
         .filter(|&h| h <= bytes.len())

@@ -89,7 +89,28 @@ impl Default for MarchParams {
     }
 }
 
+/// The most samples one ray may take through a volume (and slices one frame may draw): a
+/// step that asks for more is refused instead of running for hours.
+pub const MAX_SAMPLES_PER_RAY: f32 = 1.0e6;
+
 impl MarchParams {
+    /// The step must be positive, finite, and take at most [`MAX_SAMPLES_PER_RAY`] samples
+    /// over `length` (the longest path through the volume, its box's diagonal).
+    ///
+    /// # Errors
+    /// [`Error::Parameter`] naming `--step` otherwise.
+    pub fn check_samples(&self, length: f32) -> Result<()> {
+        self.check_step()?;
+        let n = length / self.step;
+        if n > MAX_SAMPLES_PER_RAY {
+            return Err(Error::parameter(format!(
+                "--step {} takes {n:.0} samples across the volume (at most {MAX_SAMPLES_PER_RAY:.0})",
+                self.step
+            )));
+        }
+        Ok(())
+    }
+
     /// The step must be positive and finite.
     ///
     /// # Errors

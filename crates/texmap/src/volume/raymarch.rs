@@ -89,6 +89,8 @@ pub fn raymarch(
     depth: Option<&[f32]>,
 ) -> Result<Frame> {
     check_request(camera, width, height, params, depth)?;
+    let (lo, hi) = vol.world_bounds();
+    params.check_samples((hi - lo).length())?;
     let headlight = (camera.target - camera.eye).normalize();
     let m = Marcher::new(vol, tf, params, Some(headlight))?;
     let rays = RayLoop::for_frame(&m);

@@ -87,14 +87,26 @@ impl TransferFunction {
     /// # Errors
     /// [`Error::Parameter`] naming the bad point.
     pub fn parse(s: &str) -> Result<Self> {
+        Self::parse_points(s, Quote::Item)
+    }
+
+    /// The points of `s`; a bad point is named by its text (what the user typed) or, for a
+    /// file's contents, by its line only: error messages never echo a file.
+    fn parse_points(s: &str, quote: Quote) -> Result<Self> {
         let mut pts = Vec::new();
-        for line in s.lines() {
+        for (n, line) in s.lines().enumerate() {
             let line = line.split('#').next().unwrap_or("");
             for item in list_items(line) {
                 let (v, [r, g, b, a]) = parse_point(item).ok_or_else(|| {
-                    Error::parameter(format!(
-                        "transfer function point \"{item}\" is not value:r,g,b,a"
-                    ))
+                    Error::parameter(match quote {
+                        Quote::Item => {
+                            format!("transfer function point \"{item}\" is not value:r,g,b,a")
+                        }
+                        Quote::Line => format!(
+                            "line {}: a transfer function point is not value:r,g,b,a",
+                            n + 1
+                        ),
+                    })
                 })?;
                 pts.push((v, Vec4::new(r, g, b, a)));
             }
@@ -123,17 +135,17 @@ impl TransferFunction {
         let joined = dir.join(s);
         let p = joined.as_path();
         if !s.contains(':') || p.is_file() {
-            let text = std::fs::read_to_string(p).map_err(|e| {
-                if e.kind() == std::io::ErrorKind::NotFound {
-                    Error::parameter(format!(
-                        "transfer function \"{s}\" is not a preset ({}), a file, or value:r,g,b,a points",
-                        PRESETS.iter().map(|p| p.0).collect::<Vec<_>>().join(", ")
-                    ))
-                } else {
-                    Error::io(p, e)
-                }
-            })?;
-            return Self::parse(&text).map_err(|e| Error::decode(p, e.to_string()));
+            if !p.exists() {
+                return Err(Error::parameter(format!(
+                    "transfer function \"{s}\" is not a preset ({}), a file, or value:r,g,b,a points",
+                    PRESETS.iter().map(|p| p.0).collect::<Vec<_>>().join(", ")
+                )));
+            }
+            // Transfer functions are a few lines: 1 MiB is generous.
+            let bytes = crate::files::read_bounded(p, 1 << 20)?;
+            let text = String::from_utf8_lossy(&bytes);
+            return Self::parse_points(&text, Quote::Line)
+                .map_err(|e| Error::decode(p, e.to_string()));
         }
         Self::parse(s)
     }
@@ -157,6 +169,15 @@ impl TransferFunction {
         let i = p.iter().position(|q| q.1.w > 0.0)?;
         Some(if i == 0 { p[0].0 } else { p[i - 1].0 })
     }
+}
+
+/// How a parse error names a bad point.
+#[derive(Clone, Copy)]
+enum Quote {
+    /// By its text (a command-line argument).
+    Item,
+    /// By its line (a file's contents).
+    Line,
 }
 
 /// The non-blank items of a `;`-separated list, trimmed.

@@ -12,7 +12,7 @@ use super::spec::MeshSpec;
 use super::texgen::apply_texgen;
 use crate::scene::asset::{LoadOptions, Loaded};
 use crate::scene::format::SceneFormat;
-use crate::scene::primitives::Primitive;
+use crate::scene::primitives::{Primitive, MAX_PRIMITIVE_VERTICES, MAX_SEGMENTS};
 use crate::{Error, Result};
 
 /// The materials a `[[meshes]]` entry may name, and the one a primitive gets otherwise.
@@ -107,22 +107,53 @@ fn primitive(kind: &str, m: &MeshSpec) -> std::result::Result<Primitive, String>
         }
     };
     let size = positive(m.size, 1.0, "size")?;
+    // Counts are refused, not clamped, outside their range; and a mesh may not exceed the
+    // vertex budget (checked before anything is allocated).
+    let count = |v: Option<u32>, d: u32, min: u32, what: &str| {
+        let v = v.unwrap_or(d);
+        if (min..=MAX_SEGMENTS).contains(&v) {
+            Ok(v)
+        } else {
+            Err(format!("{what} {v} is outside {min}..={MAX_SEGMENTS}"))
+        }
+    };
+    let budget = |vertices: u64, what: String| {
+        if vertices <= MAX_PRIMITIVE_VERTICES {
+            Ok(())
+        } else {
+            Err(format!(
+                "{what} makes {vertices} vertices, above a primitive's budget of \
+                 {MAX_PRIMITIVE_VERTICES}"
+            ))
+        }
+    };
     Ok(match kind {
-        "plane" => Primitive::Plane {
-            width: positive(m.width, size, "width")?,
-            depth: positive(m.depth, size, "depth")?,
-            divisions: m.divisions.unwrap_or(1),
-        },
+        "plane" => {
+            let divisions = count(m.divisions, 1, 1, "divisions")?;
+            let side = u64::from(divisions) + 1;
+            budget(side * side, format!("divisions {divisions}"))?;
+            Primitive::Plane {
+                width: positive(m.width, size, "width")?,
+                depth: positive(m.depth, size, "depth")?,
+                divisions,
+            }
+        }
         "cube" => Primitive::Cube { size },
-        "sphere" => Primitive::Sphere {
-            radius: positive(m.radius, 0.5 * size, "radius")?,
-            segments: m.segments.unwrap_or(64),
-            rings: m.rings.unwrap_or(33),
-        },
+        "sphere" => {
+            let segments = count(m.segments, 64, 3, "segments")?;
+            let rings = count(m.rings, 33, 3, "rings")?;
+            let n = (u64::from(segments) + 1) * u64::from(rings);
+            budget(n, format!("segments {segments} × rings {rings}"))?;
+            Primitive::Sphere {
+                radius: positive(m.radius, 0.5 * size, "radius")?,
+                segments,
+                rings,
+            }
+        }
         "cylinder" | "cone" => {
             let radius = positive(m.radius, 0.5 * size, "radius")?;
             let height = positive(m.height, size, "height")?;
-            let segments = m.segments.unwrap_or(64);
+            let segments = count(m.segments, 64, 3, "segments")?;
             if kind == "cone" {
                 Primitive::Cone {
                     radius,
@@ -137,12 +168,18 @@ fn primitive(kind: &str, m: &MeshSpec) -> std::result::Result<Primitive, String>
                 }
             }
         }
-        "torus" => Primitive::Torus {
-            major: positive(m.major_radius, 0.375 * size, "major_radius")?,
-            minor: positive(m.minor_radius, 0.125 * size, "minor_radius")?,
-            segments: m.segments.unwrap_or(64),
-            sides: m.rings.unwrap_or(24),
-        },
+        "torus" => {
+            let segments = count(m.segments, 64, 3, "segments")?;
+            let sides = count(m.rings, 24, 3, "rings")?;
+            let n = (u64::from(segments) + 1) * (u64::from(sides) + 1);
+            budget(n, format!("segments {segments} × rings {sides}"))?;
+            Primitive::Torus {
+                major: positive(m.major_radius, 0.375 * size, "major_radius")?,
+                minor: positive(m.minor_radius, 0.125 * size, "minor_radius")?,
+                segments,
+                sides,
+            }
+        }
         other => {
             return Err(format!(
                 "unknown primitive {other:?} (plane, cube, sphere, cylinder, cone, torus)"

@@ -69,7 +69,7 @@ pub(super) fn colour_source(
             .map(|slot| Procedural::Projected { slot, projection })
         }
         (None, None) => match &m.solid_texture {
-            Some(t) => Some(solid_texture(dir, t)?),
+            Some(t) => Some(solid_texture(dir, t, &textures.volumes)?),
             None => None,
         },
     })
@@ -113,7 +113,11 @@ fn pattern(name: &str) -> Result<Solid> {
 }
 
 /// A `solid_texture` table → [`Procedural::Texture3D`].
-fn solid_texture(dir: &Path, t: &SolidTextureSpec) -> Result<Procedural> {
+fn solid_texture(
+    dir: &Path,
+    t: &SolidTextureSpec,
+    volumes: &crate::volume::VolumeOptions,
+) -> Result<Procedural> {
     let (min, max) = (Vec3::from(t.min), Vec3::from(t.max));
     if !(min.is_finite() && max.is_finite() && max.cmpgt(min).all()) {
         return Err(Error::parameter(format!(
@@ -134,7 +138,7 @@ fn solid_texture(dir: &Path, t: &SolidTextureSpec) -> Result<Procedural> {
                 ));
             }
             let path = dir.join(file);
-            let vol = crate::volume::load_volume(&path, None)?;
+            let vol = crate::volume::load_volume_with(&path, None, volumes)?;
             (vol.texture().clone(), [Vec3::ZERO, Vec3::ONE])
         }
         _ => {

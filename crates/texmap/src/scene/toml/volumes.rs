@@ -11,7 +11,9 @@ use glam::{Mat4, Vec3};
 use super::spec::VolumeSpec;
 use crate::shading::Light;
 use crate::volume::scene_volume::{parse_classification, parse_mode};
-use crate::volume::{load_volume, Method, RawDesc, ScalarType, SceneVolume, TransferFunction2D};
+use crate::volume::{
+    load_volume_with, Method, RawDesc, ScalarType, SceneVolume, TransferFunction2D, VolumeOptions,
+};
 use crate::{Error, Result};
 
 /// True for the file names whose header describes the grid.
@@ -30,6 +32,7 @@ pub(super) fn volume(
     v: &VolumeSpec,
     transform: Mat4,
     lights: &[Light],
+    options: &VolumeOptions,
 ) -> Result<SceneVolume> {
     let file = dir.join(&v.file);
     let raw_keys =
@@ -71,7 +74,7 @@ pub(super) fn volume(
     } else {
         None
     };
-    let vol = load_volume(&file, raw.as_ref())?;
+    let vol = load_volume_with(&file, raw.as_ref(), options)?;
     let mut sv = SceneVolume::new(vol, &file);
     sv.place(transform, v.ignore_orientation)?;
     if let Some(tf) = &v.tf {

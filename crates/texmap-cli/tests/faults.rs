@@ -1,0 +1,371 @@
+//! Hostile and broken input, one case per cause: each must end with exit code 1, one line on
+//! stderr naming the file or flag, no panic and no output file — or, where the case is a
+//! stream that went away, end quietly. (The causes were found by fuzzing the command line.)
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn texmap(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_texmap"))
+        .args(args)
+        .output()
+        .expect("run texmap")
+}
+
+fn dir(case: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("texmap-faults-{}-{case}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// Exit 1, one line naming each of `needles`, no panic, `output` not written.
+#[track_caller]
+fn assert_refused(out: &Output, needles: &[&str], output: &Path) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "one line: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "{n:?} in {err}");
+    }
+    assert!(!output.exists(), "no output");
+}
+
+fn render(args: &[&str], out: &Path) -> Output {
+    let mut v = args.to_vec();
+    v.extend(["--size", "32x24", "--quiet", "-o", out.to_str().unwrap()]);
+    let mut all = vec!["render"];
+    all.extend(v);
+    texmap(&all)
+}
+
+fn triangle_obj(d: &Path, name: &str, vertex: &str) -> PathBuf {
+    let p = d.join(name);
+    std::fs::write(&p, format!("v {vertex}\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")).unwrap();
+    p
+}
+
+#[test]
+fn an_mtl_colour_with_two_numbers_is_named_not_a_panic() {
+    let d = dir("mtl");
+    std::fs::write(d.join("a.mtl"), "newmtl m\nKs 0 0\n").unwrap();
+    let obj = d.join("a.obj");
+    std::fs::write(
+        &obj,
+        "mtllib a.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n",
+    )
+    .unwrap();
+    let out = d.join("a.png");
+    assert_refused(
+        &render(&[obj.to_str().unwrap()], &out),
+        &["a.mtl", "line 2", "Ks"],
+        &out,
+    );
+    let info = texmap(&["info", obj.to_str().unwrap()]);
+    assert_refused(&info, &["a.mtl"], &out);
+}
+
+#[test]
+fn a_closed_stdout_ends_quietly_and_a_full_device_is_one_line() {
+    let d = dir("stdout");
+    let png = d.join("s.png");
+    // The reader goes away before texmap writes its statistics.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_texmap"))
+        .args([
+            "render",
+            "builtin:plane",
+            "--size",
+            "16x16",
+            "--stats",
+            "-o",
+        ])
+        .arg(&png)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() && !err.contains("panicked"), "{err}");
+    if let Ok(full) = std::fs::File::create("/dev/full") {
+        for args in [
+            vec!["info", png.to_str().unwrap()],
+            vec!["compare", png.to_str().unwrap(), png.to_str().unwrap()],
+        ] {
+            let out = Command::new(env!("CARGO_BIN_EXE_texmap"))
+                .args(&args)
+                .stdout(full.try_clone().unwrap())
+                .output()
+                .unwrap();
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+            assert!(
+                err.contains("stdout") && err.trim().lines().count() == 1,
+                "{err}"
+            );
+        }
+    } else {
+        eprintln!("SKIPPED: /dev/full is not available");
+    }
+}
+
+#[test]
+fn scenes_with_nothing_to_draw_are_errors_and_non_finite_faces_are_dropped() {
+    let d = dir("empty");
+    let out = d.join("x.png");
+    let empty = d.join("empty.obj");
+    std::fs::write(&empty, "").unwrap();
+    assert_refused(
+        &render(&[empty.to_str().unwrap()], &out),
+        &["empty.obj", "nothing to draw"],
+        &out,
+    );
+    for (name, v) in [("nan.obj", "nan 0 0"), ("huge.obj", "1e39 0 0")] {
+        let p = triangle_obj(&d, name, v);
+        assert_refused(
+            &render(&[p.to_str().unwrap()], &out),
+            &[name, "nothing to draw"],
+            &out,
+        );
+    }
+    // One good triangle beside a bad one: drawn, with a warning.
+    let p = d.join("half.obj");
+    std::fs::write(
+        &p,
+        "v nan 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n",
+    )
+    .unwrap();
+    let r = texmap(&[
+        "render",
+        p.to_str().unwrap(),
+        "--size",
+        "32x24",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(r.status.success(), "{err}");
+    assert!(
+        err.contains("half.obj: 1 triangle with a non-finite position not drawn"),
+        "{err}"
+    );
+}
+
+#[test]
+fn oversized_requests_are_refused_before_allocation() {
+    let d = dir("budget");
+    let out = d.join("x.png");
+    // A primitive of 10^10 vertices.
+    let toml = d.join("grid.toml");
+    std::fs::write(
+        &toml,
+        "[materials.m]\n[[meshes]]\nprimitive = \"plane\"\nmaterial = \"m\"\ndivisions = 100000\n",
+    )
+    .unwrap();
+    assert_refused(
+        &render(&[toml.to_str().unwrap()], &out),
+        &["grid.toml", "divisions"],
+        &out,
+    );
+    // A 16384² frame is above the default budget, and fits a larger one.
+    let big = texmap(&[
+        "render",
+        "builtin:plane",
+        "--size",
+        "16384x16384",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_refused(&big, &["--size 16384x16384", "--max-memory"], &out);
+    // A NIfTI header claiming 1024³ voxels of f64, in a small gzip file.
+    let nii = d.join("claim.nii.gz");
+    let mut h = vec![0u8; 352];
+    h[0..4].copy_from_slice(&348i32.to_le_bytes());
+    for (i, v) in [3i16, 1024, 1024, 1024, 1, 1, 1, 1].iter().enumerate() {
+        h[40 + 2 * i..42 + 2 * i].copy_from_slice(&v.to_le_bytes());
+    }
+    h[70..72].copy_from_slice(&64i16.to_le_bytes());
+    h[72..74].copy_from_slice(&64i16.to_le_bytes());
+    for i in 0..3 {
+        h[80 + 4 * i..84 + 4 * i].copy_from_slice(&1f32.to_le_bytes());
+    }
+    h[108..112].copy_from_slice(&352f32.to_le_bytes());
+    h[344..348].copy_from_slice(b"n+1\0");
+    let mut z = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    std::io::Write::write_all(&mut z, &h).unwrap();
+    std::io::Write::write_all(&mut z, &vec![0u8; 1 << 20]).unwrap();
+    std::fs::write(&nii, z.finish().unwrap()).unwrap();
+    assert_refused(
+        &render(&[nii.to_str().unwrap()], &out),
+        &["claim.nii.gz", "--max-memory"],
+        &out,
+    );
+    // A ray step that would take millions of samples per ray.
+    let cell = repo().join("scenes/volumes/cell.nrrd");
+    assert_refused(
+        &render(&[cell.to_str().unwrap(), "--step", "1e-6"], &out),
+        &["--step", "samples"],
+        &out,
+    );
+    assert_refused(
+        &render(&["builtin:plane", "--frames", "1000001"], &out),
+        &["--frames"],
+        &out,
+    );
+}
+
+#[test]
+fn a_detached_nrrd_may_not_read_outside_its_folder_or_a_device() {
+    let d = dir("nrrd");
+    let out = d.join("x.png");
+    let secret = d.join("secret.raw");
+    std::fs::write(&secret, [7u8; 8]).unwrap();
+    let sub = d.join("scan");
+    std::fs::create_dir_all(&sub).unwrap();
+    let header = |data: &str| {
+        format!("NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\ndata file: {data}\n\n")
+    };
+    let nhdr = sub.join("up.nhdr");
+    std::fs::write(&nhdr, header("../secret.raw")).unwrap();
+    assert_refused(
+        &render(&[nhdr.to_str().unwrap()], &out),
+        &["up.nhdr", "outside", "--allow-outside-paths"],
+        &out,
+    );
+    let allowed = render(&[nhdr.to_str().unwrap(), "--allow-outside-paths"], &out);
+    assert!(
+        allowed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&allowed.stderr)
+    );
+    let _ = std::fs::remove_file(&out);
+    if Path::new("/dev/zero").exists() {
+        let dev = sub.join("dev.nhdr");
+        std::fs::write(&dev, header("/dev/zero")).unwrap();
+        let r = render(&[dev.to_str().unwrap(), "--allow-outside-paths"], &out);
+        assert_refused(&r, &["/dev/zero", "regular file"], &out);
+    }
+}
+
+#[test]
+fn file_contents_are_never_echoed() {
+    let d = dir("echo");
+    let out = d.join("x.png");
+    let tf = d.join("not_a_tf.txt");
+    std::fs::write(&tf, "root:SECRET:0:0\n").unwrap();
+    let cell = repo().join("scenes/volumes/cell.nrrd");
+    let r = render(
+        &[cell.to_str().unwrap(), "--tf", tf.to_str().unwrap()],
+        &out,
+    );
+    assert_refused(&r, &["not_a_tf.txt", "line 1"], &out);
+    assert!(!String::from_utf8_lossy(&r.stderr).contains("SECRET"));
+    let obj = d.join("bad.obj");
+    std::fs::write(&obj, "v 0 0 0\nv SECRET 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let r = render(&[obj.to_str().unwrap()], &out);
+    assert_refused(&r, &["bad.obj", "line 2"], &out);
+    assert!(!String::from_utf8_lossy(&r.stderr).contains("SECRET"));
+}
+
+#[test]
+fn outputs_never_destroy_an_input_or_follow_a_planted_link() {
+    let d = dir("outputs");
+    let obj = triangle_obj(&d, "model.obj", "0 0 0");
+    let before = std::fs::read(&obj).unwrap();
+    let r = texmap(&[
+        "render",
+        obj.to_str().unwrap(),
+        "--quiet",
+        "-o",
+        obj.to_str().unwrap(),
+    ]);
+    assert_eq!(r.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("is an input"));
+    assert_eq!(
+        std::fs::read(&obj).unwrap(),
+        before,
+        "the model is untouched"
+    );
+    // /dev/null stays a device: written through, not replaced.
+    if Path::new("/dev/null").exists() {
+        let r = texmap(&[
+            "render",
+            "builtin:plane",
+            "--size",
+            "8x8",
+            "--quiet",
+            "-o",
+            "/dev/null",
+        ]);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let m = std::fs::metadata("/dev/null").unwrap();
+        assert!(!m.is_file(), "/dev/null is still a device");
+    }
+    // A link planted at the temporary file's name is not written through.
+    #[cfg(unix)]
+    {
+        let victim = d.join("victim.txt");
+        std::fs::write(&victim, "keep me").unwrap();
+        let out = d.join("img.png");
+        // The temporary name holds the process id, unknown in advance: plant it for a range
+        // of ids around the next ones.
+        let me = std::process::id();
+        let planted: Vec<PathBuf> = (me..me + 200)
+            .map(|pid| d.join(format!(".img.png.tmp-{pid}")))
+            .collect();
+        for p in &planted {
+            let _ = std::os::unix::fs::symlink(&victim, p);
+        }
+        let r = texmap(&[
+            "render",
+            "builtin:plane",
+            "--size",
+            "8x8",
+            "--quiet",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(std::fs::read_to_string(&victim).unwrap(), "keep me");
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(r.status.success() || err.contains(".img.png.tmp-"), "{err}");
+        for p in &planted {
+            let _ = std::fs::remove_file(p);
+        }
+    }
+}
+
+#[test]
+fn numeric_flags_refuse_nan_and_threads_are_clamped() {
+    let d = dir("nan");
+    let out = d.join("x.png");
+    assert_refused(
+        &render(&["builtin:plane", "--lod-bias", "nan"], &out),
+        &["lod bias"],
+        &out,
+    );
+    assert_refused(
+        &render(&["builtin:plane", "--uv-scale", "nan"], &out),
+        &["--uv-scale"],
+        &out,
+    );
+    let r = texmap(&[
+        "render",
+        "builtin:plane",
+        "--size",
+        "8x8",
+        "--threads",
+        "100000",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        r.status.success() && err.contains("--threads 100000"),
+        "{err}"
+    );
+}
