@@ -55,7 +55,7 @@ pub fn run(args: InfoArgs) -> Result<(), Error> {
             t.format(),
             t.levels().len()
         );
-        return crate::output::stdout(&out);
+        return crate::output::stdout(out);
     }
     let options = LoadOptions::default()
         .allow_outside_paths(args.allow_outside_paths)

@@ -23,7 +23,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene (default: the embedded demo) to an image.
-    Render(render::RenderArgs),
+    Render(Box<render::RenderArgs>),
     /// Write a procedural texture to an image (on a plane, or unwrapped from a cylinder or sphere).
     Bake(bake::BakeArgs),
     /// Compare two images: PSNR, RMSE and SSIM, and optionally a false-colour difference image.
@@ -35,7 +35,7 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Render(args) => render::run(args),
+        Command::Render(args) => render::run(*args),
         Command::Compare(args) => compare::run(args),
         Command::Bake(args) => bake::run(args),
         Command::Info(args) => info::run(args),
