@@ -369,3 +369,37 @@ fn numeric_flags_refuse_nan_and_threads_are_clamped() {
         "{err}"
     );
 }
+
+#[test]
+fn gltf_files_the_gltf_crate_would_panic_on_are_errors() {
+    let d = dir("gltf");
+    let out = d.join("x.png");
+    let cases = [
+        (
+            "accessor.gltf",
+            r#"{"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],"meshes":[{"primitives":[{"attributes":{"POSITION":5}}]}]}"#,
+            "uses accessor 5",
+        ),
+        (
+            "mime.gltf",
+            r#"{"asset":{"version":"2.0"},"buffers":[{"byteLength":4,"uri":"data:application/octet-stream;base64,AAAAAA=="}],"bufferViews":[{"buffer":0,"byteLength":4}],"images":[{"bufferView":0}]}"#,
+            "no mimeType",
+        ),
+        (
+            "nosource.gltf",
+            r#"{"asset":{"version":"2.0"},"images":[{}]}"#,
+            "neither a uri nor a bufferView",
+        ),
+        (
+            "camera.gltf",
+            r#"{"asset":{"version":"2.0"},"cameras":[{"type":"orthographic","perspective":{"yfov":1.0,"znear":0.1}}]}"#,
+            "cameras[0]",
+        ),
+    ];
+    for (name, json, says) in cases {
+        let p = d.join(name);
+        std::fs::write(&p, json).unwrap();
+        assert_refused(&render(&[p.to_str().unwrap()], &out), &[name, says], &out);
+        assert_refused(&texmap(&["info", p.to_str().unwrap()]), &[name, says], &out);
+    }
+}

@@ -57,6 +57,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     // Validation refuses required extensions the gltf crate does not know; we checked them.
     root.extensions_required
         .retain(|e| gltf::json::extensions::ENABLED_EXTENSIONS.contains(&e.as_str()));
+    precheck(&root).map_err(|m| Error::decode(path, m))?;
     let document = Document::from_json(root).map_err(|e| Error::decode(path, gltf_message(&e)))?;
     let buffers = read_buffers(path, &document, blob, options)?;
     let mut loader = Loader {
@@ -149,4 +150,60 @@ impl Loader<'_> {
             warnings: self.warnings,
         }
     }
+}
+
+/// What the gltf crate assumes and would panic on instead of reporting: checked here, on the
+/// JSON, before it is validated or read. A primitive's accessors must exist (validation
+/// indexes `POSITION`'s unchecked); an image needs a `uri`, or a `bufferView` with a
+/// `mimeType`; a camera's `type` needs its own object.
+fn precheck(root: &gltf::json::Root) -> std::result::Result<(), String> {
+    use gltf::json::camera::Type;
+    use gltf::json::validation::Checked;
+    let accessors = root.accessors.len();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let targets = prim
+                .targets
+                .iter()
+                .flatten()
+                .flat_map(|t| [t.positions, t.normals, t.tangents].into_iter().flatten());
+            let bad = prim
+                .attributes
+                .values()
+                .copied()
+                .chain(prim.indices)
+                .chain(targets)
+                .find(|a| a.value() >= accessors);
+            if let Some(a) = bad {
+                return Err(format!(
+                    "meshes[{m}].primitives[{p}] uses accessor {} but the file has {accessors}",
+                    a.value()
+                ));
+            }
+        }
+    }
+    for (i, img) in root.images.iter().enumerate() {
+        match (&img.uri, img.buffer_view, &img.mime_type) {
+            (Some(_), _, _) | (None, Some(_), Some(_)) => {}
+            (None, Some(_), None) => {
+                return Err(format!(
+                    "images[{i}] has a bufferView but no mimeType (the glTF specification requires one)"
+                ))
+            }
+            (None, None, _) => return Err(format!("images[{i}] has neither a uri nor a bufferView")),
+        }
+    }
+    for (i, cam) in root.cameras.iter().enumerate() {
+        let ok = match cam.type_ {
+            Checked::Valid(Type::Perspective) => cam.perspective.is_some(),
+            Checked::Valid(Type::Orthographic) => cam.orthographic.is_some(),
+            Checked::Invalid => true,
+        };
+        if !ok {
+            return Err(format!(
+                "cameras[{i}]: its type has no matching perspective or orthographic object"
+            ));
+        }
+    }
+    Ok(())
 }
