@@ -49,7 +49,7 @@ pub use framing::vtk_camera_for_bounds;
 pub use grid::Volume;
 pub use iso::iso_hit;
 pub use load::{load_volume, load_volume_with, RawDesc, VolumeOptions};
-pub use params::{Classification, MarchParams, Mode};
+pub use params::{Classification, MarchParams, Mode, MAX_SAMPLES_PER_RAY};
 pub use raymarch::raymarch;
 pub use rays::{camera_ray, ray_distances_from_depth};
 pub use scalar_type::ScalarType;
