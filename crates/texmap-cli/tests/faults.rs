@@ -403,3 +403,60 @@ fn gltf_files_the_gltf_crate_would_panic_on_are_errors() {
         assert_refused(&texmap(&["info", p.to_str().unwrap()]), &[name, says], &out);
     }
 }
+
+/// A NIfTI header: 4×4×4 unsigned bytes with `pixdim` spacing.
+fn nifti_with_spacing(path: &Path, spacing: [f32; 3]) {
+    let mut h = vec![0u8; 352];
+    h[0..4].copy_from_slice(&348i32.to_le_bytes());
+    for (i, d) in [3i16, 4, 4, 4, 1, 1, 1, 1].iter().enumerate() {
+        h[40 + 2 * i..42 + 2 * i].copy_from_slice(&d.to_le_bytes());
+    }
+    h[70..72].copy_from_slice(&2i16.to_le_bytes());
+    h[72..74].copy_from_slice(&8i16.to_le_bytes());
+    for (i, p) in [1.0f32, spacing[0], spacing[1], spacing[2]].iter().enumerate() {
+        h[76 + 4 * i..80 + 4 * i].copy_from_slice(&p.to_le_bytes());
+    }
+    h[108..112].copy_from_slice(&352f32.to_le_bytes());
+    h[344..348].copy_from_slice(b"n+1\0");
+    h.extend(0u8..64);
+    std::fs::write(path, h).unwrap();
+}
+
+#[test]
+fn camera_errors_name_the_scene_and_the_flags() {
+    let d = dir("camera");
+    let out = d.join("x.png");
+    // A spacing of 1e30 once gave "camera has a non-finite value" without a file.
+    let nii = d.join("far.nii");
+    nifti_with_spacing(&nii, [1.0, 1e30, 1.0]);
+    assert_refused(
+        &render(&[nii.to_str().unwrap()], &out),
+        &["far.nii", "world units"],
+        &out,
+    );
+    let near = d.join("near.nii");
+    nifti_with_spacing(&near, [1.0, 2.0, 1.0]);
+    assert!(render(&[near.to_str().unwrap()], &out).status.success());
+    std::fs::remove_file(&out).unwrap();
+    // A glTF camera with a zero field of view and a node at 1e39 (infinite as f32).
+    let cam = d.join("cam.gltf");
+    std::fs::write(
+        &cam,
+        r#"{"asset":{"version":"2.0"},"scenes":[{"nodes":[0,1]}],"scene":0,"nodes":[{"mesh":0},{"camera":0,"translation":[0,0,1e39]}],"cameras":[{"type":"perspective","perspective":{"yfov":0.0,"znear":0.1}}],"buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],"bufferViews":[{"buffer":0,"byteLength":36}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]}"#,
+    )
+    .unwrap();
+    assert_refused(
+        &render(&[cam.to_str().unwrap()], &out),
+        &["cam.gltf", "camera"],
+        &out,
+    );
+    let obj = triangle_obj(&d, "t.obj", "0 0 0");
+    assert_refused(
+        &render(
+            &[obj.to_str().unwrap(), "--eye", "1,1,1", "--target", "1,1,1"],
+            &out,
+        ),
+        &["t.obj with --eye --target", "coincide"],
+        &out,
+    );
+}

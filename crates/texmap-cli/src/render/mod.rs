@@ -420,7 +420,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
     request.eye = args.eye;
     request.target = args.target;
     request.up = args.up;
-    let camera = choose_camera(&scene, &volumes, &request)?;
+    let camera = choose_camera(&scene, &volumes, &request).map_err(|e| camera_error(&args, e))?;
     // Per-volume structures (VTK builds its own in its first frame): outside the frame times.
     pool.install(|| {
         for v in &volumes {
@@ -598,5 +598,30 @@ mod tests {
             m.get_one::<Filter>("filter").map(|f| f.name()).as_deref(),
             Some("nearest-mipmap-linear")
         );
+    }
+}
+
+/// A camera error names where the camera came from: the scene file, and the camera flags
+/// that changed it.
+fn camera_error(args: &RenderArgs, e: Error) -> Error {
+    let Error::Parameter(message) = e else {
+        return e;
+    };
+    let scene = args.scene.as_deref().unwrap_or("builtin:demo");
+    let flags: Vec<&str> = [
+        ("--eye", args.eye.is_some()),
+        ("--target", args.target.is_some()),
+        ("--up", args.up.is_some()),
+        ("--fov", args.fov.is_some()),
+        ("--ortho", args.ortho.is_some()),
+        ("--auto-camera", args.auto_camera),
+    ]
+    .into_iter()
+    .filter_map(|(flag, given)| given.then_some(flag))
+    .collect();
+    if flags.is_empty() {
+        Error::parameter(format!("{scene}: {message}"))
+    } else {
+        Error::parameter(format!("{scene} with {}: {message}", flags.join(" ")))
     }
 }

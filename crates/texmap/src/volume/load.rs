@@ -222,8 +222,23 @@ fn make_volume(
     let mut v =
         Volume::from_scalars(dims, m, values).map_err(|e| Error::decode(path, e.to_string()))?;
     v.set_scalar_type(ty);
+    let (lo, hi) = v.world_bounds();
+    let reach = lo.abs().max(hi.abs()).max_element();
+    if !(reach <= MAX_WORLD_REACH) {
+        return Err(Error::decode(
+            path,
+            format!(
+                "its spacing or placement puts voxels {reach:e} world units from the origin \
+                 (at most {MAX_WORLD_REACH:e})"
+            ),
+        ));
+    }
     Ok(v)
 }
+
+/// How far from the origin a loaded volume may reach, in world units: far beyond any scan
+/// (a metre is 10³ in millimetres), near enough that a camera framing it stays finite.
+pub const MAX_WORLD_REACH: f32 = 1.0e12;
 
 fn check_dims(path: &Path, dims: &[i64]) -> Result<[u32; 3]> {
     let mut out = [1u32; 3];
