@@ -413,7 +413,10 @@ fn nifti_with_spacing(path: &Path, spacing: [f32; 3]) {
     }
     h[70..72].copy_from_slice(&2i16.to_le_bytes());
     h[72..74].copy_from_slice(&8i16.to_le_bytes());
-    for (i, p) in [1.0f32, spacing[0], spacing[1], spacing[2]].iter().enumerate() {
+    for (i, p) in [1.0f32, spacing[0], spacing[1], spacing[2]]
+        .iter()
+        .enumerate()
+    {
         h[76 + 4 * i..80 + 4 * i].copy_from_slice(&p.to_le_bytes());
     }
     h[108..112].copy_from_slice(&352f32.to_le_bytes());

@@ -556,6 +556,31 @@ fn round2(v: f64) -> f64 {
     (v * 100.0).round() / 100.0
 }
 
+/// A camera error names where the camera came from: the scene file, and the camera flags
+/// that changed it.
+fn camera_error(args: &RenderArgs, e: Error) -> Error {
+    let Error::Parameter(message) = e else {
+        return e;
+    };
+    let scene = args.scene.as_deref().unwrap_or("builtin:demo");
+    let flags: Vec<&str> = [
+        ("--eye", args.eye.is_some()),
+        ("--target", args.target.is_some()),
+        ("--up", args.up.is_some()),
+        ("--fov", args.fov.is_some()),
+        ("--ortho", args.ortho.is_some()),
+        ("--auto-camera", args.auto_camera),
+    ]
+    .into_iter()
+    .filter_map(|(flag, given)| given.then_some(flag))
+    .collect();
+    if flags.is_empty() {
+        Error::parameter(format!("{scene}: {message}"))
+    } else {
+        Error::parameter(format!("{scene} with {}: {message}", flags.join(" ")))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use clap::{Args, Command};
@@ -598,30 +623,5 @@ mod tests {
             m.get_one::<Filter>("filter").map(|f| f.name()).as_deref(),
             Some("nearest-mipmap-linear")
         );
-    }
-}
-
-/// A camera error names where the camera came from: the scene file, and the camera flags
-/// that changed it.
-fn camera_error(args: &RenderArgs, e: Error) -> Error {
-    let Error::Parameter(message) = e else {
-        return e;
-    };
-    let scene = args.scene.as_deref().unwrap_or("builtin:demo");
-    let flags: Vec<&str> = [
-        ("--eye", args.eye.is_some()),
-        ("--target", args.target.is_some()),
-        ("--up", args.up.is_some()),
-        ("--fov", args.fov.is_some()),
-        ("--ortho", args.ortho.is_some()),
-        ("--auto-camera", args.auto_camera),
-    ]
-    .into_iter()
-    .filter_map(|(flag, given)| given.then_some(flag))
-    .collect();
-    if flags.is_empty() {
-        Error::parameter(format!("{scene}: {message}"))
-    } else {
-        Error::parameter(format!("{scene} with {}: {message}", flags.join(" ")))
     }
 }
