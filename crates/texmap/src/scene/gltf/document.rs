@@ -33,6 +33,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
 /// problem, one line.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     let bytes = read_bounded(path, options.max_buffer_bytes)?;
+    check_glb_header(&bytes).map_err(|m| Error::decode(path, m))?;
     let Gltf { document, blob } = Gltf::from_slice_without_validation(&bytes)
         .map_err(|e| Error::decode(path, gltf_message(&e)))?;
     drop(bytes);
@@ -156,6 +157,21 @@ impl Loader<'_> {
 /// JSON, before it is validated or read. A primitive's accessors must exist (validation
 /// indexes `POSITION`'s unchecked); an image needs a `uri`, or a `bufferView` with a
 /// `mimeType`; a camera's `type` needs its own object.
+/// A binary glTF's 12-byte header must count itself: the gltf crate subtracts 12 from the
+/// declared length unchecked (a panic in debug builds, a wrapped length otherwise).
+fn check_glb_header(bytes: &[u8]) -> std::result::Result<(), String> {
+    if bytes.len() < 12 || &bytes[..4] != b"glTF" {
+        return Ok(()); // JSON, or too short for the crate to read a header: it says so.
+    }
+    let length = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]);
+    if length < 12 {
+        return Err(format!(
+            "the GLB header declares a length of {length} bytes, less than the header itself"
+        ));
+    }
+    Ok(())
+}
+
 fn precheck(root: &gltf::json::Root) -> std::result::Result<(), String> {
     use gltf::json::camera::Type;
     use gltf::json::validation::Checked;
