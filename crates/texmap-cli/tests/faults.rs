@@ -463,3 +463,65 @@ fn camera_errors_name_the_scene_and_the_flags() {
         &out,
     );
 }
+
+fn mkfifo(path: &Path) -> bool {
+    let _ = std::fs::remove_file(path);
+    Command::new("mkfifo")
+        .arg(path)
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+#[test]
+fn fifos_are_refused_as_inputs_and_written_through_as_outputs() {
+    use std::io::Read as _;
+    use std::os::unix::fs::FileTypeExt as _;
+    let d = dir("fifo");
+    let out = d.join("x.png");
+    let fifo = d.join("tex.png");
+    if !mkfifo(&fifo) {
+        eprintln!("skipped: no mkfifo on this machine");
+        return;
+    }
+    let obj = d.join("a.obj");
+    std::fs::write(d.join("a.mtl"), "newmtl m\nKd 1 1 1\nmap_Kd tex.png\n").unwrap();
+    std::fs::write(
+        &obj,
+        "mtllib a.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3\n",
+    )
+    .unwrap();
+    // Were the FIFO opened, this writer would end the read (an empty image), not a hang.
+    let unblock = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || drop(std::fs::OpenOptions::new().write(true).open(fifo)))
+    };
+    assert_refused(
+        &render(&[obj.to_str().unwrap()], &out),
+        &["tex.png", "regular file"],
+        &out,
+    );
+    // Open it ourselves so the writer thread ends either way.
+    drop(std::fs::File::open(&fifo));
+    unblock.join().unwrap();
+
+    // An output FIFO is written through: the reader gets the PNG, the FIFO stays.
+    let sink = d.join("sink.png");
+    assert!(mkfifo(&sink));
+    let reader = {
+        let sink = sink.clone();
+        std::thread::spawn(move || {
+            let mut bytes = Vec::new();
+            std::fs::File::open(sink)
+                .unwrap()
+                .read_to_end(&mut bytes)
+                .unwrap();
+            bytes
+        })
+    };
+    let r = render(&["builtin:plane"], &sink);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let png = reader.join().unwrap();
+    assert!(png.starts_with(b"\x89PNG"), "{} bytes", png.len());
+    let kind = std::fs::symlink_metadata(&sink).unwrap().file_type();
+    assert!(kind.is_fifo(), "the FIFO is still a FIFO");
+}
