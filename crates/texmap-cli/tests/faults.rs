@@ -525,3 +525,31 @@ fn fifos_are_refused_as_inputs_and_written_through_as_outputs() {
     let kind = std::fs::symlink_metadata(&sink).unwrap().file_type();
     assert!(kind.is_fifo(), "the FIFO is still a FIFO");
 }
+
+#[test]
+fn lights_that_light_nothing_and_meshes_of_no_area_are_errors() {
+    let d = dir("lights");
+    let out = d.join("x.png");
+    let mesh = "[[meshes]]\nprimitive = \"sphere\"\n";
+    for (name, light, says) in [
+        ("zero.toml", "type = \"directional\"\ndirection = [0, 0, 0]", "direction"),
+        ("nan.toml", "type = \"directional\"\ndirection = [nan, 0, 1]", "direction"),
+        ("dark.toml", "type = \"point\"\nposition = [0, 1, 0]\nintensity = nan", "colour"),
+        ("cone.toml", "type = \"spot\"\nposition = [0, 1, 0]\ndirection = [0, -1, 0]\ninner_deg = 50\nouter_deg = 40", "spot angles"),
+    ] {
+        let p = d.join(name);
+        std::fs::write(&p, format!("{mesh}[[lights]]\n{light}\n")).unwrap();
+        assert_refused(
+            &render(&[p.to_str().unwrap()], &out),
+            &[name, "lights[0]", says],
+            &out,
+        );
+    }
+    let flat = d.join("flat.toml");
+    std::fs::write(&flat, format!("{mesh}scale = 0\n")).unwrap();
+    assert_refused(
+        &render(&[flat.to_str().unwrap()], &out),
+        &["flat.toml", "zero area"],
+        &out,
+    );
+}

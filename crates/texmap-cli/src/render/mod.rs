@@ -282,6 +282,12 @@ fn build(args: &RenderArgs, texture: Option<Arc<Texture2D>>) -> Result<Built, Er
             "{name}: nothing to draw (no triangles and no volumes)"
         )));
     }
+    if built.volumes.is_empty() && !built.scene.any_triangle_has_area() {
+        let name = args.scene.as_deref().unwrap_or("builtin:demo");
+        return Err(Error::parameter(format!(
+            "{name}: nothing to draw (every triangle has zero area)"
+        )));
+    }
     for sv in &mut built.volumes {
         v.apply(sv).map_err(|e| match e {
             Error::Parameter(m) | Error::Unsupported(m) => {

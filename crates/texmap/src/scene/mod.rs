@@ -285,6 +285,25 @@ impl Scene {
         }
         dropped
     }
+
+    /// Whether some triangle has a non-zero area in world space (a zero scale or a mesh of
+    /// coincident vertices draws nothing). Stops at the first one found.
+    #[must_use]
+    pub fn any_triangle_has_area(&self) -> bool {
+        self.meshes.iter().any(|m| {
+            let p = |i: u32| {
+                m.positions
+                    .get(i as usize)
+                    .map(|&p| m.world_from_object.transform_point3(p))
+            };
+            m.indices
+                .chunks_exact(3)
+                .any(|t| match (p(t[0]), p(t[1]), p(t[2])) {
+                    (Some(a), Some(b), Some(c)) => (b - a).cross(c - a).length_squared() > 0.0,
+                    _ => false,
+                })
+        })
+    }
 }
 
 #[cfg(test)]

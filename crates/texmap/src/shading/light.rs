@@ -41,6 +41,57 @@ impl Light {
         Some(l)
     }
 
+    /// The light with unit directions, or what makes it unusable: a number that is not
+    /// finite, a zero direction, a negative colour, a range ≤ 0, or spot angles outside
+    /// 0 ≤ inner ≤ outer ≤ 90 degrees. Loaders call it so a bad light is an error naming
+    /// the file, not a light that silently lights nothing.
+    pub fn checked(&self) -> Result<Light, String> {
+        let color = match *self {
+            Light::Directional { color, .. }
+            | Light::Point { color, .. }
+            | Light::Spot { color, .. } => color,
+        };
+        if !color.is_finite() || color.min_element() < 0.0 {
+            return Err(format!("colour × intensity {color} must be finite and ≥ 0"));
+        }
+        if let Light::Point {
+            position, range, ..
+        } = *self
+        {
+            if !position.is_finite() {
+                return Err(format!("position {position} is not finite"));
+            }
+            if let Some(r) = range.filter(|r| !(*r > 0.0 && r.is_finite())) {
+                return Err(format!("range {r} must be positive"));
+            }
+        }
+        if let Light::Spot {
+            position,
+            inner_deg,
+            outer_deg,
+            ..
+        } = *self
+        {
+            if !position.is_finite() {
+                return Err(format!("position {position} is not finite"));
+            }
+            if !(0.0 <= inner_deg && inner_deg <= outer_deg && outer_deg <= 90.0) {
+                return Err(format!(
+                    "spot angles inner {inner_deg}° and outer {outer_deg}° must satisfy \
+                     0 ≤ inner ≤ outer ≤ 90"
+                ));
+            }
+        }
+        self.normalized()
+            .filter(|l| match *l {
+                Light::Directional { direction, .. } | Light::Spot { direction, .. } => {
+                    direction.is_finite()
+                }
+                Light::Point { .. } => true,
+            })
+            .ok_or_else(|| "direction must be a finite, non-zero vector".to_string())
+    }
+
     /// The light's direction `L` (unit, towards the light) and `S·I` at world point `p`, or
     /// `None` when it does not reach `p`.
     #[inline(always)]

@@ -110,7 +110,13 @@ impl Loader<'_> {
             self.cameras.push(camera(&cam, world));
         }
         if let Some(l) = node.light() {
-            self.scene.lights.push(light(&l, world));
+            let checked = light(&l, world).checked().map_err(|m| {
+                Error::decode(
+                    self.path,
+                    format!("light {} (node {}): {m}", l.index(), node.index()),
+                )
+            })?;
+            self.scene.lights.push(checked);
         }
         for child in node.children() {
             self.visit(&child, world, depth + 1)?;

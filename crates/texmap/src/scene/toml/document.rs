@@ -66,7 +66,12 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     }
     out.scene.camera = out.cameras.first().copied();
 
-    out.scene.lights.extend(spec.lights.iter().map(light));
+    for (i, l) in spec.lights.iter().enumerate() {
+        let l = light(l)
+            .checked()
+            .map_err(|e| err(format!("lights[{i}]: {e}")))?;
+        out.scene.lights.push(l);
+    }
     if out.scene.lights.is_empty() {
         out.scene.lights.push(default_light());
     }
