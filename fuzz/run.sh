@@ -21,5 +21,9 @@ for t in "${targets[@]}"; do
   rc=$?
   execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "logs/$t.log" | grep -o '[0-9]*$')
   found=$(ls "artifacts/$t" | wc -l)
-  printf '%-6s exit %d, %s s, %s executions, %d findings\n' "$t" "$rc" "$secs" "${execs:-?}" "$found"
+  # libFuzzer's own count of the seconds it fuzzed ("Done N runs in S second(s)"); none
+  # when it stopped at a finding.
+  took=$(grep -o 'runs in [0-9]* second' "logs/$t.log" | grep -o '[0-9]*' | tail -1)
+  printf '%-6s exit %d, fuzzed %s s, %s executions, %d findings\n' \
+    "$t" "$rc" "${took:-?}" "${execs:-?}" "$found"
 done
