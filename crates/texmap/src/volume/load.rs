@@ -474,7 +474,11 @@ fn nifti_data_bytes(h: &[u8]) -> Option<(u64, ScalarType, u64)> {
         }
     };
     // Saturating: `vox_offset` may be as large as f32 goes.
-    Some((count, ty, off.saturating_add(count.saturating_mul(ty.size() as u64))))
+    Some((
+        count,
+        ty,
+        off.saturating_add(count.saturating_mul(ty.size() as u64)),
+    ))
 }
 
 /// Reads a NRRD file with an attached (`.nrrd`) or detached (`.nhdr` + `data file:`) header;
