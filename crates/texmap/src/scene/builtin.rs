@@ -374,6 +374,7 @@ pub fn demo() -> Scene {
             far: 1000.0,
         }),
         uv_scale: 1.0,
+        shadows: Default::default(),
     }
 }
 
@@ -444,6 +445,7 @@ pub fn marble() -> Scene {
             far: 1000.0,
         }),
         uv_scale: 1.0,
+        shadows: Default::default(),
     }
 }
 
