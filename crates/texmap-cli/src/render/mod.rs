@@ -13,8 +13,8 @@ use glam::{Vec3, Vec4};
 use texmap::camera::CameraProjection;
 use texmap::render::framing::{choose_camera, CameraRequest, ProjectionRequest};
 use texmap::render::{
-    render_into_with_shadows, render_with_volumes, shadow_maps, CullMode, Frame, Interpolation,
-    Settings, ShadingMode, Visibility,
+    render_into_with_shadows, render_with_volumes, shadow_map_bytes, shadow_maps, CullMode, Frame,
+    Interpolation, Settings, ShadingMode, Visibility,
 };
 use texmap::scene::builtin::Builtin;
 use texmap::scene::{LoadOptions, Scene};
@@ -492,6 +492,19 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
         .with_textures(textures)
         .with_shadows(shadows);
     settings.validate()?;
+    limits::check_shadow_maps(
+        shadow_map_bytes(&scene, &settings),
+        &match args.shadow_map_size {
+            Some(n) => format!("--shadow-map-size {n}"),
+            None => format!(
+                "{}: shadow map_size {}",
+                args.scene.as_deref().unwrap_or("builtin:demo"),
+                scene.shadows.params.map_size
+            ),
+        },
+        (args.size.0, args.size.1, ssaa),
+        max_memory,
+    )?;
     // The shadow maps do not depend on the camera: drawn once for the whole turntable (the
     // stats report their time apart from the frames').
     let shadow_start = Instant::now();

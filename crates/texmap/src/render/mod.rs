@@ -56,7 +56,7 @@ use crate::{Error, Result};
 use draw::DrawInfo;
 use fragment::SceneShader;
 pub use settings::{Settings, ShadingMode, TextureOverrides, Visibility, MAX_SIZE};
-pub use shadow::{shadow_maps, ShadowOverrides, MAX_SPOT_MAP_DEG};
+pub use shadow::{shadow_map_bytes, shadow_maps, ShadowOverrides, MAX_SPOT_MAP_DEG};
 use vertex::SceneVertices;
 pub use volumes::{render_with_meshes, render_with_volumes, surface_distances};
 

@@ -207,6 +207,32 @@ pub fn shadow_maps(scene: &Scene, settings: &Settings) -> Result<ShadowMaps> {
     Ok(ShadowMaps { lights, params })
 }
 
+/// The bytes [`shadow_maps`] holds for `scene` under `settings`: four per texel of every
+/// map (six for a cube) and sixteen per texel of the one colour target the passes reuse;
+/// 0 when no light casts. Callers bound it before drawing (the command line by
+/// `--max-memory`).
+#[must_use]
+pub fn shadow_map_bytes(scene: &Scene, settings: &Settings) -> u64 {
+    let casters = settings.shadows.casters(scene);
+    if casters.is_empty() || settings.unlit {
+        return 0;
+    }
+    let n = u64::from(settings.shadows.apply(scene.shadows.params).map_size);
+    let maps: u64 = casters
+        .iter()
+        .filter_map(|&i| scene.lights.get(i)?.normalized())
+        .map(|l| match l {
+            Light::Directional { .. } => 1,
+            Light::Spot { outer_deg, .. } if outer_deg <= MAX_SPOT_MAP_DEG => 1,
+            _ => 6,
+        })
+        .sum();
+    if maps == 0 {
+        return 0;
+    }
+    n * n * (4 * maps + 16)
+}
+
 /// Where `light` is, as [`LightShadow::origin`] records it: its position, or its direction
 /// towards the light.
 pub(super) fn origin(light: &Light) -> Vec3 {
