@@ -2,9 +2,8 @@
 //! [`ShadowOverrides`]), each light's view fitted to the scene, and the depth passes drawn
 //! through the pipeline ([`shadow_maps`]).
 //!
-//! Views: a directional light looks along its rays at the scene's bounding box, an
-//! orthographic rectangle fitted to the box's eight corners in the light's view (two texels
-//! of margin a side); a spot light of outer angle up to 60° is one perspective map covering
+//! Views: a directional light looks along its rays at the scene, an orthographic rectangle
+//! fitted to where shadows can fall (`directional`: two texels of margin a side); a spot light of outer angle up to 60° is one perspective map covering
 //! its cone; a point light (or a wider spot) is a cube of six 90° faces, each widened by three
 //! texels so filters near a face's edge still read drawn texels. Near and far planes enclose
 //! the box.
@@ -254,7 +253,7 @@ fn light_maps(
     let mut draw = |m: ShadowMap| draw_map(m, casting, target);
     match *light {
         Light::Directional { direction, .. } => {
-            LightMaps::One(draw(directional(direction, bounds, n)))
+            LightMaps::One(draw(directional(direction, bounds, casting, n)))
         }
         Light::Spot {
             position,
@@ -295,22 +294,102 @@ fn corners((lo, hi): (Vec3, Vec3)) -> [Vec3; 8] {
     })
 }
 
-/// A directional light's map (`towards`: unit, towards the light): orthographic, fitted to
-/// the box with two texels of margin a side, its depth range enclosing the box.
-fn directional(towards: Vec3, bounds: (Vec3, Vec3), n: u32) -> ShadowMap {
+/// A mesh seen along a directional light: the rectangle it covers across the rays and the
+/// depth range it spans, and whether it is flat (a flat mesh cannot shadow itself).
+struct Footprint {
+    lo: Vec3,
+    hi: Vec3,
+    flat: bool,
+}
+
+impl Footprint {
+    fn of(mesh: &Mesh, view_from_world: &Mat4) -> Option<Footprint> {
+        let view_from_object = *view_from_world * mesh.world_from_object;
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        let points: Vec<Vec3> = mesh
+            .positions
+            .iter()
+            .map(|&p| view_from_object.transform_point3(p))
+            .filter(|p| p.is_finite())
+            .collect();
+        for &q in &points {
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+        if points.is_empty() {
+            return None;
+        }
+        // Flat: every point on the plane of the first triangle with an area.
+        let extent = (hi - lo).max_element().max(1e-6);
+        let plane = mesh.indices.chunks_exact(3).find_map(|t| {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| points.get(i as usize).copied());
+            let (a, b, c) = (a?, b?, c?);
+            let n = (b - a).cross(c - a);
+            (n.length() > 1e-9 * extent * extent).then(|| (a, n.normalize()))
+        });
+        let flat = plane.is_some_and(|(a, n)| {
+            points
+                .iter()
+                .all(|&p| (p - a).dot(n).abs() <= 1e-5 * extent)
+        });
+        Some(Footprint { lo, hi, flat })
+    }
+
+    /// The overlap of two rectangles across the rays, if any.
+    fn overlap(&self, other: &Footprint) -> Option<(Vec2, Vec2)> {
+        let lo = self.lo.truncate().max(other.lo.truncate());
+        let hi = self.hi.truncate().min(other.hi.truncate());
+        (lo.x <= hi.x && lo.y <= hi.y).then_some((lo, hi))
+    }
+}
+
+/// A directional light's map (`towards`: unit, towards the light): orthographic, its depth
+/// range enclosing the casters, its rectangle fitted with two texels of margin a side to
+/// where a shadow can fall — a shadow lies inside its caster's rectangle across the rays and
+/// on another mesh, or on the caster itself unless it is flat. So a large floor widens the
+/// map only where other meshes overlap it (lookups outside the rectangle are lit); a scene
+/// of one flat mesh gets its whole box.
+fn directional(towards: Vec3, bounds: (Vec3, Vec3), casting: &[&Mesh], n: u32) -> ShadowMap {
     let centre = (bounds.0 + bounds.1) * 0.5;
     let view_from_world = Mat4::look_at_rh(centre + towards, centre, up_for(towards));
+    let prints: Vec<Footprint> = casting
+        .iter()
+        .filter_map(|m| Footprint::of(m, &view_from_world))
+        .collect();
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    for c in corners(bounds) {
-        let q = view_from_world.transform_point3(c);
-        lo = lo.min(q);
-        hi = hi.max(q);
+    for f in &prints {
+        lo = lo.min(f.lo);
+        hi = hi.max(f.hi);
+    }
+    if prints.is_empty() {
+        for c in corners(bounds) {
+            let q = view_from_world.transform_point3(c);
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+    }
+    let (mut rect_lo, mut rect_hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
+    for (a, fa) in prints.iter().enumerate() {
+        if !fa.flat {
+            rect_lo = rect_lo.min(fa.lo.truncate());
+            rect_hi = rect_hi.max(fa.hi.truncate());
+            continue;
+        }
+        for (b, fb) in prints.iter().enumerate() {
+            if let (true, Some((l, h))) = (a != b, fa.overlap(fb)) {
+                rect_lo = rect_lo.min(l);
+                rect_hi = rect_hi.max(h);
+            }
+        }
+    }
+    if !(rect_lo.x <= rect_hi.x && rect_lo.y <= rect_hi.y) {
+        (rect_lo, rect_hi) = (lo.truncate(), hi.truncate());
     }
     let extent = (hi - lo).max_element().max(1e-6);
     // Flat boxes seen edge-on still get a rectangle.
-    let size = (hi - lo).truncate().max(Vec2::splat(1e-3 * extent));
+    let size = (rect_hi - rect_lo).max(Vec2::splat(1e-3 * extent));
     let margin = size * (2.0 / (n as f32 - 4.0).max(1.0));
-    let mid = (lo + hi).truncate() * 0.5;
+    let mid = (rect_lo + rect_hi) * 0.5;
     let depth_pad = 1e-3 * extent;
     ShadowMap {
         view_from_world,

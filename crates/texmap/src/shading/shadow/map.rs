@@ -196,6 +196,15 @@ impl ShadowMap {
         }
     }
 
+    /// Whether texel coordinates `(u, v)` fall outside the map: nothing there was drawn, so
+    /// lookups call the point lit (a directional map covers only where shadows can fall).
+    #[inline(always)]
+    #[must_use]
+    pub fn outside(&self, u: f32, v: f32) -> bool {
+        let size = self.size as f32;
+        !(u >= 0.0 && v >= 0.0 && u <= size && v <= size)
+    }
+
     /// The depth of texel `(i, j)`, clamped to the map's edges.
     #[inline(always)]
     #[must_use]

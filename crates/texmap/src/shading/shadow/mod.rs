@@ -9,6 +9,7 @@
 //! 1. the map that sees it (a cube: the face of the dominant axis of `p − light`);
 //! 2. the point moved along its normal by `normal_offset` texels (normal offset);
 //! 3. its texel coordinates, depth and tangent plane in the map ([`ShadowMap::locate`]);
+//!    outside the map it is lit (nothing there was drawn);
 //! 4. the receiver's depth lowered by `texel·(bias + slope_bias·tan θ)` (constant and
 //!    slope-scaled bias, θ between N and L, tan θ at most [`MAX_SLOPE`]);
 //! 5. the filter's lit fraction (`filter.rs`): one texel, PCF 3×3 or 5×5, a Poisson disc, or
@@ -346,7 +347,7 @@ impl ShadowMaps {
         let perspective = matches!(map.view, MapView::Perspective { .. });
         Vec4::from_array(std::array::from_fn(|j| {
             let behind = perspective && !(r.depth[j] > 0.0);
-            if facing & (1 << j) == 0 || behind {
+            if facing & (1 << j) == 0 || behind || map.outside(r.u[j], r.v[j]) {
                 1.0
             } else {
                 filter::lit_fraction(map, &r.lane(j), bias[j], self.params.filter, shadow.extent)
@@ -364,7 +365,7 @@ impl ShadowMaps {
         let cos = n.dot(l).clamp(1e-6, 1.0);
         let tan = ((1.0 - cos * cos).sqrt() / cos).min(MAX_SLOPE);
         let p = p + n * (self.params.normal_offset * map.texel_at(p));
-        let Some(r) = map.locate(p, n) else {
+        let Some(r) = map.locate(p, n).filter(|r| !map.outside(r.u, r.v)) else {
             return 1.0;
         };
         let bias = r.texel * (self.params.bias + self.params.slope_bias * tan);
