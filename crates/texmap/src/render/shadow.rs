@@ -499,6 +499,6 @@ fn draw_map(mut map: ShadowMap, casting: &[&Mesh], target: &mut Vec<Vec4>) -> Sh
         depth_sort: false,
     };
     pipeline::draw_into(&calls, &DepthShader, &t, target);
-    map.depth = target.iter().map(|c| c.x).collect();
+    map.set_rows(target.iter().map(|c| c.x));
     map
 }

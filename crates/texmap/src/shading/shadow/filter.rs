@@ -191,11 +191,10 @@ fn pcf3(map: &ShadowMap, r: &Receiver, bias: f32) -> f32 {
     let step = Vec4::splat(r.dv);
     let wx = Vec4::new(1.0 - a, 1.0, 1.0, a);
     let wy = [1.0 - b, 1.0, 1.0, b];
-    let (n, i0, j0) = (n as usize, i0 as usize, j0 as usize);
+    let (i0, j0) = (i0 as usize, j0 as usize);
     let mut sum = 0.0;
     for (y, wy) in wy.iter().enumerate() {
-        let start = (j0 + y) * n + i0;
-        let texels = Vec4::from_slice(&map.depth[start..start + 4]);
+        let texels = map.four_at(i0, j0 + y);
         let lit = Vec4::select(plane.cmple(texels), wx, Vec4::ZERO);
         sum += wy * lit.element_sum();
         plane += step;
@@ -249,7 +248,7 @@ mod tests {
     /// A 16² map over [−8, 8]² seen from above, caster depth `z` where `covered(i, j)`.
     fn map(covered: impl Fn(i32, i32) -> bool, z: f32) -> ShadowMap {
         let n = 16;
-        ShadowMap {
+        let mut m = ShadowMap {
             view_from_world: Mat4::look_at_rh(Vec3::new(0.0, 10.0, 0.0), Vec3::ZERO, -Vec3::Z),
             view: MapView::Orthographic {
                 min: Vec2::splat(-8.0),
@@ -258,16 +257,16 @@ mod tests {
             near: 0.0,
             far: 20.0,
             size: n,
-            depth: (0..n * n)
-                .map(|k| {
-                    if covered((k % n) as i32, (k / n) as i32) {
-                        z
-                    } else {
-                        f32::INFINITY
-                    }
-                })
-                .collect(),
-        }
+            depth: Vec::new(),
+        };
+        m.set_rows((0..n * n).map(|k| {
+            if covered((k % n) as i32, (k / n) as i32) {
+                z
+            } else {
+                f32::INFINITY
+            }
+        }));
+        m
     }
 
     fn at(m: &ShadowMap, x: f32, z: f32) -> Receiver {

@@ -9,6 +9,9 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
+/// The side of the square blocks a map's texels are stored in.
+pub const BLOCK: usize = 8;
+
 /// The steepest receiver slope a lookup follows, in texels of depth per texel (tan θ; θ ≈ 83°):
 /// beyond it a plane seen edge-on would ask for unbounded depths.
 pub const MAX_SLOPE: f32 = 8.0;
@@ -35,8 +38,10 @@ pub struct ShadowMap {
     pub far: f32,
     /// Texels a side.
     pub size: u32,
-    /// `size²` texels, row-major, top row first: the depth of the nearest caster, +∞ where
-    /// there is none.
+    /// The depth of the nearest caster at each texel, +∞ where there is none, in blocks of
+    /// [`BLOCK`]² texels (the blocks row-major, top row first, the texels inside a block
+    /// too; [`ShadowMap::index`]), so a filter's window is a few cache lines of one page
+    /// rather than rows a map's width apart. [`ShadowMap::set_rows`] fills it.
     pub depth: Vec<f32>,
 }
 
@@ -205,13 +210,71 @@ impl ShadowMap {
         !(u >= 0.0 && v >= 0.0 && u <= size && v <= size)
     }
 
+    /// Whether four points (x, y and z lanes) all fall more than `margin` texels outside an
+    /// orthographic map (always false for a perspective one).
+    #[inline]
+    #[must_use]
+    pub fn outside_quad(&self, p: [Vec4; 3], margin: f32) -> bool {
+        let MapView::Orthographic { min, max } = self.view else {
+            return false;
+        };
+        let [qx, qy, _] = transform_lanes(&self.view_from_world, p, 1.0);
+        let t = (max - min) / self.size as f32;
+        let (mx, my) = (margin * t.x, margin * t.y);
+        let out = qx.cmplt(Vec4::splat(min.x - mx))
+            | qx.cmpgt(Vec4::splat(max.x + mx))
+            | qy.cmplt(Vec4::splat(min.y - my))
+            | qy.cmpgt(Vec4::splat(max.y + my));
+        out.all()
+    }
+
+    /// Where texel `(i, j)` (inside the map) is stored in [`ShadowMap::depth`].
+    #[inline(always)]
+    #[must_use]
+    pub fn index(&self, i: usize, j: usize) -> usize {
+        let blocks = (self.size as usize).div_ceil(BLOCK);
+        ((j / BLOCK) * blocks + i / BLOCK) * BLOCK * BLOCK + (j % BLOCK) * BLOCK + i % BLOCK
+    }
+
+    /// Stores `rows` (`size²` depths, row-major, top row first) in the map's blocks; texels
+    /// past `rows`' end are +∞.
+    pub fn set_rows(&mut self, rows: impl IntoIterator<Item = f32>) {
+        let n = self.size as usize;
+        let side = n.div_ceil(BLOCK) * BLOCK;
+        self.depth = vec![f32::INFINITY; side * side];
+        for (k, d) in rows.into_iter().take(n * n).enumerate() {
+            let at = self.index(k % n, k / n);
+            self.depth[at] = d;
+        }
+    }
+
     /// The depth of texel `(i, j)`, clamped to the map's edges.
     #[inline(always)]
     #[must_use]
     pub fn depth_at(&self, i: i32, j: i32) -> f32 {
         let last = self.size as i32 - 1;
         let (i, j) = (i.clamp(0, last) as usize, j.clamp(0, last) as usize);
-        self.depth[j * self.size as usize + i]
+        self.depth[self.index(i, j)]
+    }
+
+    /// Texels `(i..i + 4, j)` (inside the map): one load when they share a block row.
+    #[inline(always)]
+    #[must_use]
+    pub fn four_at(&self, i: usize, j: usize) -> Vec4 {
+        let at = self.index(i, j);
+        if i % BLOCK <= BLOCK - 4 {
+            Vec4::from_slice(&self.depth[at..at + 4])
+        } else {
+            let first = BLOCK - i % BLOCK;
+            let next = self.index(i + first, j);
+            Vec4::from_array(std::array::from_fn(|k| {
+                if k < first {
+                    self.depth[at + k]
+                } else {
+                    self.depth[next + k - first]
+                }
+            }))
+        }
     }
 }
 
@@ -267,8 +330,32 @@ mod tests {
             near: 0.0,
             far: 20.0,
             size,
-            depth: vec![f32::INFINITY; (size * size) as usize],
+            depth: vec![f32::INFINITY; (size.div_ceil(8) * 8).pow(2) as usize],
         }
+    }
+
+    #[test]
+    fn blocks_hold_every_texel_once() {
+        // 13 is not a multiple of the block side: the last blocks are padded with +∞.
+        let mut m = ortho(13);
+        m.set_rows((0..169).map(|k| k as f32));
+        assert_eq!(m.depth.len(), 16 * 16);
+        for j in 0..13 {
+            for i in 0..13 {
+                assert_eq!(m.depth_at(i, j), (j * 13 + i) as f32);
+            }
+            for i in 0..=9usize {
+                let four = m.four_at(i, j as usize);
+                let want: [f32; 4] = std::array::from_fn(|k| (j as usize * 13 + i + k) as f32);
+                assert_eq!(four.to_array(), want, "({i}, {j})");
+            }
+        }
+        // Clamped to the edges.
+        assert_eq!(m.depth_at(-3, 20), (12 * 13) as f32);
+        assert_eq!(
+            m.depth.iter().filter(|d| d.is_infinite()).count(),
+            256 - 169
+        );
     }
 
     #[test]

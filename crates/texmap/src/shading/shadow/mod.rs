@@ -29,7 +29,7 @@ mod map;
 use glam::{Vec3, Vec4};
 
 pub use filter::{MAX_PCSS_RADIUS, MIN_PCSS_RADIUS, POISSON_RADIUS};
-pub use map::{MapView, Receiver, Receivers, ShadowMap, MAX_SLOPE};
+pub use map::{MapView, Receiver, Receivers, ShadowMap, BLOCK, MAX_SLOPE};
 
 use crate::texture::UnknownName;
 use crate::{Error, Result};
@@ -313,6 +313,9 @@ impl ShadowMaps {
         let Some(Some(shadow)) = self.lights.get(i) else {
             return Vec4::ONE;
         };
+        if facing & 0b1111 == 0 {
+            return Vec4::ONE;
+        }
         let lane = |v: [Vec4; 3], j: usize| Vec3::new(v[0][j], v[1][j], v[2][j]);
         let map = match &shadow.maps {
             LightMaps::One(m) => m,
@@ -332,6 +335,11 @@ impl ShadowMaps {
                 &faces[first]
             }
         };
+        // A directional map covers only where shadows can fall: a quad wholly outside it
+        // (by more than the normal offset can move it) is lit without the lookup's steps.
+        if map.outside_quad(p, self.params.normal_offset + 1.0) {
+            return Vec4::ONE;
+        }
         let cos = (n[0] * l.x + n[1] * l.y + n[2] * l.z).clamp(Vec4::splat(1e-6), Vec4::ONE);
         let sin = Vec4::from_array(
             (Vec4::ONE - cos * cos)
