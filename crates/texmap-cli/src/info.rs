@@ -73,6 +73,62 @@ pub fn run(args: InfoArgs) -> Result<(), Error> {
     crate::output::stdout(&out)
 }
 
+/// Which lights cast shadows and how their maps are made and read.
+fn print_shadows(out: &mut String, s: &texmap::scene::Scene) {
+    let casting: Vec<usize> = s
+        .shadows
+        .lights
+        .iter()
+        .copied()
+        .filter(|&i| i < s.lights.len())
+        .collect();
+    if casting.is_empty() {
+        outln!(
+            out,
+            "shadows: none (no light casts; --shadows makes every light cast)"
+        );
+        return;
+    }
+    let p = &s.shadows.params;
+    let kinds: Vec<String> = casting
+        .iter()
+        .map(|&i| {
+            let kind = match s.lights[i] {
+                texmap::scene::Light::Directional { .. } => "directional",
+                texmap::scene::Light::Point { .. } => "point, a cube of six maps",
+                texmap::scene::Light::Spot { outer_deg, .. }
+                    if outer_deg <= texmap::render::MAX_SPOT_MAP_DEG =>
+                {
+                    "spot"
+                }
+                texmap::scene::Light::Spot { .. } => "spot, a cube of six maps",
+            };
+            format!("[{i}] {kind}")
+        })
+        .collect();
+    outln!(
+        out,
+        "shadows: {} cast{} ({}); maps {}², filter {}, bias {} + slope {} texels, normal offset {} \
+         texels",
+        casting.len(),
+        if casting.len() == 1 { "s" } else { "" },
+        kinds.join(", "),
+        p.map_size,
+        p.filter.name(),
+        p.bias,
+        p.slope_bias,
+        p.normal_offset
+    );
+    if p.filter == texmap::shading::shadow::ShadowFilter::Pcss {
+        outln!(
+            out,
+            "  pcss: directional lights {}° across, point and spot lights of radius {}",
+            p.light_angle,
+            p.light_radius
+        );
+    }
+}
+
 fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
     let s = &l.scene;
     outln!(out, "{}: {}", path.display(), l.info.format);
@@ -227,6 +283,7 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
         s.lights.len(),
         s.ambient_light.to_array()
     );
+    print_shadows(out, s);
     outln!(out, "volumes: {}", l.volumes.len());
     for (i, v) in l.volumes.iter().enumerate() {
         outln!(out, "  [{i}] {}", describe_scene_volume(v));

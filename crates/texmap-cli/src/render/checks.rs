@@ -4,9 +4,12 @@
 //! OpenGL's mipmapped filters, bias and clamps also to anisotropic and EWA filters, the border
 //! colour only to a border wrap); mesh flags need meshes, volume flags volumes, framing flags
 //! the default camera of a scene with volumes, load flags a file; `--cull` a single-sided
-//! material.
+//! material; shadow flags a lit scene with a light that casts (the PCSS light sizes, PCSS and a
+//! light of their kind).
 
-use texmap::render::TextureOverrides;
+use texmap::render::{ShadowOverrides, TextureOverrides};
+use texmap::scene::Light;
+use texmap::shading::shadow::{ShadowFilter, MAX_SHADOW_MAP_SIZE};
 use texmap::texture::{Filter, LodRule, MinFilter, Sampler, Wrap};
 use texmap::Error;
 
@@ -27,6 +30,153 @@ pub(super) fn texture_overrides(args: &RenderArgs) -> TextureOverrides {
     // Given straight; the sampler holds it premultiplied.
     o.border = args.border.map(|b| (b.truncate() * b.w).extend(b.w));
     o
+}
+
+/// The user's shadow flags, each value checked with the flag's name.
+pub(super) fn shadow_overrides(args: &RenderArgs) -> Result<ShadowOverrides, Error> {
+    let mut o = ShadowOverrides::default();
+    o.cast = args.shadows;
+    if let Some(n) = args.shadow_map_size {
+        if !(1..=MAX_SHADOW_MAP_SIZE).contains(&n) {
+            return Err(Error::parameter(format!(
+                "--shadow-map-size {n} is outside 1..={MAX_SHADOW_MAP_SIZE}"
+            )));
+        }
+    }
+    o.map_size = args.shadow_map_size;
+    o.filter = args.shadow_filter;
+    for (flag, v) in [
+        ("--shadow-bias", args.shadow_bias),
+        ("--shadow-slope-bias", args.shadow_slope_bias),
+        ("--shadow-normal-offset", args.shadow_normal_offset),
+        ("--shadow-light-radius", args.shadow_light_radius),
+    ] {
+        if let Some(v) = v {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::parameter(format!(
+                    "{flag} {v} must be finite and at least 0"
+                )));
+            }
+        }
+    }
+    if let Some(a) = args.shadow_light_angle {
+        if !(0.0..90.0).contains(&a) {
+            return Err(Error::parameter(format!(
+                "--shadow-light-angle {a} is outside [0, 90) degrees"
+            )));
+        }
+    }
+    o.bias = args.shadow_bias;
+    o.slope_bias = args.shadow_slope_bias;
+    o.normal_offset = args.shadow_normal_offset;
+    o.light_angle = args.shadow_light_angle;
+    o.light_radius = args.shadow_light_radius;
+    Ok(o)
+}
+
+/// Refuses shadow flags that cannot change `built`'s image: `--shadows` where nothing is lit,
+/// there is no light or every light already casts, `--shadows=false` where none casts, the
+/// map and filter flags where no light casts, and the PCSS light sizes without PCSS or a
+/// casting light of their kind.
+fn check_shadow_flags(args: &RenderArgs, built: &Built, name: &str) -> Result<(), Error> {
+    let scene = &built.scene;
+    let lit = !args.unlit
+        && scene.meshes.iter().any(|m| {
+            scene
+                .materials
+                .get(m.material)
+                .is_some_and(|mat| !mat.unlit)
+        });
+    let own = ShadowOverrides::default().casters(scene);
+    match args.shadows {
+        Some(true) if !lit => {
+            return Err(Error::parameter(format!(
+                "--shadows: {name} is drawn unlit (no light to shadow)"
+            )))
+        }
+        Some(true) if scene.lights.is_empty() => {
+            return Err(Error::parameter(format!("--shadows: {name} has no lights")))
+        }
+        Some(true) if own.len() == scene.lights.len() => {
+            return Err(Error::parameter(format!(
+                "--shadows: every light of {name} already casts shadows"
+            )))
+        }
+        Some(false) if own.is_empty() => {
+            return Err(Error::parameter(format!(
+                "--shadows=false: no light of {name} casts shadows"
+            )))
+        }
+        _ => {}
+    }
+    let overrides = shadow_overrides(args)?;
+    let casters = overrides.casters(scene);
+    let params = [
+        ("--shadow-map-size", args.shadow_map_size.is_some()),
+        ("--shadow-filter", args.shadow_filter.is_some()),
+        ("--shadow-bias", args.shadow_bias.is_some()),
+        ("--shadow-slope-bias", args.shadow_slope_bias.is_some()),
+        (
+            "--shadow-normal-offset",
+            args.shadow_normal_offset.is_some(),
+        ),
+        ("--shadow-light-angle", args.shadow_light_angle.is_some()),
+        ("--shadow-light-radius", args.shadow_light_radius.is_some()),
+    ];
+    let given: Vec<&str> = params.iter().filter(|(_, g)| *g).map(|(f, _)| *f).collect();
+    if given.is_empty() {
+        return Ok(());
+    }
+    if casters.is_empty() || !lit {
+        return Err(Error::parameter(format!(
+            "{}: no light of {name} casts shadows{}",
+            given.join(", "),
+            if lit {
+                " (add --shadows)"
+            } else {
+                " (it is drawn unlit)"
+            }
+        )));
+    }
+    let filter = overrides.apply(scene.shadows.params).filter;
+    let kinds: Vec<&Light> = casters
+        .iter()
+        .filter_map(|&i| scene.lights.get(i))
+        .collect();
+    let directional = kinds.iter().any(|l| matches!(l, Light::Directional { .. }));
+    for (flag, given, kind_casts, kind) in [
+        (
+            "--shadow-light-angle",
+            args.shadow_light_angle.is_some(),
+            directional,
+            "directional",
+        ),
+        (
+            "--shadow-light-radius",
+            args.shadow_light_radius.is_some(),
+            kinds
+                .iter()
+                .any(|l| !matches!(l, Light::Directional { .. })),
+            "point or spot",
+        ),
+    ] {
+        if !given {
+            continue;
+        }
+        if filter != ShadowFilter::Pcss {
+            return Err(Error::parameter(format!(
+                "{flag}: the light's size is read by the pcss filter; {name} filters with {} \
+                 (add --shadow-filter pcss)",
+                filter.name()
+            )));
+        }
+        if !kind_casts {
+            return Err(Error::parameter(format!(
+                "{flag}: no {kind} light of {name} casts shadows"
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// The distinct filters of `filters`, by name.
@@ -63,10 +213,22 @@ pub(super) fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error>
                 ("--msaa", args.msaa.is_some()),
                 ("--ssaa", args.ssaa.is_some()),
                 ("--unlit", args.unlit),
+                ("--shadows", args.shadows.is_some()),
+                ("--shadow-map-size", args.shadow_map_size.is_some()),
+                ("--shadow-filter", args.shadow_filter.is_some()),
+                ("--shadow-bias", args.shadow_bias.is_some()),
+                ("--shadow-slope-bias", args.shadow_slope_bias.is_some()),
+                (
+                    "--shadow-normal-offset",
+                    args.shadow_normal_offset.is_some(),
+                ),
+                ("--shadow-light-angle", args.shadow_light_angle.is_some()),
+                ("--shadow-light-radius", args.shadow_light_radius.is_some()),
             ]),
             format!("{name} has no meshes to draw (these flags act on meshes)"),
         )?;
     }
+    check_shadow_flags(args, built, name)?;
     // --texture gives the scene image textures, so sampler flags then act.
     let samplers = built.scene.texture_samplers();
     if samplers.is_empty() && args.texture.is_none() {

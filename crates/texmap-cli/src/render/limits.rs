@@ -76,6 +76,30 @@ pub fn check_frame(width: u32, height: u32, ssaa: u32, max_bytes: u64) -> Result
     Ok(())
 }
 
+/// Refuses shadow maps of `bytes` that would not fit in `max_bytes` next to the frame's
+/// buffers (as [`check_frame`] counts them); `source` names where their size came from.
+pub fn check_shadow_maps(
+    bytes: u64,
+    source: &str,
+    frame: (u32, u32, u32),
+    max_bytes: u64,
+) -> Result<(), Error> {
+    let (width, height, ssaa) = frame;
+    let pixels = u64::from(width) * u64::from(height);
+    let samples = pixels * u64::from(ssaa) * u64::from(ssaa);
+    let frame_bytes = samples * 16 + if ssaa > 1 { pixels * 16 } else { 0 } + pixels * 3;
+    if bytes.saturating_add(frame_bytes) > max_bytes {
+        return Err(Error::parameter(format!(
+            "{source}: the shadow maps need {} MiB, with the frame's {} MiB \
+             above --max-memory {} MiB",
+            bytes >> 20,
+            frame_bytes >> 20,
+            max_bytes >> 20
+        )));
+    }
+    Ok(())
+}
+
 /// Refuses an output path that names one of the render's inputs.
 pub fn check_output(output: &Path, inputs: &[&Path]) -> Result<(), Error> {
     if crate::output::is_an_input(output, inputs) {
@@ -114,5 +138,21 @@ mod tests {
             "{e}"
         );
         assert!(check_frame(16384, 16384, 1, 8 << 30).is_ok());
+    }
+
+    #[test]
+    fn shadow_map_budget() {
+        // A cube of six 4096² maps and its target: 640 MiB.
+        let cube = 4096u64 * 4096 * (4 * 6 + 16);
+        assert!(
+            check_shadow_maps(cube, "--shadow-map-size 4096", (1920, 1080, 1), 4 << 30).is_ok()
+        );
+        let e = check_shadow_maps(cube, "--shadow-map-size 4096", (1920, 1080, 1), 512 << 20)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("--shadow-map-size 4096") && e.contains("--max-memory 512"),
+            "{e}"
+        );
     }
 }

@@ -13,11 +13,12 @@ use glam::{Vec3, Vec4};
 use texmap::camera::CameraProjection;
 use texmap::render::framing::{choose_camera, CameraRequest, ProjectionRequest};
 use texmap::render::{
-    render_into, render_with_volumes, CullMode, Frame, Interpolation, Settings, ShadingMode,
-    Visibility,
+    render_into_with_shadows, render_with_volumes, shadow_map_bytes, shadow_maps, CullMode, Frame,
+    Interpolation, Settings, ShadingMode, Visibility,
 };
 use texmap::scene::builtin::Builtin;
 use texmap::scene::{LoadOptions, Scene};
+use texmap::shading::shadow::ShadowFilter;
 use texmap::texture::load::{load_texture, Limits};
 use texmap::texture::{ColorSpace, Filter, Texture2D, Wrap};
 use texmap::volume::SceneVolume;
@@ -125,6 +126,32 @@ pub struct RenderArgs {
     /// Texture colour only, no lighting.
     #[arg(long)]
     unlit: bool,
+    /// Shadow maps: every light casts shadows; `--shadows=false`: none does, whatever the
+    /// scene file says.
+    #[arg(long, num_args = 0..=1, require_equals = true, default_missing_value = "true")]
+    shadows: Option<bool>,
+    /// Shadow map texels a side (each cube face of a point light) [default: 2048].
+    #[arg(long, value_name = "N")]
+    shadow_map_size: Option<u32>,
+    // The help is the library's list of names.
+    #[arg(long, value_parser = ShadowFilter::parse, help = ShadowFilter::SPELLINGS)]
+    shadow_filter: Option<ShadowFilter>,
+    /// Constant shadow bias, in map texels [default: 0.5].
+    #[arg(long, value_name = "TEXELS")]
+    shadow_bias: Option<f32>,
+    /// Slope-scaled shadow bias: texels per unit of tan θ (θ between normal and light)
+    /// [default: 1].
+    #[arg(long, value_name = "TEXELS")]
+    shadow_slope_bias: Option<f32>,
+    /// Normal offset of shadow lookups, in map texels [default: 0.5].
+    #[arg(long, value_name = "TEXELS")]
+    shadow_normal_offset: Option<f32>,
+    /// PCSS: angular diameter of directional lights, degrees [default: 2].
+    #[arg(long, value_name = "DEG")]
+    shadow_light_angle: Option<f32>,
+    /// PCSS: radius of point and spot lights, world units [default: 0.05].
+    #[arg(long, value_name = "R")]
+    shadow_light_radius: Option<f32>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -356,6 +383,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
     if !(1..=8).contains(&ssaa) {
         return Err(Error::parameter(format!("--ssaa {ssaa} is outside 1..8")));
     }
+    let shadows = checks::shadow_overrides(&args)?;
     let textures = checks::texture_overrides(&args);
     textures.validate().map_err(|e| match e {
         Error::Parameter(m) => Error::parameter(format!("texture flags: {m}")),
@@ -461,8 +489,27 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
         .with_msaa(msaa)
         .with_ssaa(ssaa)
         .with_unlit(args.unlit)
-        .with_textures(textures);
+        .with_textures(textures)
+        .with_shadows(shadows);
     settings.validate()?;
+    limits::check_shadow_maps(
+        shadow_map_bytes(&scene, &settings),
+        &match args.shadow_map_size {
+            Some(n) => format!("--shadow-map-size {n}"),
+            None => format!(
+                "{}: shadow map_size {}",
+                args.scene.as_deref().unwrap_or("builtin:demo"),
+                scene.shadows.params.map_size
+            ),
+        },
+        (args.size.0, args.size.1, ssaa),
+        max_memory,
+    )?;
+    // The shadow maps do not depend on the camera: drawn once for the whole turntable (the
+    // stats report their time apart from the frames').
+    let shadow_start = Instant::now();
+    let shadow_maps = pool.install(|| shadow_maps(&scene, &settings))?;
+    let shadow_ms = shadow_start.elapsed().as_secs_f64() * 1e3;
     let output = args
         .output
         .clone()
@@ -484,7 +531,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
         let start = Instant::now();
         pool.install(|| {
             if volumes.is_empty() {
-                render_into(&scene, &cam, &settings, &mut frame)
+                render_into_with_shadows(&scene, &cam, &settings, &shadow_maps, &mut frame)
             } else {
                 frame = render_with_volumes(&scene, &volumes, &cam, &settings)?;
                 Ok(())
@@ -524,6 +571,8 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             "filter": args.filter.map(Filter::name),
             "frames": args.frames,
             "setup_ms": round2(setup_ms),
+            "shadow_maps_ms": round2(shadow_ms),
+            "shadow_maps": shadow_maps.lights.iter().flatten().count(),
             "frame_ms": {"min": round2(sorted[0]), "median": round2(median), "max": round2(sorted[sorted.len() - 1])},
             "frame_ms_all": times.iter().map(|&t| round2(t)).collect::<Vec<_>>(),
             "triangles_submitted": s.triangles_submitted,

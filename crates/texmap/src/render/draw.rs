@@ -135,8 +135,13 @@ impl<'a> DrawInfo<'a> {
         let pbr = model == ShadingModel::MetallicRoughness;
         let per_pixel = path == LightingPath::PerPixel;
         let has_bump = material.map(MapChannel::Bump).is_some();
-        let needs_position =
-            per_pixel && (material.specular > 0.0 || pbr || has_bump || lighting.needs_position());
+        // Shadow lookups read the position too.
+        let needs_position = per_pixel
+            && (material.specular > 0.0
+                || pbr
+                || has_bump
+                || lighting.needs_position()
+                || lighting.shadows.is_some());
 
         // The varyings, in this order: uv 0, the lighting path's values, vertex colour, back
         // factors, object point, uv 1, tangent.

@@ -36,6 +36,7 @@ pub mod framing;
 mod maps;
 mod procedural;
 mod settings;
+mod shadow;
 mod surface;
 mod varyings;
 mod vertex;
@@ -48,12 +49,14 @@ pub use crate::frame::{Frame, FrameStats};
 use crate::pipeline::{self, DrawCall, Target};
 pub use crate::pipeline::{CullMode, Interpolation};
 use crate::scene::{Mesh, Scene};
+use crate::shading::shadow::{LightShadow, ShadowMaps};
 use crate::shading::{AlphaMode, Light, Lighting};
 use crate::{Error, Result};
 
 use draw::DrawInfo;
 use fragment::SceneShader;
 pub use settings::{Settings, ShadingMode, TextureOverrides, Visibility, MAX_SIZE};
+pub use shadow::{shadow_map_bytes, shadow_maps, ShadowOverrides, MAX_SPOT_MAP_DEG};
 use vertex::SceneVertices;
 pub use volumes::{render_with_meshes, render_with_volumes, surface_distances};
 
@@ -88,12 +91,31 @@ pub fn render(scene: &Scene, camera: &Camera, settings: &Settings) -> Result<Fra
 /// [`render`] into `frame`, reusing its colour buffer: a sequence of frames (a turntable)
 /// does not pay for a fresh image each time. On error `frame` is left unchanged.
 ///
+/// The shadow maps of the lights that cast are drawn first, every call
+/// ([`render_into_with_shadows`] takes them made once).
+///
 /// # Errors
-/// As [`render`].
+/// As [`render`], and bad shadow parameters ([`shadow_maps`]).
 pub fn render_into(
     scene: &Scene,
     camera: &Camera,
     settings: &Settings,
+    frame: &mut Frame,
+) -> Result<()> {
+    let shadows = shadow_maps(scene, settings)?;
+    render_into_with_shadows(scene, camera, settings, &shadows, frame)
+}
+
+/// [`render_into`] with shadow maps made before by [`shadow_maps`] for this scene and these
+/// settings: they do not depend on the camera, so a turntable makes them once.
+///
+/// # Errors
+/// As [`render`]; [`Error::Parameter`] when `shadows` were made for other lights.
+pub fn render_into_with_shadows(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &Settings,
+    shadows: &ShadowMaps,
     frame: &mut Frame,
 ) -> Result<()> {
     settings.validate()?;
@@ -118,9 +140,21 @@ pub fn render_into(
     let clip_from_world = camera.clip_from_view(aspect) * camera.view_from_world();
     // Directions normalized once, not per pixel; lights that cannot shine are dropped.
     let lights: Vec<Light> = scene.lights.iter().filter_map(Light::normalized).collect();
+    let shadows = (!shadows.is_empty()).then_some(shadows);
+    if let Some(maps) = shadows {
+        let other = |(m, l): (&Option<LightShadow>, &Light)| {
+            m.as_ref().is_some_and(|m| m.origin != shadow::origin(l))
+        };
+        if maps.lights.len() != lights.len() || maps.lights.iter().zip(&lights).any(other) {
+            return Err(Error::parameter(
+                "the shadow maps were made for other lights than the scene's",
+            ));
+        }
+    }
     let lighting = Lighting {
         lights: &lights,
         ambient: scene.ambient_light,
+        shadows,
     };
 
     // Submission order: the pipeline draws opaque meshes, then blended ones, as submitted.

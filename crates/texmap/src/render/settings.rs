@@ -1,8 +1,10 @@
 //! How a frame is made, apart from the scene and the camera: size, interpolation, shading,
-//! visibility, anti-aliasing, and the user's texture choices laid over every texture read.
+//! visibility, anti-aliasing, the user's texture choices laid over every texture read, and
+//! the user's shadow choices laid over the scene's.
 
 use glam::Vec4;
 
+use super::shadow::ShadowOverrides;
 use crate::pipeline::{CullMode, Interpolation};
 use crate::texture::{Filter, LodRule, Sampler, Wrap};
 use crate::{Error, Result};
@@ -202,6 +204,8 @@ pub struct Settings {
     pub unlit: bool,
     /// Laid over every texture's sampler.
     pub textures: TextureOverrides,
+    /// Laid over the scene's shadows (which lights cast, the maps' size, filter and biases).
+    pub shadows: ShadowOverrides,
 }
 
 impl Default for Settings {
@@ -215,7 +219,8 @@ pub const MAX_SIZE: u32 = 16384;
 
 impl Settings {
     /// A `width × height` frame: perspective-correct, Phong-shaded, z-buffered, no culling,
-    /// one sample per pixel, lit, every texture read as its own sampler says.
+    /// one sample per pixel, lit, every texture read as its own sampler says, shadows as the
+    /// scene says.
     #[must_use]
     pub fn new(width: u32, height: u32) -> Self {
         Settings {
@@ -229,6 +234,7 @@ impl Settings {
             ssaa: 1,
             unlit: false,
             textures: TextureOverrides::default(),
+            shadows: ShadowOverrides::default(),
         }
     }
     #[must_use]
@@ -276,10 +282,15 @@ impl Settings {
         self.textures = textures;
         self
     }
+    #[must_use]
+    pub fn with_shadows(mut self, shadows: ShadowOverrides) -> Self {
+        self.shadows = shadows;
+        self
+    }
 
     /// Checks the values: size in 1..=16384, msaa ∈ {1, 2, 4, 8, 16}, ssaa in 1..=8 with the
     /// supersampled size ≤ 32768, a finite subdivision error ≥ 0.01 pixel, valid texture
-    /// overrides.
+    /// and shadow overrides.
     ///
     /// # Errors
     /// [`Error::Parameter`] naming the first bad value.
@@ -310,6 +321,7 @@ impl Settings {
                 )));
             }
         }
-        self.textures.validate()
+        self.textures.validate()?;
+        self.shadows.validate()
     }
 }

@@ -10,6 +10,7 @@ use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 
 use super::{Light, Material, Mesh, Procedural, Scene, TextureSlot};
 use crate::camera::{Camera, CameraProjection};
+use crate::shading::shadow::{ShadowParams, Shadows};
 use crate::shading::AlphaMode;
 use crate::texture::procedural::Solid;
 use crate::texture::{ColorSpace, Filter, Sampler, Texture2D, TextureTransform, Wrap};
@@ -285,7 +286,8 @@ fn brick_texture() -> Arc<Texture2D> {
 
 /// A showcase: a checker floor receding to the horizon (anisotropic filtering), a sphere carved
 /// from a block of solid marble (an antialiased procedural texture), a brick cube and a
-/// translucent panel, lit by a directional and a point light with Phong specular highlights.
+/// translucent panel, lit by a directional and a point light with Phong specular highlights;
+/// both cast shadows.
 #[must_use]
 pub fn demo() -> Scene {
     // The floor recedes to the horizon: 8× anisotropic filtering keeps it sharp without moiré.
@@ -374,6 +376,10 @@ pub fn demo() -> Scene {
             far: 1000.0,
         }),
         uv_scale: 1.0,
+        // Both lights cast: the sun's map is fitted to where shadows can fall (the objects
+        // over the floor), the point light's is a cube of six around it.
+        shadows: Shadows::casting(vec![0, 1])
+            .with_params(ShadowParams::default().with_map_size(1024)),
     }
 }
 
@@ -444,6 +450,7 @@ pub fn marble() -> Scene {
             far: 1000.0,
         }),
         uv_scale: 1.0,
+        shadows: Default::default(),
     }
 }
 

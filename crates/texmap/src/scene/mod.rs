@@ -44,6 +44,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::camera::{Camera, CameraProjection};
+pub use crate::shading::shadow::Shadows;
 pub use crate::shading::{
     AlphaMode, Light, Material, Procedural, ShadingModel, SolidChannel, SolidMap, TextureSlot,
     Viewer,
@@ -110,11 +111,13 @@ pub struct Scene {
     /// 1 for every loaded scene; the peers' plane uses it for its repeat count (64 by
     /// default), and the command line's `--uv-scale` sets it.
     pub uv_scale: f32,
+    /// Which lights cast shadows, and how their maps are made and read (none by default).
+    pub shadows: Shadows,
 }
 
 impl Default for Scene {
     /// Nothing to draw: no meshes, lights or camera, no ambient light, a transparent black
-    /// background, texture coordinates as they are.
+    /// background, texture coordinates as they are, no shadows.
     fn default() -> Self {
         Scene {
             meshes: Vec::new(),
@@ -124,6 +127,7 @@ impl Default for Scene {
             background: Vec4::ZERO,
             camera: None,
             uv_scale: 1.0,
+            shadows: Shadows::default(),
         }
     }
 }

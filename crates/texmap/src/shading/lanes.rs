@@ -49,7 +49,7 @@ impl QuadFactors {
 
 /// The Phong factors of surface `s` at four pixels, under the directional lights of
 /// `lighting` (other lights are skipped: callers take this path only when every light is
-/// directional). `normal` holds the interpolated normals (renormalized here, zero stays
+/// directional), each scaled by its shadow maps' visibility when it casts. `normal` holds the interpolated normals (renormalized here, zero stays
 /// zero); `position` the world positions, read for the specular view vector of a point
 /// viewer (the origin when `None`). The surface's own position and normal are not read, nor
 /// its `ambient_color` (map-free surfaces have none).
@@ -88,7 +88,7 @@ pub fn phong_quad(
             [x * r, y * r, z * r]
         }
     };
-    for light in lighting.lights {
+    for (i, light) in lighting.lights.iter().enumerate() {
         let Light::Directional {
             direction: l,
             color,
@@ -98,7 +98,16 @@ pub fn phong_quad(
         };
         let n_dot_l = nx * l.x + ny * l.y + nz * l.z;
         let facing = n_dot_l.cmpgt(Vec4::ZERO);
-        let diffuse = Vec4::select(facing, n_dot_l * s.diffuse, Vec4::ZERO);
+        let mut diffuse = Vec4::select(facing, n_dot_l * s.diffuse, Vec4::ZERO);
+        // The light's share that gets past the shadow maps (positions are the origin when
+        // `None`; callers pass them when there are shadows).
+        let visible = lighting.shadows.map(|maps| {
+            let p = position.unwrap_or([Vec4::ZERO; 3]);
+            maps.visibility_quad(i, p, [nx, ny, nz], l, facing.bitmask())
+        });
+        if let Some(v) = visible {
+            diffuse *= v;
+        }
         for (c, dc) in d.iter_mut().enumerate() {
             *dc += diffuse * color[c];
         }
@@ -109,13 +118,16 @@ pub fn phong_quad(
             let r_dot_v = n_dot_l * 2.0 * n_dot_v - l_dot_v;
             let on = (facing & r_dot_v.cmpgt(Vec4::ZERO)).bitmask();
             let rv = r_dot_v.to_array();
-            let lobe = Vec4::from_array(std::array::from_fn(|j| {
+            let mut lobe = Vec4::from_array(std::array::from_fn(|j| {
                 if on & (1 << j) != 0 {
                     s.specular * rv[j].powf(s.shininess)
                 } else {
                     0.0
                 }
             }));
+            if let Some(v) = visible {
+                lobe *= v;
+            }
             for (c, sc) in sp.iter_mut().enumerate() {
                 *sc += lobe * (color[c] * s.specular_color[c]);
             }
@@ -172,6 +184,7 @@ mod tests {
         let lighting = Lighting {
             lights: &lights,
             ambient: Vec3::new(0.3, 0.35, 0.4),
+            shadows: None,
         };
         let material = Material {
             specular: 0.7,

@@ -3,6 +3,8 @@
 
 use glam::Vec3;
 
+use super::shadow::ShadowMaps;
+
 /// A light source. Colours are linear and may exceed 1 (they are intensities).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Light {
@@ -165,6 +167,9 @@ pub struct Lighting<'a> {
     pub lights: &'a [Light],
     /// I_AL.
     pub ambient: Vec3,
+    /// The shadow maps of the lights that cast (indexed like `lights`): each light's term is
+    /// scaled by [`ShadowMaps::visibility`]. `None`: nothing casts.
+    pub shadows: Option<&'a ShadowMaps>,
 }
 
 impl Lighting<'_> {

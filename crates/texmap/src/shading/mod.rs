@@ -18,7 +18,8 @@
 //! the ambient and diffuse terms, never the specular one. The specular term is only added where
 //! `N·L_i > 0`. `S_i` is the light's attenuation: 1 for directional lights, inverse square
 //! distance (windowed by `range` as in `KHR_lights_punctual`) for point lights, and the same
-//! times a smooth cone falloff for spot lights.
+//! times a smooth cone falloff for spot lights; for a light that casts shadows, times the
+//! fraction of it its shadow maps let through ([`shadow`], [`Lighting::shadows`]).
 //!
 //! [`illuminate`] returns the two factors `(D, S)` such that `I = C·D + S`, so Gouraud and flat
 //! shading can compute them per vertex or per face and the texture is still applied per pixel.
@@ -27,13 +28,15 @@
 //! Files: `material.rs` (what a surface is made of), `light.rs` (lights and what they deliver
 //! at a point), this file (the per-pixel [`Surface`], Phong, [`combine`]), [`pbr`] (the
 //! metallic-roughness BRDF), [`lanes`] (Phong for a quad's four pixels at once), [`bump`]
-//! (tilting normals by height gradients) and `viewer.rs` (where the viewer is).
+//! (tilting normals by height gradients), [`shadow`] (shadow-map lookups and filters) and
+//! `viewer.rs` (where the viewer is).
 
 pub mod bump;
 pub mod lanes;
 mod light;
 mod material;
 pub mod pbr;
+pub mod shadow;
 mod viewer;
 
 use glam::{Vec3, Vec4};
@@ -143,13 +146,16 @@ pub fn phong(s: &Surface, lighting: &Lighting, viewer: Viewer) -> (Vec3, Vec3) {
     } else {
         Vec3::ZERO
     };
-    for light in lighting.lights {
-        let Some((l, intensity)) = light.incidence(p) else {
+    for (i, light) in lighting.lights.iter().enumerate() {
+        let Some((l, mut intensity)) = light.incidence(p) else {
             continue;
         };
         let n_dot_l = n.dot(l);
         if n_dot_l <= 0.0 {
             continue;
+        }
+        if let Some(shadows) = lighting.shadows {
+            intensity *= shadows.visibility(i, p, n, l);
         }
         d += intensity * (s.diffuse * n_dot_l);
         if specular {
@@ -199,6 +205,7 @@ mod tests {
         Lighting {
             lights,
             ambient: Vec3::ONE,
+            shadows: None,
         }
     }
 

@@ -105,13 +105,16 @@ pub fn metallic_roughness(s: &Surface, lighting: &Lighting, viewer: Viewer) -> (
     let ambient = lighting.ambient * (s.ambient * s.occlusion);
     let mut d = ambient * diffuse_weight * (Vec3::ONE - e);
     let mut sp = s.emissive + ambient * e;
-    for light in lighting.lights {
-        let Some((l, intensity)) = light.incidence(s.position) else {
+    for (i, light) in lighting.lights.iter().enumerate() {
+        let Some((l, mut intensity)) = light.incidence(s.position) else {
             continue;
         };
         let n_dot_l = n.dot(l);
         if n_dot_l <= 0.0 {
             continue;
+        }
+        if let Some(shadows) = lighting.shadows {
+            intensity *= shadows.visibility(i, s.position, n, l);
         }
         let h = (l + v).normalize_or_zero();
         let f = fresnel(f0, v.dot(h));
@@ -217,6 +220,7 @@ mod tests {
         Lighting {
             lights,
             ambient: Vec3::splat(ambient),
+            shadows: None,
         }
     }
 

@@ -10,7 +10,7 @@ use std::path::Path;
 use glam::{Vec3, Vec4};
 
 use super::cameras::camera;
-use super::lights::{default_light, light};
+use super::lights::{default_light, light, shadows};
 use super::materials::material;
 use super::meshes::{add_mesh, MeshMaterials};
 use super::placement::placement;
@@ -72,6 +72,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
             .map_err(|e| err(format!("lights[{i}]: {e}")))?;
         out.scene.lights.push(l);
     }
+    out.scene.shadows = shadows(spec.shadows.as_ref(), &spec.lights).map_err(err)?;
     if out.scene.lights.is_empty() {
         out.scene.lights.push(default_light());
     }

@@ -22,6 +22,9 @@ pub(super) struct SceneFile {
     pub(super) cameras: Vec<CameraSpec>,
     #[serde(default)]
     pub(super) lights: Vec<LightSpec>,
+    /// How the casting lights' shadow maps are made and read.
+    #[serde(default)]
+    pub(super) shadows: Option<ShadowsSpec>,
     #[serde(default)]
     pub(super) materials: BTreeMap<String, MaterialSpec>,
     #[serde(default)]
@@ -80,6 +83,9 @@ pub(super) enum LightSpec {
         color: [f32; 3],
         #[serde(default = "one")]
         intensity: f32,
+        /// Casts shadows (a shadow map).
+        #[serde(default)]
+        shadows: bool,
     },
     Point {
         position: [f32; 3],
@@ -89,6 +95,8 @@ pub(super) enum LightSpec {
         intensity: f32,
         #[serde(default)]
         range: Option<f32>,
+        #[serde(default)]
+        shadows: bool,
     },
     Spot {
         position: [f32; 3],
@@ -102,7 +110,38 @@ pub(super) enum LightSpec {
         inner_deg: f32,
         #[serde(default = "outer")]
         outer_deg: f32,
+        #[serde(default)]
+        shadows: bool,
     },
+}
+
+impl LightSpec {
+    /// Whether the light says it casts shadows.
+    pub(super) fn casts(&self) -> bool {
+        match *self {
+            LightSpec::Directional { shadows, .. }
+            | LightSpec::Point { shadows, .. }
+            | LightSpec::Spot { shadows, .. } => shadows,
+        }
+    }
+}
+
+/// The `[shadows]` table: how every casting light's map is made and read (defaults: those
+/// of `ShadowParams`).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ShadowsSpec {
+    /// Texels a side (each cube face for point lights).
+    pub(super) map_size: Option<u32>,
+    /// hard | pcf3 | pcf5 | poisson | pcss.
+    pub(super) filter: Option<String>,
+    /// Constant, slope-scaled and normal-offset bias, in texels.
+    pub(super) bias: Option<f32>,
+    pub(super) slope_bias: Option<f32>,
+    pub(super) normal_offset: Option<f32>,
+    /// PCSS: directional lights' angular diameter (degrees), point and spot lights' radius.
+    pub(super) light_angle: Option<f32>,
+    pub(super) light_radius: Option<f32>,
 }
 
 fn outer() -> f32 {
