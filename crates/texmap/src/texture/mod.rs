@@ -12,6 +12,7 @@
 //! to decode files, `image`.
 
 mod cube;
+pub mod environment;
 pub(crate) mod filter;
 pub(crate) mod footprint;
 pub(crate) mod format;
@@ -26,6 +27,7 @@ mod transform;
 mod wrap;
 
 pub use cube::{sample_cube, CubeFace, TextureCube};
+pub use environment::{load_environment, EnvironmentKind, EnvironmentMap};
 pub use filter::{
     sample, sample_batch, sample_quad, sample_quad_lanes, sample_quads_lanes, QuadCoords,
 };

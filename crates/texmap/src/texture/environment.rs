@@ -1,0 +1,634 @@
+//! Environment maps: the light arriving from every direction, stored as an equirectangular
+//! panorama, a cube map or a sphere map, and read along a direction with its footprint.
+//!
+//! Direction convention (Mitsuba's, stated in `../shared/peers/mitsuba_ref.py`): a direction
+//! `d = (x, y, z)` reads an equirectangular image at
+//!
+//! ```text
+//! u = atan2(x, −z) / 2π  (wrapped to [0, 1))      v = acos(y) / π
+//! ```
+//!
+//! so +z sees the panorama's centre column, −z its left and right edges (the seam), +x the
+//! column at u = ¼, +y the top row. Columns are texel-centred (`(i + ½)/W`), as OpenGL's;
+//! rows are Mitsuba's latitudes, row `i` at `θ = π·i/(H − 1)` (the first row is the north
+//! pole, the last the south pole), so the remap `v' = (v·(H − 1) + ½)/H` puts them at
+//! OpenGL's texel centres before the read.
+//!
+//! Every read carries its footprint ([`CubeFootprint`]: the direction and its screen
+//! derivatives). The equirectangular footprint is the chain rule through atan2 and acos, so
+//! the seam, where u jumps from 1 to 0, costs nothing: the derivative is continuous there and
+//! u wraps with [`Wrap::Repeat`] (no line, `tests/environment.rs`). The sampler's filter
+//! applies (trilinear by default); near the poles the footprint stretches along u, as the
+//! panorama does.
+//!
+//! Cube maps read through [`sample_cube`] (seamless across faces). Their face images are
+//! OpenGL's (a left-handed layout: each face as seen from inside the cube in a left-handed
+//! world), so a world direction `(x, y, z)` reads the cube at `(−x, y, z)`, as three.js reads
+//! its face images; the camera looking down −z then sees `negz` upright and unmirrored.
+//! Crosses (`4:3` horizontal, `3:4` vertical) hold the same faces:
+//!
+//! ```text
+//! horizontal     +Y                vertical       +Y
+//!            −X  +Z  +X  −Z                   −X  +Z  +X
+//!                −Y                               −Y
+//!                                                 −Z (turned 180°)
+//! ```
+//!
+//! Sphere maps are OpenGL's (`GL_SPHERE_MAP`): the picture of a mirror ball seen along −z, so
+//! `+z` reads the centre and `−z` the rim: `m = 2·√(x² + y² + (z + 1)²)`, `u = x/m + ½`,
+//! `v = ½ − y/m`.
+//!
+//! Files: an equirectangular image is 2:1 (HDR, EXR, PNG or any format [`load`] reads), a
+//! cross 4:3 or 3:4, a sphere map 1:1; a folder holds six faces named `posx`, `negx`, `posy`,
+//! `negy`, `posz`, `negz` (any image extension). DDS and KTX cube files wait for compressed
+//! textures and are refused with a message saying so.
+//!
+//! [`load`]: super::load
+
+use std::path::{Path, PathBuf};
+
+use glam::{Vec2, Vec3, Vec4};
+use image::DynamicImage;
+
+use super::load::{decode_image, texture_from_image, Limits};
+use super::{
+    sample, sample_cube, ColorSpace, CubeFootprint, Footprint, Sampler, TextureCube,
+    TextureOptions, Wrap,
+};
+use super::{Texture2D, UnknownName};
+use crate::{Error, Result};
+
+/// How an environment image is laid out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum EnvironmentKind {
+    /// A 2:1 latitude-longitude panorama.
+    Equirect,
+    /// Six faces in one image: a 4:3 horizontal or a 3:4 vertical cross.
+    Cross,
+    /// Six face images in a folder (`posx` … `negz`).
+    Faces,
+    /// An OpenGL sphere map (1:1).
+    Sphere,
+}
+
+impl EnvironmentKind {
+    /// The names [`EnvironmentKind::parse`] accepts.
+    pub const SPELLINGS: &'static str = "equirect, cross, faces, sphere";
+
+    /// The kind named `s` (one of [`EnvironmentKind::SPELLINGS`]).
+    ///
+    /// # Errors
+    /// [`UnknownName`] listing the names.
+    pub fn parse(s: &str) -> std::result::Result<Self, UnknownName> {
+        match s {
+            "equirect" => Ok(EnvironmentKind::Equirect),
+            "cross" => Ok(EnvironmentKind::Cross),
+            "faces" => Ok(EnvironmentKind::Faces),
+            "sphere" => Ok(EnvironmentKind::Sphere),
+            _ => Err(UnknownName {
+                given: s.to_string(),
+                expected: Self::SPELLINGS,
+            }),
+        }
+    }
+
+    /// The kind's name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            EnvironmentKind::Equirect => "equirect",
+            EnvironmentKind::Cross => "cross",
+            EnvironmentKind::Faces => "faces",
+            EnvironmentKind::Sphere => "sphere",
+        }
+    }
+}
+
+/// An environment map: radiance (linear RGB) by direction.
+#[derive(Clone, Debug)]
+pub enum EnvironmentMap {
+    /// A latitude-longitude panorama (the module docs' convention).
+    Equirect(Texture2D),
+    /// Six faces in OpenGL's layout, from a cross or six images (read mirrored in x).
+    Cube(TextureCube),
+    /// An OpenGL sphere map.
+    Sphere(Texture2D),
+}
+
+/// The sampler state an environment read uses: `sampler`'s filter and levels of detail,
+/// with the wrap modes the map's layout needs (repeat around the panorama, clamp at its
+/// poles and at a sphere map's rim).
+#[must_use]
+fn wrapped(sampler: &Sampler, u: Wrap, v: Wrap) -> Sampler {
+    sampler.with_wraps(u, v, Wrap::ClampToEdge)
+}
+
+impl EnvironmentMap {
+    /// Reads the map along `fp.dir` (any length) with its screen derivatives: linear RGBA,
+    /// premultiplied (alpha 1 for opaque images).
+    #[must_use]
+    pub fn sample(&self, sampler: &Sampler, fp: &CubeFootprint) -> Vec4 {
+        match self {
+            EnvironmentMap::Equirect(t) => {
+                let s = wrapped(sampler, Wrap::Repeat, Wrap::ClampToEdge);
+                sample(t, &s, &equirect_footprint(fp, t.height()))
+            }
+            EnvironmentMap::Cube(c) => {
+                let m = |v: Vec3| Vec3::new(-v.x, v.y, v.z);
+                let mirrored = CubeFootprint {
+                    dir: m(fp.dir),
+                    ddir_dx: m(fp.ddir_dx),
+                    ddir_dy: m(fp.ddir_dy),
+                };
+                sample_cube(c, sampler, &mirrored)
+            }
+            EnvironmentMap::Sphere(t) => {
+                let s = wrapped(sampler, Wrap::ClampToEdge, Wrap::ClampToEdge);
+                sample(t, &s, &sphere_map_footprint(fp))
+            }
+        }
+    }
+
+    /// The layout's kind (a cube map reports [`EnvironmentKind::Faces`]).
+    #[must_use]
+    pub fn kind(&self) -> EnvironmentKind {
+        match self {
+            EnvironmentMap::Equirect(_) => EnvironmentKind::Equirect,
+            EnvironmentMap::Cube(_) => EnvironmentKind::Faces,
+            EnvironmentMap::Sphere(_) => EnvironmentKind::Sphere,
+        }
+    }
+
+    /// Width and height of the image (a cube map: one face).
+    #[must_use]
+    pub fn size(&self) -> (u32, u32) {
+        match self {
+            EnvironmentMap::Equirect(t) | EnvironmentMap::Sphere(t) => (t.width(), t.height()),
+            EnvironmentMap::Cube(c) => (c.size(), c.size()),
+        }
+    }
+
+    /// The number of mip levels of the image (a cube map: of one face).
+    #[must_use]
+    pub fn levels(&self) -> usize {
+        match self {
+            EnvironmentMap::Equirect(t) | EnvironmentMap::Sphere(t) => t.levels().len(),
+            EnvironmentMap::Cube(c) => c.faces()[0].levels().len(),
+        }
+    }
+
+    /// Roughly how many texels of level 0 a steradian holds (for choosing how finely a
+    /// derived map must sample it).
+    #[must_use]
+    pub fn texels_per_steradian(&self) -> f32 {
+        let (w, h) = self.size();
+        match self {
+            EnvironmentMap::Equirect(_) => (w * h) as f32 / (2.0 * std::f32::consts::PI.powi(2)),
+            EnvironmentMap::Cube(_) => 6.0 * (w * h) as f32 / (4.0 * std::f32::consts::PI),
+            // The disc of a sphere map covers the sphere of directions.
+            EnvironmentMap::Sphere(_) => {
+                std::f32::consts::FRAC_PI_4 * (w * h) as f32 / (4.0 * std::f32::consts::PI)
+            }
+        }
+    }
+}
+
+/// A direction and its derivative made unit length: `d̂ = d/|d|`,
+/// `∂d̂ = (∂d − d̂(d̂·∂d))/|d|`.
+#[inline]
+fn unit_with_derivatives(fp: &CubeFootprint) -> (Vec3, Vec3, Vec3) {
+    let len = fp.dir.length();
+    if !(len > 0.0) || !len.is_finite() {
+        return (Vec3::NEG_Z, Vec3::ZERO, Vec3::ZERO);
+    }
+    let d = fp.dir / len;
+    let project = |dd: Vec3| (dd - d * d.dot(dd)) / len;
+    (d, project(fp.ddir_dx), project(fp.ddir_dy))
+}
+
+/// The equirectangular coordinates of a unit direction (the module docs' convention, rows
+/// at OpenGL's texel centres for level 0 of a panorama `height` rows tall).
+#[inline]
+#[must_use]
+pub fn equirect_uv(d: Vec3, height: u32) -> Vec2 {
+    let u = d.x.atan2(-d.z) * (0.5 / std::f32::consts::PI);
+    let u = if u < 0.0 { u + 1.0 } else { u };
+    let v = d.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI;
+    Vec2::new(u, row_remap(v, height))
+}
+
+/// Mitsuba's rows (`θ = π·i/(H − 1)`) at OpenGL's texel centres: `(v·(H − 1) + ½)/H`.
+#[inline]
+fn row_remap(v: f32, height: u32) -> f32 {
+    let h = height.max(2) as f32;
+    (v * (h - 1.0) + 0.5) / h
+}
+
+/// The unit direction an equirectangular `(u, v)` (the docs' `v`, before the row remap)
+/// looks along: the inverse of [`equirect_uv`].
+#[inline]
+#[must_use]
+pub fn equirect_direction(u: f32, v: f32) -> Vec3 {
+    let (sin_t, cos_t) = (v * std::f32::consts::PI).sin_cos();
+    let (sin_p, cos_p) = (u * std::f32::consts::TAU).sin_cos();
+    Vec3::new(sin_p * sin_t, cos_t, -cos_p * sin_t)
+}
+
+/// The footprint on an equirectangular panorama of `height` rows: `uv` and its derivatives
+/// by the chain rule, `∂u = (−z·∂x + x·∂z)/(2π(x² + z²))`, `∂v = −∂y/(π·√(x² + z²))` (times
+/// the row remap's `(H − 1)/H`) — continuous across the seam, growing towards the poles.
+#[must_use]
+pub fn equirect_footprint(fp: &CubeFootprint, height: u32) -> Footprint {
+    let (d, dx, dy) = unit_with_derivatives(fp);
+    let uv = equirect_uv(d, height);
+    let r2 = (d.x * d.x + d.z * d.z).max(1e-12);
+    let r = r2.sqrt();
+    let h = height.max(2) as f32;
+    let row_scale = (h - 1.0) / h;
+    let deriv = |dd: Vec3| {
+        Vec2::new(
+            (-d.z * dd.x + d.x * dd.z) / (std::f32::consts::TAU * r2),
+            -dd.y / (std::f32::consts::PI * r) * row_scale,
+        )
+    };
+    Footprint::new(uv, deriv(dx), deriv(dy))
+}
+
+/// The footprint on an OpenGL sphere map: `(u, v) = (x/m + ½, ½ − y/m)` with
+/// `m = 2·√(x² + y² + (z + 1)²)`, and its derivatives by the chain rule.
+#[must_use]
+pub fn sphere_map_footprint(fp: &CubeFootprint) -> Footprint {
+    let (d, dx, dy) = unit_with_derivatives(fp);
+    let p = Vec3::new(d.x, d.y, d.z + 1.0);
+    let m = (2.0 * p.length()).max(1e-4);
+    let uv = Vec2::new(d.x / m + 0.5, 0.5 - d.y / m);
+    let deriv = |dd: Vec3| {
+        // ∂m = 4(p·∂p)/m, with ∂p = ∂d.
+        let dm = 4.0 * p.dot(dd) / m;
+        Vec2::new((dd.x - d.x * dm / m) / m, -(dd.y - d.y * dm / m) / m)
+    };
+    Footprint::new(uv, deriv(dx), deriv(dy))
+}
+
+/// The face names of a folder of six images, in [`super::CubeFace::ALL`] order.
+pub const FACE_NAMES: [&str; 6] = ["posx", "negx", "posy", "negy", "posz", "negz"];
+
+/// Loads an environment map: an image file (its layout `kind`, or else told by its
+/// proportions: 2:1 equirectangular, 4:3 or 3:4 a cross, 1:1 a sphere map) or a folder of six
+/// faces. 8- and 16-bit images hold sRGB colour; HDR and EXR linear radiance.
+///
+/// # Errors
+/// One line naming the file or folder: missing, undecodable, above `limits`, proportions that
+/// fit no layout (or not the one asked for), faces of different sizes, or a DDS/KTX cube file.
+pub fn load_environment(
+    path: &Path,
+    kind: Option<EnvironmentKind>,
+    limits: &Limits,
+) -> Result<EnvironmentMap> {
+    if path.is_dir() || kind == Some(EnvironmentKind::Faces) {
+        if kind.is_some_and(|k| k != EnvironmentKind::Faces) {
+            return Err(Error::decode(
+                path,
+                format!(
+                    "is a folder; a {} environment is one image",
+                    kind.map_or("", EnvironmentKind::name)
+                ),
+            ));
+        }
+        return load_faces(path, limits).map(EnvironmentMap::Cube);
+    }
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    if matches!(ext.as_str(), "dds" | "ktx" | "ktx2") {
+        return Err(Error::Unsupported(format!(
+            "{}: {} cube maps need compressed textures, which texmap does not read yet \
+             (give an equirectangular image, a cross or a folder of six faces)",
+            path.display(),
+            ext.to_ascii_uppercase()
+        )));
+    }
+    let img = decode_image(path, limits)?;
+    let (w, h) = (img.width(), img.height());
+    let kind = match kind {
+        Some(k) => k,
+        None if w == 2 * h => EnvironmentKind::Equirect,
+        None if 3 * w == 4 * h || 4 * w == 3 * h => EnvironmentKind::Cross,
+        None if w == h => EnvironmentKind::Sphere,
+        None => {
+            return Err(Error::decode(
+                path,
+                format!(
+                    "is {w}x{h}: an environment image is 2:1 (equirectangular), 4:3 or 3:4 \
+                     (a cross of six square faces) or 1:1 (a sphere map)"
+                ),
+            ))
+        }
+    };
+    let texture = |img: DynamicImage| {
+        texture_from_image(img, ColorSpace::Srgb, TextureOptions::default())
+            .map_err(|e| Error::decode(path, e.to_string()))
+    };
+    match kind {
+        EnvironmentKind::Equirect => {
+            if w != 2 * h {
+                return Err(Error::decode(
+                    path,
+                    format!("is {w}x{h}: an equirectangular panorama is twice as wide as tall"),
+                ));
+            }
+            texture(img).map(EnvironmentMap::Equirect)
+        }
+        EnvironmentKind::Sphere => {
+            if w != h {
+                return Err(Error::decode(
+                    path,
+                    format!("is {w}x{h}: a sphere map is square"),
+                ));
+            }
+            texture(img).map(EnvironmentMap::Sphere)
+        }
+        EnvironmentKind::Cross => cube_from_cross(img, path).map(EnvironmentMap::Cube),
+        EnvironmentKind::Faces => unreachable!("folders are handled above"),
+    }
+}
+
+/// The six faces of a 4:3 horizontal or 3:4 vertical cross (the module docs' layouts).
+fn cube_from_cross(img: DynamicImage, path: &Path) -> Result<TextureCube> {
+    let (w, h) = (img.width(), img.height());
+    let horizontal = 3 * w == 4 * h && w % 4 == 0;
+    let vertical = 4 * w == 3 * h && w % 3 == 0;
+    if !(horizontal || vertical) || w == 0 {
+        return Err(Error::decode(
+            path,
+            format!(
+                "is {w}x{h}: a cross is 4N x 3N (horizontal) or 3N x 4N (vertical) with square \
+                 faces of N x N"
+            ),
+        ));
+    }
+    let n = if horizontal { w / 4 } else { w / 3 };
+    // (column, row) of each face in CubeFace::ALL order.
+    let cells: [(u32, u32); 6] = if horizontal {
+        [(2, 1), (0, 1), (1, 0), (1, 2), (1, 1), (3, 1)]
+    } else {
+        [(2, 1), (0, 1), (1, 0), (1, 2), (1, 1), (1, 3)]
+    };
+    let mut faces = Vec::with_capacity(6);
+    for (i, &(cx, cy)) in cells.iter().enumerate() {
+        let mut face = img.crop_imm(cx * n, cy * n, n, n);
+        if vertical && i == 5 {
+            // The vertical cross unfolds −Z below −Y, upside down.
+            face = face.rotate180();
+        }
+        faces.push(
+            texture_from_image(face, ColorSpace::Srgb, TextureOptions::default())
+                .map_err(|e| Error::decode(path, e.to_string()))?,
+        );
+    }
+    let faces: [Texture2D; 6] = faces.try_into().expect("six faces");
+    TextureCube::new(faces).map_err(|e| Error::decode(path, e.to_string()))
+}
+
+/// Six face images `posx` … `negz` (any extension [`super::load`] reads) from a folder.
+fn load_faces(dir: &Path, limits: &Limits) -> Result<TextureCube> {
+    let entries: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| Error::io(dir, e))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .collect();
+    let mut faces = Vec::with_capacity(6);
+    for name in FACE_NAMES {
+        let mut found: Vec<&PathBuf> = entries
+            .iter()
+            .filter(|p| {
+                p.file_stem().and_then(|s| s.to_str()) == Some(name)
+                    && p.extension().is_some_and(|e| {
+                        matches!(
+                            e.to_ascii_lowercase().to_str(),
+                            Some("png" | "jpg" | "jpeg" | "tga" | "bmp" | "hdr" | "exr")
+                        )
+                    })
+            })
+            .collect();
+        found.sort();
+        let Some(file) = found.first() else {
+            return Err(Error::decode(
+                dir,
+                format!(
+                    "has no {name} image: a folder environment holds six faces named {}",
+                    FACE_NAMES.join(", ")
+                ),
+            ));
+        };
+        let img = decode_image(file, limits)?;
+        faces.push(
+            texture_from_image(img, ColorSpace::Srgb, TextureOptions::default())
+                .map_err(|e| Error::decode(file, e.to_string()))?,
+        );
+    }
+    let faces: [Texture2D; 6] = faces.try_into().expect("six faces");
+    TextureCube::new(faces).map_err(|e| Error::decode(dir, e.to_string()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::texture::Filter;
+
+    fn tmp(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("texmap-env-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir.join(name)
+    }
+
+    /// A linear colour that identifies a direction (smooth, every component in 0..1).
+    fn colour_of(d: Vec3) -> Vec4 {
+        (d * 0.5 + Vec3::splat(0.5)).extend(1.0)
+    }
+
+    #[test]
+    fn convention_matches_the_peers_docstring() {
+        let h = 512;
+        let at = |d: Vec3| {
+            let uv = equirect_uv(d.normalize(), h);
+            (uv.x, (uv.y * h as f32 - 0.5) / (h as f32 - 1.0))
+        };
+        let close =
+            |a: (f32, f32), b: (f32, f32)| (a.0 - b.0).abs() < 1e-6 && (a.1 - b.1).abs() < 1e-6;
+        assert!(close(at(Vec3::Z), (0.5, 0.5)));
+        assert!(close(at(Vec3::X), (0.25, 0.5)));
+        assert!(close(at(-Vec3::X), (0.75, 0.5)));
+        assert!(close(at(-Vec3::Z), (0.0, 0.5)));
+        assert!(close(at(Vec3::Y), (0.5, 0.0)) || at(Vec3::Y).1.abs() < 1e-6);
+        // The inverse.
+        for (u, v) in [(0.1f32, 0.3f32), (0.5, 0.5), (0.9, 0.8)] {
+            let d = equirect_direction(u, v);
+            let (u2, v2) = at(d);
+            assert!(
+                (u - u2).abs() < 1e-5 && (v - v2).abs() < 1e-5,
+                "{u} {v}: {u2} {v2}"
+            );
+        }
+    }
+
+    #[test]
+    fn equirect_derivatives_are_the_chain_rule_and_continuous_across_the_seam() {
+        let h = 64;
+        for d in [
+            Vec3::new(0.3, 0.2, -0.9),
+            Vec3::new(-0.001, 0.1, -1.0),
+            Vec3::new(0.001, 0.1, -1.0),
+        ] {
+            let dd = Vec3::new(0.01, 0.004, 0.002);
+            let fp = equirect_footprint(
+                &CubeFootprint {
+                    dir: d,
+                    ddir_dx: dd,
+                    ddir_dy: Vec3::ZERO,
+                },
+                h,
+            );
+            // Central differences of the mapping, unwrapped.
+            let e = 1e-3;
+            let a = equirect_uv((d - dd * e).normalize(), h);
+            let b = equirect_uv((d + dd * e).normalize(), h);
+            let mut du = b.x - a.x;
+            du -= du.round();
+            let numeric = Vec2::new(du, b.y - a.y) / (2.0 * e);
+            assert!(
+                (numeric - fp.duv_dx).length() < 1e-3 * numeric.length().max(1.0),
+                "{d}: {numeric} vs {}",
+                fp.duv_dx
+            );
+        }
+    }
+
+    #[test]
+    fn sphere_map_centre_rim_and_derivatives() {
+        let fp = |d: Vec3| {
+            sphere_map_footprint(&CubeFootprint {
+                dir: d,
+                ..Default::default()
+            })
+        };
+        assert!((fp(Vec3::Z).uv - Vec2::splat(0.5)).length() < 1e-6);
+        // +x at 90° lands at u = ½ + 1/(2√2).
+        let u = fp(Vec3::X).uv.x;
+        assert!((u - (0.5 + 0.5 / 2f32.sqrt())).abs() < 1e-6, "{u}");
+        // Up is up: +y reads above the centre (smaller v).
+        assert!(fp(Vec3::new(0.0, 0.5, 1.0)).uv.y < 0.5);
+        let d = Vec3::new(0.3, -0.4, 0.6);
+        let dd = Vec3::new(0.02, 0.01, -0.01);
+        let f = sphere_map_footprint(&CubeFootprint {
+            dir: d,
+            ddir_dx: dd,
+            ddir_dy: dd,
+        });
+        let e = 1e-3;
+        let numeric = (fp(d + dd * e).uv - fp(d - dd * e).uv) / (2.0 * e);
+        assert!(
+            (numeric - f.duv_dx).length() < 1e-3,
+            "{numeric} {}",
+            f.duv_dx
+        );
+    }
+
+    fn write_cross(path: &Path, n: u32, vertical: bool) {
+        // Each face painted with the colour of the direction through each texel centre, in
+        // the face images' (mirrored) convention.
+        let (w, h) = if vertical {
+            (3 * n, 4 * n)
+        } else {
+            (4 * n, 3 * n)
+        };
+        let cells: [(u32, u32); 6] = if vertical {
+            [(2, 1), (0, 1), (1, 0), (1, 2), (1, 1), (1, 3)]
+        } else {
+            [(2, 1), (0, 1), (1, 0), (1, 2), (1, 1), (3, 1)]
+        };
+        let mut img = image::Rgb32FImage::new(w, h);
+        for (f, &(cx, cy)) in cells.iter().enumerate() {
+            for y in 0..n {
+                for x in 0..n {
+                    let sc = 2.0 * (x as f32 + 0.5) / n as f32 - 1.0;
+                    let tc = 2.0 * (y as f32 + 0.5) / n as f32 - 1.0;
+                    let g = match f {
+                        0 => Vec3::new(1.0, -tc, -sc),
+                        1 => Vec3::new(-1.0, -tc, sc),
+                        2 => Vec3::new(sc, 1.0, tc),
+                        3 => Vec3::new(sc, -1.0, -tc),
+                        4 => Vec3::new(sc, -tc, 1.0),
+                        _ => Vec3::new(-sc, -tc, -1.0),
+                    };
+                    // The world direction that reads this texel: x mirrored.
+                    let world = Vec3::new(-g.x, g.y, g.z).normalize();
+                    let c = colour_of(world);
+                    let (px, py) = if vertical && f == 5 {
+                        (cx * n + n - 1 - x, cy * n + n - 1 - y)
+                    } else {
+                        (cx * n + x, cy * n + y)
+                    };
+                    img.put_pixel(px, py, image::Rgb([c.x, c.y, c.z]));
+                }
+            }
+        }
+        DynamicImage::ImageRgb32F(img).save(path).unwrap();
+    }
+
+    #[test]
+    fn crosses_read_back_the_directions_they_were_painted_with() {
+        let s = Sampler::new(Filter::BILINEAR, Wrap::ClampToEdge);
+        for vertical in [false, true] {
+            let p = tmp(if vertical { "vcross.exr" } else { "hcross.exr" });
+            write_cross(&p, 16, vertical);
+            let env = load_environment(&p, None, &Limits::default()).unwrap();
+            assert_eq!(env.kind(), EnvironmentKind::Faces);
+            for d in [
+                Vec3::new(0.3, 0.2, -0.9),
+                Vec3::new(1.0, 0.99, 0.2),
+                Vec3::new(-0.5, -0.7, 0.4),
+                Vec3::new(0.01, 0.02, -1.0),
+                Vec3::new(0.2, 0.1, 1.0),
+                Vec3::new(0.0, -1.0, 0.0),
+            ] {
+                let got = env.sample(
+                    &s,
+                    &CubeFootprint {
+                        dir: d,
+                        ..Default::default()
+                    },
+                );
+                let want = colour_of(d.normalize());
+                assert!(
+                    (got - want).abs().max_element() < 0.04,
+                    "vertical {vertical} {d}: {got} vs {want}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn wrong_proportions_and_compressed_cubes_are_refused_naming_the_file() {
+        let p = tmp("odd.png");
+        image::RgbImage::new(30, 20).save(&p).unwrap();
+        let e = load_environment(&p, None, &Limits::default()).unwrap_err();
+        assert!(
+            e.to_string().contains("odd.png") && e.to_string().contains("30x20"),
+            "{e}"
+        );
+        let e = load_environment(&p, Some(EnvironmentKind::Cross), &Limits::default()).unwrap_err();
+        assert!(e.to_string().contains("4N x 3N"), "{e}");
+        let p = tmp("cube.dds");
+        std::fs::write(&p, b"DDS ").unwrap();
+        let e = load_environment(&p, None, &Limits::default()).unwrap_err();
+        assert!(e.to_string().contains("cube.dds"), "{e}");
+        let e = load_environment(&tmp("missing.hdr"), None, &Limits::default()).unwrap_err();
+        assert!(e.to_string().contains("missing.hdr"), "{e}");
+        let dir = tmp("faces-empty");
+        std::fs::create_dir_all(&dir).unwrap();
+        let e = load_environment(&dir, None, &Limits::default()).unwrap_err();
+        assert!(e.to_string().contains("posx"), "{e}");
+    }
+}
