@@ -380,6 +380,7 @@ pub fn demo() -> Scene {
         // over the floor), the point light's is a cube of six around it.
         shadows: Shadows::casting(vec![0, 1])
             .with_params(ShadowParams::default().with_map_size(1024)),
+        environment: None,
     }
 }
 
@@ -451,6 +452,7 @@ pub fn marble() -> Scene {
         }),
         uv_scale: 1.0,
         shadows: Default::default(),
+        environment: None,
     }
 }
 

@@ -45,6 +45,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::camera::{Camera, CameraProjection};
 pub use crate::shading::shadow::Shadows;
+pub use crate::shading::ibl::Environment;
 pub use crate::shading::{
     AlphaMode, Light, Material, Procedural, ShadingModel, SolidChannel, SolidMap, TextureSlot,
     Viewer,
@@ -113,6 +114,10 @@ pub struct Scene {
     pub uv_scale: f32,
     /// Which lights cast shadows, and how their maps are made and read (none by default).
     pub shadows: Shadows,
+    /// The light from every direction, if any: drawn behind the surfaces, lighting them in
+    /// place of `ambient_light` and seen in their reflections and refractions
+    /// ([`crate::shading::ibl`]).
+    pub environment: Option<Environment>,
 }
 
 impl Default for Scene {
@@ -128,6 +133,7 @@ impl Default for Scene {
             camera: None,
             uv_scale: 1.0,
             shadows: Shadows::default(),
+            environment: None,
         }
     }
 }

@@ -152,6 +152,15 @@ pub struct Material {
     pub maps: Vec<MaterialMap>,
     /// Solid textures on channels other than the colour (roughness, bump height).
     pub solid_maps: Vec<SolidMap>,
+    /// K_R: the Phong model's reflected environment `K_R·I_R` (0 = none; see
+    /// [`super::ibl`]).
+    pub reflection: f32,
+    /// K_T: the Phong model's transmitted environment `K_T·I_T`, or glTF's
+    /// `KHR_materials_transmission` factor for metallic-roughness materials (0 = opaque).
+    pub transmission: f32,
+    /// Index of refraction (`KHR_materials_ior`; 1.5, f0 = 0.04): refraction and the
+    /// dielectric Fresnel.
+    pub ior: f32,
 }
 
 /// What a [`MaterialMap`] feeds.
@@ -175,6 +184,9 @@ pub enum MapChannel {
     Alpha,
     /// OBJ `bump`/`map_bump`: a height field, linear; `scale` is `-bm`.
     Bump,
+    /// Transmission (R), linear: multiplies K_T or the transmission factor
+    /// (`KHR_materials_transmission`'s texture).
+    Transmission,
 }
 
 impl MapChannel {
@@ -191,6 +203,7 @@ impl MapChannel {
             MapChannel::Shininess => "shininess",
             MapChannel::Alpha => "alpha",
             MapChannel::Bump => "bump",
+            MapChannel::Transmission => "transmission",
         }
     }
 
@@ -259,6 +272,9 @@ impl Default for Material {
             maps: Vec::new(),
             solid_maps: Vec::new(),
             model: ShadingModel::Phong,
+            reflection: 0.0,
+            transmission: 0.0,
+            ior: 1.5,
         }
     }
 }

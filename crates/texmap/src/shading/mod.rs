@@ -32,6 +32,7 @@
 //! `viewer.rs` (where the viewer is).
 
 pub mod bump;
+pub mod ibl;
 pub mod lanes;
 mod light;
 mod material;
@@ -80,6 +81,8 @@ pub struct Surface {
     /// The ambient term's own colour (OBJ `map_Ka`): when set, the ambient light reflects
     /// `K_A·O·I_AL·ambient_color` instead of modulating the surface colour `C`.
     pub ambient_color: Option<Vec3>,
+    /// Index of refraction (dielectric f0 and refraction; 1.5 by default).
+    pub ior: f32,
 }
 
 impl Surface {
@@ -101,6 +104,7 @@ impl Surface {
             emissive: m.emissive,
             specular_color: Vec3::ONE,
             ambient_color: None,
+            ior: m.ior,
         }
     }
 }

@@ -92,7 +92,7 @@ pub fn alpha(roughness: f32) -> f32 {
 #[must_use]
 pub fn metallic_roughness(s: &Surface, lighting: &Lighting, viewer: Viewer) -> (Vec3, Vec3) {
     let metallic = s.metallic.clamp(0.0, 1.0);
-    let f0 = Vec3::splat(DIELECTRIC_F0).lerp(s.base_color, metallic);
+    let f0 = Vec3::splat(super::ibl::dielectric_f0(s.ior)).lerp(s.base_color, metallic);
     let a = alpha(s.roughness);
     let n = s.normal;
     let v = viewer.towards(s.position);
