@@ -8,6 +8,7 @@
 
 use glam::{Mat3, Mat4, Vec3, Vec4};
 
+use super::environment::EnvDraw;
 use super::maps::MapRead;
 use super::settings::{Settings, ShadingMode, Visibility};
 use super::varyings::VaryingLayout;
@@ -98,6 +99,9 @@ pub(super) struct DrawInfo<'a> {
     /// is the material's own, with no map, vertex colour or procedural texture: its quads take
     /// the plain path, the four pixels in lanes with no per-pixel branch.
     pub plain: bool,
+    /// The environment's terms, when the frame has an environment and the material takes
+    /// them (`environment.rs`).
+    pub env: Option<EnvDraw<'a>>,
 }
 
 /// The normal matrix (inverse transpose) of `m`'s upper 3×3; `m`'s own for a singular one.
@@ -314,6 +318,7 @@ impl<'a> DrawInfo<'a> {
                 && material.procedural.is_none()
                 && material.alpha_mode == AlphaMode::Opaque
                 && model == ShadingModel::Phong,
+            env: None,
         }
     }
 
@@ -350,7 +355,8 @@ impl<'a> DrawInfo<'a> {
             // A bump map reads three times (at the pixel and one footprint along x and y).
             texture_reads: reads
                 + 3 * u32::from(self.bump_map.is_some())
-                + u32::from(self.sampler_3d.is_some()),
+                + u32::from(self.sampler_3d.is_some())
+                + u32::from(self.env.is_some()),
         }
     }
 }

@@ -136,6 +136,9 @@ impl SceneShader<'_> {
 
     /// The general path's colours of one quad of draw `d`, its texture reads made.
     fn shade_read(&self, d: &DrawInfo, quad: &Quad, reads: &QuadReads, out: &mut [Vec4; 4]) -> u8 {
+        if let Some(e) = d.env.as_ref().filter(|_| d.path == LightingPath::PerPixel) {
+            return self.shade_env(d, e, quad, reads, out);
+        }
         let m = d.material;
         let mut kept = quad.mask;
         let QuadReads {
@@ -155,21 +158,7 @@ impl SceneShader<'_> {
             if quad.mask & (1 << j) == 0 {
                 continue;
             }
-            let mut c = d.base;
-            if let Some(t) = &texels {
-                c *= t[j];
-            }
-            if let Some(t) = &opacity {
-                // Premultiplied: scaling alpha scales the whole colour.
-                c *= if d.alpha_from_w { t[j].w } else { t[j].x };
-            }
-            if let Some(slot) = d.layout.color {
-                let vc = Vec4::from_array(slot.pixel(quad, j));
-                c *= (vc.truncate() * vc.w).extend(vc.w);
-            }
-            if let Some(proc) = &m.procedural {
-                c *= d.procedural_color(proc, quad, j);
-            }
+            let c = pixel_color(d, quad, texels, opacity, j);
             let (df, sp) = match d.path {
                 LightingPath::Unlit => (Vec3::ONE, Vec3::ZERO),
                 LightingPath::PerPixel => match (&lit, maps) {
@@ -238,6 +227,34 @@ impl SceneShader<'_> {
         }
         kept
     }
+}
+
+/// Pixel `j`'s premultiplied surface colour `C`: the base colour × its texture × opacity ×
+/// vertex colour × the procedural colour, as far as the draw has each.
+#[inline(always)]
+pub(super) fn pixel_color(
+    d: &DrawInfo,
+    quad: &Quad,
+    texels: &Option<[Vec4; 4]>,
+    opacity: &Option<[Vec4; 4]>,
+    j: usize,
+) -> Vec4 {
+    let mut c = d.base;
+    if let Some(t) = texels {
+        c *= t[j];
+    }
+    if let Some(t) = opacity {
+        // Premultiplied: scaling alpha scales the whole colour.
+        c *= if d.alpha_from_w { t[j].w } else { t[j].x };
+    }
+    if let Some(slot) = d.layout.color {
+        let vc = Vec4::from_array(slot.pixel(quad, j));
+        c *= (vc.truncate() * vc.w).extend(vc.w);
+    }
+    if let Some(proc) = &d.material.procedural {
+        c *= d.procedural_color(proc, quad, j);
+    }
+    c
 }
 
 /// The factors a Gouraud or flat quad reads: those lit with −N on the back faces of

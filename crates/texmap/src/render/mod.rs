@@ -30,7 +30,9 @@
 //! of their centroid, each in index order (`gl_render.py`'s rule); `Visibility::DepthSort`
 //! sorts every triangle instead.
 
+mod background;
 mod draw;
+mod environment;
 mod fragment;
 pub mod framing;
 mod maps;
@@ -42,7 +44,7 @@ mod varyings;
 mod vertex;
 mod volumes;
 
-use glam::{DVec3, Mat4, Vec3};
+use glam::{DVec3, Mat4, Vec3, Vec4};
 
 use crate::camera::Camera;
 pub use crate::frame::{Frame, FrameStats};
@@ -50,10 +52,12 @@ use crate::pipeline::{self, DrawCall, Target};
 pub use crate::pipeline::{CullMode, Interpolation};
 use crate::scene::{Mesh, Scene};
 use crate::shading::shadow::{LightShadow, ShadowMaps};
+use crate::shading::ibl::{Background, EnvLight};
 use crate::shading::{AlphaMode, Light, Lighting};
 use crate::{Error, Result};
 
 use draw::DrawInfo;
+pub use environment::prefilter_environment;
 use fragment::SceneShader;
 pub use settings::{Settings, ShadingMode, TextureOverrides, Visibility, MAX_SIZE};
 pub use shadow::{shadow_map_bytes, shadow_maps, ShadowOverrides, MAX_SPOT_MAP_DEG};
@@ -120,6 +124,9 @@ pub fn render_into_with_shadows(
 ) -> Result<()> {
     settings.validate()?;
     camera.validate()?;
+    if let Some(env) = &scene.environment {
+        env.validate()?;
+    }
     for (i, m) in scene.meshes.iter().enumerate() {
         if m.material >= scene.materials.len() {
             return Err(Error::parameter(format!(
@@ -164,11 +171,22 @@ pub fn render_into_with_shadows(
         Visibility::DepthSort => scene.meshes.iter().collect(),
     };
     let viewer = camera.viewer();
+    // The environment's prefiltered forms are made here, once per environment (cached).
+    let env_light = scene.environment.as_ref().map(|env| {
+        let (diffuse, specular) = environment::prefilters_needed(scene, settings);
+        let mut light = EnvLight::new(env, diffuse, specular);
+        light.sampler = settings.textures.apply(env.sampler);
+        light
+    });
     let draws: Vec<DrawInfo> = meshes
         .iter()
         .map(|&mesh| {
             let material = &scene.materials[mesh.material];
-            DrawInfo::new(mesh, material, settings, &lighting, scene.uv_scale)
+            DrawInfo::new(mesh, material, settings, &lighting, scene.uv_scale).with_environment(
+                env_light.as_ref(),
+                settings,
+                scene.uv_scale,
+            )
         })
         .collect();
     let vertices: Vec<SceneVertices> = meshes
@@ -193,7 +211,14 @@ pub fn render_into_with_shadows(
         lighting,
         viewer,
     };
-    let bg = scene.background;
+    let bg = match scene.environment.as_ref().map(|e| e.background) {
+        Some(Background::Environment | Background::None) => Vec4::ZERO,
+        Some(Background::Color) | None => scene.background,
+    };
+    // Laid under the frame at its sample rate (background.rs).
+    let env_background = env_light
+        .as_ref()
+        .filter(|l| l.env.background == Background::Environment);
     let target = Target {
         width: w,
         height: h,
@@ -203,9 +228,16 @@ pub fn render_into_with_shadows(
         depth_sort: settings.visibility == Visibility::DepthSort,
     };
     let st = if n == 1 {
-        pipeline::draw_into(&calls, &shader, &target, &mut frame.color)
+        let st = pipeline::draw_into(&calls, &shader, &target, &mut frame.color);
+        if let Some(l) = env_background {
+            background::composite_environment(&mut frame.color, w as usize, h as usize, camera, l);
+        }
+        st
     } else {
-        let (big, st) = pipeline::draw(&calls, &shader, &target);
+        let (mut big, st) = pipeline::draw(&calls, &shader, &target);
+        if let Some(l) = env_background {
+            background::composite_environment(&mut big, w as usize, h as usize, camera, l);
+        }
         frame.color = pipeline::downsample_box(
             big,
             settings.width as usize,

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 use super::draw::{normal_matrix, DrawInfo, LightingPath};
 use crate::pipeline::{ClipVertex, VertexShader, MAX_VARYINGS};
 use crate::scene::Mesh;
-use crate::shading::{illuminate, Lighting, Surface, Viewer};
+use crate::shading::{Lighting, Surface, Viewer};
 
 /// One mesh's vertex stage.
 pub(super) struct SceneVertices<'a> {
@@ -102,12 +102,10 @@ impl<'a> SceneVertices<'a> {
             n = -n;
         }
         let surface = Surface::new(material, centroid, n);
-        Some(illuminate(
-            material.model,
-            &surface,
-            self.lighting,
-            self.viewer,
-        ))
+        Some(
+            self.draw
+                .illuminate_vertex(&surface, self.lighting, self.viewer),
+        )
     }
 
     /// The varyings every path carries: uv sets, vertex colour, tangent, object point.
@@ -187,7 +185,7 @@ impl VertexShader for SceneVertices<'_> {
             LightingPath::Interpolated => {
                 let material = draw.material;
                 let surface = Surface::new(material, p, self.world_normal(i));
-                let lit = |s: &Surface| illuminate(material.model, s, self.lighting, self.viewer);
+                let lit = |s: &Surface| draw.illuminate_vertex(s, self.lighting, self.viewer);
                 if let Some(f) = layout.factors {
                     f.write(&mut varyings, lit(&surface));
                 }

@@ -1,0 +1,69 @@
+//! The environment behind the surfaces: each pixel's camera ray reads the environment map
+//! (with the ray's footprint, the pixel-to-pixel change of the direction), laid under the
+//! drawn frame with premultiplied "under": `c + bg·(1 − a)`.
+//!
+//! Why after the pipeline and not as its clear colour: the pipeline clears to one constant,
+//! and the background is a per-pixel image. It is composited at the frame's sample rate
+//! before any box filter: with SSAA under every supersample (so the background is
+//! supersampled like the surfaces), with MSAA under the resolved pixel — which equals blending
+//! under each sample, since the resolve is a linear average and "under" is linear in `c` and
+//! `a`. Pixels a surface covers entirely (`a = 1`) read nothing.
+//!
+//! A perspective camera's rays fan out (`d = forward + x·right + y·up` with the image plane at
+//! distance 1); an orthographic camera's are parallel, so its background is the environment
+//! along the view direction, one colour.
+
+use glam::{Mat3, Vec3, Vec4};
+use rayon::prelude::*;
+
+use crate::camera::{Camera, CameraProjection};
+use crate::shading::ibl::EnvLight;
+use crate::texture::CubeFootprint;
+
+/// Lays the environment under `color` (`width × height`, premultiplied), seen by `camera`.
+pub(super) fn composite_environment(
+    color: &mut [Vec4],
+    width: usize,
+    height: usize,
+    camera: &Camera,
+    light: &EnvLight,
+) {
+    if width == 0 || height == 0 {
+        return;
+    }
+    let world_from_view = Mat3::from_mat4(camera.view_from_world()).transpose();
+    let aspect = width as f32 / height as f32;
+    let (dx, dy, tan) = match camera.projection {
+        CameraProjection::Perspective { fov_y_deg } => {
+            let tan = (0.5 * fov_y_deg.to_radians()).tan();
+            (
+                world_from_view * Vec3::new(2.0 * tan * aspect / width as f32, 0.0, 0.0),
+                world_from_view * Vec3::new(0.0, -2.0 * tan / height as f32, 0.0),
+                tan,
+            )
+        }
+        CameraProjection::Orthographic { .. } => (Vec3::ZERO, Vec3::ZERO, 0.0),
+    };
+    let forward = world_from_view * Vec3::NEG_Z;
+    let right = world_from_view * Vec3::X;
+    let up = world_from_view * Vec3::Y;
+    color
+        .par_chunks_mut(width)
+        .enumerate()
+        .for_each(|(y, row)| {
+            let ndc_y = 1.0 - 2.0 * (y as f32 + 0.5) / height as f32;
+            for (x, c) in row.iter_mut().enumerate() {
+                if c.w >= 1.0 {
+                    continue;
+                }
+                let ndc_x = 2.0 * (x as f32 + 0.5) / width as f32 - 1.0;
+                let dir = forward + right * (ndc_x * tan * aspect) + up * (ndc_y * tan);
+                let bg = light.background(&CubeFootprint {
+                    dir,
+                    ddir_dx: dx,
+                    ddir_dy: dy,
+                });
+                *c += bg * (1.0 - c.w);
+            }
+        });
+}
