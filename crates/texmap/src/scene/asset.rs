@@ -33,6 +33,9 @@ pub struct LoadOptions {
     /// The most memory loading one volume may hold (default
     /// [`crate::files::DEFAULT_MAX_BYTES`]).
     pub max_volume_bytes: u64,
+    /// Read a scene's environment image (default true); off for a caller that replaces the
+    /// map (the command line's `--env`): the environment then holds a black placeholder.
+    pub environment_image: bool,
 }
 
 impl Default for LoadOptions {
@@ -43,6 +46,7 @@ impl Default for LoadOptions {
             limits: Limits::default(),
             max_buffer_bytes: 1 << 30,
             max_volume_bytes: crate::files::DEFAULT_MAX_BYTES,
+            environment_image: true,
         }
     }
 }
@@ -92,6 +96,13 @@ impl LoadOptions {
         crate::volume::VolumeOptions::default()
             .allow_outside_paths(self.allow_outside_paths)
             .max_bytes(self.max_volume_bytes)
+    }
+
+    /// Sets [`LoadOptions::environment_image`].
+    #[must_use]
+    pub fn environment_image(mut self, read: bool) -> Self {
+        self.environment_image = read;
+        self
     }
 }
 

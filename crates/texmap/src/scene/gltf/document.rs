@@ -23,6 +23,8 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
     "KHR_materials_unlit",
+    "KHR_materials_transmission",
+    "KHR_materials_ior",
     "KHR_mesh_quantization",
 ];
 

@@ -2,7 +2,8 @@
 //! (`ShadingModel::MetallicRoughness`) unless `KHR_materials_unlit` (then Phong, unlit);
 //! base colour factor × texture, metallic and roughness factors and their texture, normal
 //! (+ scale), occlusion (+ strength), emissive (× `KHR_materials_emissive_strength`), the
-//! alpha mode and cutoff, double-sided.
+//! alpha mode and cutoff, double-sided, `KHR_materials_transmission` (factor and texture,
+//! drawn where an environment is given) and `KHR_materials_ior`.
 //! The base colour and emissive textures are sRGB, the others linear data; an OPAQUE base
 //! colour's alpha is dropped at load (glTF says it is ignored). The default material, for
 //! primitives without one, is glTF's: white, metallic 1, roughness 1.
@@ -112,6 +113,27 @@ impl Loader<'_> {
                 MapChannel::Occlusion,
                 o.extension_value(TRANSFORM),
             );
+        }
+        if let Some(t) = m.transmission() {
+            mat.transmission = t.transmission_factor().clamp(0.0, 1.0);
+            if let Some(info) = t.transmission_texture() {
+                self.push_map(
+                    &mut mat,
+                    MapChannel::Transmission,
+                    &info.texture(),
+                    info.tex_coord(),
+                    info.texture_transform(),
+                    1.0,
+                )?;
+            }
+        }
+        if let Some(ior) = m.ior() {
+            // 0 is the extension's spelling of "f0 = 1"; texmap keeps ior ≥ 1.
+            mat.ior = if ior >= 1.0 && ior.is_finite() {
+                ior
+            } else {
+                1.5
+            };
         }
         if let Some(info) = m.emissive_texture() {
             self.push_map(

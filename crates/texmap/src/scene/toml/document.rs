@@ -10,6 +10,7 @@ use std::path::Path;
 use glam::{Vec3, Vec4};
 
 use super::cameras::camera;
+use super::environment::environment;
 use super::lights::{default_light, light, shadows};
 use super::materials::material;
 use super::meshes::{add_mesh, MeshMaterials};
@@ -66,15 +67,23 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     }
     out.scene.camera = out.cameras.first().copied();
 
-    for (i, l) in spec.lights.iter().enumerate() {
+    let file_lights = spec.lights.as_deref().unwrap_or_default();
+    for (i, l) in file_lights.iter().enumerate() {
         let l = light(l)
             .checked()
             .map_err(|e| err(format!("lights[{i}]: {e}")))?;
         out.scene.lights.push(l);
     }
-    out.scene.shadows = shadows(spec.shadows.as_ref(), &spec.lights).map_err(err)?;
-    if out.scene.lights.is_empty() {
+    out.scene.shadows = shadows(spec.shadows.as_ref(), file_lights).map_err(err)?;
+    if spec.lights.is_none() {
         out.scene.lights.push(default_light());
+    }
+    if let Some(e) = &spec.environment {
+        let env = environment(&dir, e, options).map_err(|e| match e {
+            Error::Parameter(msg) => err(format!("environment: {msg}")),
+            other => other,
+        })?;
+        out.scene.environment = Some(env);
     }
 
     let mut by_name = BTreeMap::new();
@@ -99,7 +108,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     }
 
     // Volumes shade with the file's own lights, else with a headlight.
-    let volume_lights: &[Light] = if spec.lights.is_empty() {
+    let volume_lights: &[Light] = if file_lights.is_empty() {
         &[]
     } else {
         &out.scene.lights
@@ -119,7 +128,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
         out.info.volumes.push(sv.source.display().to_string());
         out.volumes.push(sv);
     }
-    out.info.default_light = spec.lights.is_empty();
+    out.info.default_light = spec.lights.is_none();
     for i in tangents::generate_where_needed(&mut out.scene.meshes, &out.scene.materials) {
         out.warnings.push(format!(
             "{}: mesh {i}: no tangents for its normal map (it lacks normals or uvs)",

@@ -53,12 +53,30 @@ pub(super) fn material(
         shininess: m.shininess.unwrap_or(d.shininess),
         emissive: m.emissive.map_or(d.emissive, Vec3::from),
         metallic: m.metallic.unwrap_or(d.metallic),
-        roughness: m.roughness.unwrap_or(d.roughness),
+        // Phong materials read the roughness only to blur the environment they reflect.
+        roughness: m.roughness.unwrap_or(match model {
+            ShadingModel::Phong => 0.0,
+            ShadingModel::MetallicRoughness => d.roughness,
+        }),
+        reflection: m.reflection.unwrap_or(d.reflection),
+        transmission: m.transmission.unwrap_or(d.transmission),
+        ior: m.ior.unwrap_or(d.ior),
         unlit: m.unlit,
         double_sided: m.double_sided,
         alpha_mode,
         ..d
     };
+    for (key, v, lo, hi) in [
+        ("reflection", mat.reflection, 0.0, 1.0),
+        ("transmission", mat.transmission, 0.0, 1.0),
+        ("ior", mat.ior, 1.0, 10.0),
+    ] {
+        if !(lo..=hi).contains(&v) {
+            return Err(Error::parameter(format!(
+                "{key} {v} is outside {lo}..={hi}"
+            )));
+        }
+    }
     if let Some(t) = &m.base_color_texture {
         mat.base_color_texture = slot(dir, "base_color_texture", t, ColorSpace::Srgb, textures)?;
     }
@@ -79,6 +97,11 @@ pub(super) fn material(
         (MapChannel::Shininess, "maps.shininess", &maps.shininess),
         (MapChannel::Alpha, "maps.alpha", &maps.alpha),
         (MapChannel::Bump, "maps.bump", &maps.bump),
+        (
+            MapChannel::Transmission,
+            "maps.transmission",
+            &maps.transmission,
+        ),
     ] {
         if let Some(spec) = spec {
             let space = channel_color_space(channel);

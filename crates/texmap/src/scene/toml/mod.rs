@@ -13,10 +13,10 @@
 //!   translate, or a column-major `matrix`; a mesh may generate its texture coordinates
 //!   (`texgen`).
 //! - Without lights in the file, surfaces get the peers' directional light and shaded
-//!   volumes a headlight; with lights, both use the file's.
+//!   volumes a headlight; with lights, both use the file's; `lights = []` means none.
 //!
 //! Files: `spec` (the tables as serde reads them), `document` (the file → [`Loaded`]),
-//! then one file per kind of table: `cameras`, `lights`, `materials`, `textures` and
+//! then one file per kind of table: `cameras`, `lights`, `environment`, `materials`, `textures` and
 //! `sampler` (texture tables), `procedural` (solid and projected colour sources), `meshes`,
 //! `texgen`, `placement`, `volumes`.
 //!
@@ -24,6 +24,7 @@
 
 mod cameras;
 mod document;
+mod environment;
 mod lights;
 mod materials;
 mod meshes;

@@ -20,11 +20,15 @@ pub(super) struct SceneFile {
     pub(super) ambient: Option<[f32; 3]>,
     #[serde(default)]
     pub(super) cameras: Vec<CameraSpec>,
+    /// `lights = []` says no lights (without the key, the peers' light).
     #[serde(default)]
-    pub(super) lights: Vec<LightSpec>,
+    pub(super) lights: Option<Vec<LightSpec>>,
     /// How the casting lights' shadow maps are made and read.
     #[serde(default)]
     pub(super) shadows: Option<ShadowsSpec>,
+    /// The environment map: background, image-based light, reflections.
+    #[serde(default)]
+    pub(super) environment: Option<EnvironmentSpec>,
     #[serde(default)]
     pub(super) materials: BTreeMap<String, MaterialSpec>,
     #[serde(default)]
@@ -70,6 +74,32 @@ fn one() -> f32 {
 }
 fn white() -> [f32; 3] {
     [1.0, 1.0, 1.0]
+}
+
+/// The `[environment]` table.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct EnvironmentSpec {
+    /// An image (equirectangular, cross or sphere map) or a folder of six faces, relative to
+    /// the scene file.
+    pub(super) file: PathBuf,
+    /// equirect | cross | faces | sphere (default: from the image's proportions).
+    pub(super) kind: Option<String>,
+    /// Degrees about +y.
+    #[serde(default)]
+    pub(super) rotate: f32,
+    #[serde(default = "one")]
+    pub(super) intensity: f32,
+    /// env | color | none (default env).
+    pub(super) background: Option<String>,
+    /// Image-based light in place of `ambient` (default true).
+    #[serde(default = "yes")]
+    pub(super) ibl: bool,
+    /// Reflection and refraction terms (default true).
+    #[serde(default = "yes")]
+    pub(super) reflections: bool,
+    /// How the map is read (default trilinear).
+    pub(super) filter: Option<String>,
 }
 
 /// A `[[lights]]` entry, by its `type`.
@@ -161,7 +191,15 @@ pub(super) struct MaterialSpec {
     pub(super) shininess: Option<f32>,
     pub(super) emissive: Option<[f32; 3]>,
     pub(super) metallic: Option<f32>,
+    /// Metallic-roughness: the GGX roughness (default 1). Phong: how blurred the reflected
+    /// and refracted environment is (default 0, a mirror).
     pub(super) roughness: Option<f32>,
+    /// K_R: the reflected environment (Phong).
+    pub(super) reflection: Option<f32>,
+    /// K_T (Phong) or the transmission factor (pbr).
+    pub(super) transmission: Option<f32>,
+    /// Index of refraction (default 1.5).
+    pub(super) ior: Option<f32>,
     #[serde(default)]
     pub(super) unlit: bool,
     #[serde(default)]
@@ -289,6 +327,7 @@ pub(super) struct MapsSpec {
     pub(super) shininess: Option<TextureSpec>,
     pub(super) alpha: Option<TextureSpec>,
     pub(super) bump: Option<TextureSpec>,
+    pub(super) transmission: Option<TextureSpec>,
 }
 
 /// A texture table (every channel alike): the image, how it is sampled, which coordinates.
