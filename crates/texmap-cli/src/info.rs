@@ -4,10 +4,10 @@ use std::path::PathBuf;
 
 use clap::Args;
 use texmap::camera::CameraProjection;
-use texmap::scene::{LoadOptions, Loaded};
-use texmap::shading::{AlphaMode, Procedural, ShadingModel, SolidChannel};
+use texmap::scene::{Environment, LoadOptions, Loaded};
+use texmap::shading::{AlphaMode, MapChannel, Procedural, ShadingModel, SolidChannel};
 use texmap::texture::load::{load_texture, Limits};
-use texmap::texture::ColorSpace;
+use texmap::texture::{ColorSpace, EnvironmentMap};
 use texmap::volume::{load_volume_with, SceneVolume, Volume};
 use texmap::Error;
 
@@ -218,6 +218,16 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
                 }
             });
         }
+        let mut env_terms = String::new();
+        if m.reflection > 0.0 {
+            env_terms += &format!(", reflection K_R {}", m.reflection);
+        }
+        if m.transmission > 0.0 || m.map(MapChannel::Transmission).is_some() {
+            env_terms += &format!(", transmission {}", m.transmission);
+        }
+        if m.ior != 1.5 {
+            env_terms += &format!(", ior {}", m.ior);
+        }
         let b = m.base_color;
         let model = match m.model {
             ShadingModel::Phong => format!(
@@ -231,7 +241,7 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
         };
         outln!(
             out,
-            "  [{i}] {name}: {model}, base colour ({:.3}, {:.3}, {:.3}, {:.3}), {alpha}{}{}; maps: {}",
+            "  [{i}] {name}: {model}, base colour ({:.3}, {:.3}, {:.3}, {:.3}), {alpha}{env_terms}{}{}; maps: {}",
             b.x,
             b.y,
             b.z,
@@ -284,6 +294,10 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
         s.ambient_light.to_array()
     );
     print_shadows(out, s);
+    match &s.environment {
+        None => outln!(out, "environment: none"),
+        Some(e) => outln!(out, "environment: {}", describe_environment(e)),
+    }
     outln!(out, "volumes: {}", l.volumes.len());
     for (i, v) in l.volumes.iter().enumerate() {
         outln!(out, "  [{i}] {}", describe_scene_volume(v));
@@ -298,6 +312,28 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
     for w in &l.warnings {
         outln!(out, "warning: {w}");
     }
+}
+
+/// An environment on one line: its source and layout, placement, and what it is used for.
+fn describe_environment(e: &Environment) -> String {
+    let (w, h) = e.map().size();
+    let layout = match e.map() {
+        EnvironmentMap::Equirect(_) => format!("equirectangular {w}x{h}"),
+        EnvironmentMap::Cube(_) => format!("cube map, faces {w}x{h}"),
+        EnvironmentMap::Sphere(_) => format!("sphere map {w}x{h}"),
+    };
+    format!(
+        "{}: {layout}, {} mip levels; rotate {}°, intensity {}, background {}, image-based \
+         light {}, reflections {}, filter {}",
+        e.source,
+        e.map().levels(),
+        e.rotation_deg,
+        e.intensity,
+        e.background.name(),
+        if e.ibl { "on" } else { "off" },
+        if e.reflections { "on" } else { "off" },
+        e.sampler.filter.name()
+    )
 }
 
 /// Grid, voxel type, spacing, value range and world box of a volume, on one line.

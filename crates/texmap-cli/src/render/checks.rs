@@ -5,11 +5,14 @@
 //! colour only to a border wrap); mesh flags need meshes, volume flags volumes, framing flags
 //! the default camera of a scene with volumes, load flags a file; `--cull` a single-sided
 //! material; shadow flags a lit scene with a light that casts (the PCSS light sizes, PCSS and a
-//! light of their kind).
+//! light of their kind); environment flags an environment (`--ibl` a lit surface,
+//! `--reflections` a material that reflects or refracts).
 
 use texmap::render::{ShadowOverrides, TextureOverrides};
 use texmap::scene::Light;
+use texmap::shading::ibl::Background;
 use texmap::shading::shadow::{ShadowFilter, MAX_SHADOW_MAP_SIZE};
+use texmap::shading::{MapChannel, ShadingModel};
 use texmap::texture::{Filter, LodRule, MinFilter, Sampler, Wrap};
 use texmap::Error;
 
@@ -187,6 +190,57 @@ fn describe(filters: &[Filter]) -> String {
     names.join(", ")
 }
 
+/// The environment flags: each needs an environment (the scene's or `--env`'s); `--ibl`
+/// needs a lit mesh, `--reflections` a material that reflects or refracts.
+fn check_environment_flags(args: &RenderArgs, built: &Built, name: &str) -> Result<(), Error> {
+    let flags: Vec<&str> = [
+        ("--env-rotate", args.env_rotate.is_some()),
+        ("--env-intensity", args.env_intensity.is_some()),
+        ("--background", args.background.is_some()),
+        ("--ibl", args.ibl.is_some()),
+        ("--reflections", args.reflections.is_some()),
+    ]
+    .iter()
+    .filter(|(_, g)| *g)
+    .map(|(f, _)| *f)
+    .collect();
+    let scene = &built.scene;
+    if scene.environment.is_none() {
+        if let Some(first) = flags.first() {
+            return Err(Error::parameter(format!(
+                "{first}: {name} has no environment (add --env FILE)"
+            )));
+        }
+        return Ok(());
+    }
+    let materials = || {
+        scene
+            .meshes
+            .iter()
+            .filter_map(|m| scene.materials.get(m.material))
+    };
+    let lit = !args.unlit && materials().any(|m| !m.unlit);
+    if args.ibl.is_some() && !lit {
+        return Err(Error::parameter(format!(
+            "--ibl: {name} has no lit surface for the environment to light"
+        )));
+    }
+    let reflective = lit
+        && materials().any(|m| {
+            !m.unlit
+                && (m.transmission > 0.0
+                    || m.map(MapChannel::Transmission).is_some()
+                    || (m.reflection > 0.0 && m.model == ShadingModel::Phong))
+        });
+    if args.reflections.is_some() && !reflective {
+        return Err(Error::parameter(format!(
+            "--reflections: no material of {name} reflects or refracts the environment \
+             (reflection, transmission)"
+        )));
+    }
+    Ok(())
+}
+
 /// Refuses every flag that would change nothing in this scene, naming it: texture flags on a
 /// scene that reads no image texture, mesh flags on a scene without meshes, volume flags on a
 /// scene without volumes, load flags on a built-in scene.
@@ -201,6 +255,13 @@ pub(super) fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error>
             Some(_) => Err(Error::parameter(format!("{}: {why}", flags.join(", ")))),
         }
     };
+    check_environment_flags(args, built, name)?;
+    // The environment's background is supersampled like the surfaces.
+    let env_background = built
+        .scene
+        .environment
+        .as_ref()
+        .is_some_and(|e| e.background == Background::Environment);
     if built.scene.meshes.is_empty() {
         refuse(
             given(&[
@@ -211,7 +272,7 @@ pub(super) fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error>
                 ("--visibility", args.visibility.is_some()),
                 ("--cull", args.cull.is_some()),
                 ("--msaa", args.msaa.is_some()),
-                ("--ssaa", args.ssaa.is_some()),
+                ("--ssaa", args.ssaa.is_some() && !env_background),
                 ("--unlit", args.unlit),
                 ("--shadows", args.shadows.is_some()),
                 ("--shadow-map-size", args.shadow_map_size.is_some()),
@@ -231,17 +292,30 @@ pub(super) fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error>
     check_shadow_flags(args, built, name)?;
     // --texture gives the scene image textures, so sampler flags then act.
     let samplers = built.scene.texture_samplers();
+    // --texture gives the scene image textures, so sampler flags then act; the filter and
+    // level-of-detail flags also act on the environment map's reads (its wrap is its own).
+    let mut samplers = built.scene.texture_samplers();
+    if samplers.is_empty() && args.texture.is_none() {
+        refuse(
+            given(&[
+                ("--wrap", args.wrap.is_some()),
+                ("--uv-scale", args.uv_scale.is_some()),
+                ("--border", args.border.is_some()),
+            ]),
+            format!("{name} reads no image texture (its colours are procedural or constant)"),
+        )?;
+    }
+    if let Some(env) = &built.scene.environment {
+        samplers.push(env.sampler);
+    }
     if samplers.is_empty() && args.texture.is_none() {
         refuse(
             given(&[
                 ("--filter", args.filter.is_some()),
-                ("--wrap", args.wrap.is_some()),
-                ("--uv-scale", args.uv_scale.is_some()),
                 ("--lod-rule", args.lod_rule.is_some()),
                 ("--lod-bias", args.lod_bias.is_some()),
                 ("--min-lod", args.min_lod.is_some()),
                 ("--max-lod", args.max_lod.is_some()),
-                ("--border", args.border.is_some()),
             ]),
             format!("{name} reads no image texture (its colours are procedural or constant)"),
         )?;

@@ -13,14 +13,15 @@ use glam::{Vec3, Vec4};
 use texmap::camera::CameraProjection;
 use texmap::render::framing::{choose_camera, CameraRequest, ProjectionRequest};
 use texmap::render::{
-    render_into_with_shadows, render_with_volumes, shadow_map_bytes, shadow_maps, CullMode, Frame,
-    Interpolation, Settings, ShadingMode, Visibility,
+    prefilter_environment, render_into_with_shadows, render_with_volumes, shadow_map_bytes,
+    shadow_maps, CullMode, Frame, Interpolation, Settings, ShadingMode, Visibility,
 };
 use texmap::scene::builtin::Builtin;
-use texmap::scene::{LoadOptions, Scene};
+use texmap::scene::{Environment, LoadOptions, Scene};
+use texmap::shading::ibl::Background;
 use texmap::shading::shadow::ShadowFilter;
 use texmap::texture::load::{load_texture, Limits};
-use texmap::texture::{ColorSpace, Filter, Texture2D, Wrap};
+use texmap::texture::{load_environment, ColorSpace, EnvironmentMap, Filter, Texture2D, Wrap};
 use texmap::volume::SceneVolume;
 use texmap::Error;
 
@@ -152,6 +153,30 @@ pub struct RenderArgs {
     /// PCSS: radius of point and spot lights, world units [default: 0.05].
     #[arg(long, value_name = "R")]
     shadow_light_radius: Option<f32>,
+    /// An environment map: a 2:1 equirectangular image (HDR, EXR, PNG…), a 4:3 or 3:4 cross,
+    /// a 1:1 sphere map, or a folder of six faces posx…negz. Replaces the scene's own; it is
+    /// drawn behind the surfaces, lights them (image-based light, in place of the uniform
+    /// ambient light) and is seen in their reflections and refractions.
+    #[arg(long, value_name = "FILE")]
+    env: Option<PathBuf>,
+    /// Rotates the environment about +y, in degrees.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    env_rotate: Option<f32>,
+    /// Multiplies the environment's radiance.
+    #[arg(long, value_name = "K")]
+    env_intensity: Option<f32>,
+    /// What is seen where no surface is: the environment, the scene's colour, or nothing
+    /// (transparent black) [default: env].
+    #[arg(long, value_enum)]
+    background: Option<BackgroundArg>,
+    /// Image-based light from the environment (irradiance, and the prefiltered specular of
+    /// metallic-roughness materials); off lights with the scene's uniform ambient light
+    /// [default: on].
+    #[arg(long, value_enum, value_name = "on|off")]
+    ibl: Option<Switch>,
+    /// Reflected and refracted environment (K_R, K_T, transmission) [default: on].
+    #[arg(long, value_enum, value_name = "on|off")]
+    reflections: Option<Switch>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -175,6 +200,17 @@ pub struct RenderArgs {
     pub volume: Box<crate::volume::VolumeArgs>,
 }
 
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum BackgroundArg {
+    Env,
+    Color,
+    None,
+}
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Switch {
+    On,
+    Off,
+}
 #[derive(Clone, Copy, ValueEnum)]
 enum ColorSpaceArg {
     Srgb,
@@ -262,7 +298,9 @@ struct Built {
 fn build(args: &RenderArgs, texture: Option<Arc<Texture2D>>) -> Result<Built, Error> {
     let mut options = LoadOptions::default()
         .allow_outside_paths(args.allow_outside_paths)
-        .lenient(args.lenient);
+        .lenient(args.lenient)
+        // --env replaces the scene's environment map: its own is not read.
+        .environment_image(args.env.is_none());
     if let Some(bytes) = args.max_memory {
         options = options.max_memory(bytes);
     }
@@ -421,13 +459,19 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
         }
         None => None,
     };
+    // --env is read before the scene, so a bad file fails fast.
+    let env_map = match &args.env {
+        Some(p) => Some(load_environment(p, None, &Limits::default())?),
+        None => None,
+    };
     let Built {
         mut scene,
         volumes,
         short,
         ..
     } = pool.install(|| {
-        let built = build(&args, texture.clone())?;
+        let mut built = build(&args, texture.clone())?;
+        apply_environment(&args, &mut built.scene, env_map)?;
         checks::check_flags(&args, &built)?;
         Ok::<_, Error>(built)
     })?;
@@ -510,6 +554,10 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
     let shadow_start = Instant::now();
     let shadow_maps = pool.install(|| shadow_maps(&scene, &settings))?;
     let shadow_ms = shadow_start.elapsed().as_secs_f64() * 1e3;
+    // The environment's prefiltering (once per environment): outside the frame times.
+    let prefilter_start = Instant::now();
+    let prefiltered = pool.install(|| prefilter_environment(&scene, &settings));
+    let prefilter_ms = prefilter_start.elapsed().as_secs_f64() * 1e3;
     let output = args
         .output
         .clone()
@@ -581,6 +629,9 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             "texture_samples": s.texture_samples,
             "output": output,
         });
+        if prefiltered {
+            json["env_prefilter_ms"] = serde_json::json!(round2(prefilter_ms));
+        }
         if !volumes.is_empty() {
             json["volumes"] = crate::volume::stats_json(&volumes);
             json["camera"] = serde_json::json!({
@@ -603,6 +654,56 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             if args.frames == 1 { "" } else { "s" },
             median
         ));
+    }
+    Ok(())
+}
+
+/// Lays `--env` (the map, replacing the scene's) and the environment flags over the scene's
+/// environment. Flags that need one where there is none are left for `checks` to refuse.
+fn apply_environment(
+    args: &RenderArgs,
+    scene: &mut Scene,
+    map: Option<EnvironmentMap>,
+) -> Result<(), Error> {
+    if let Some(map) = map {
+        let source = args.env.as_ref().map(|p| p.display().to_string());
+        let source = source.unwrap_or_default();
+        scene.environment = Some(match scene.environment.take() {
+            Some(env) => env.with_map(map, source),
+            None => Environment::new(map, source),
+        });
+    }
+    let Some(env) = scene.environment.as_mut() else {
+        return Ok(());
+    };
+    if let Some(deg) = args.env_rotate {
+        if !deg.is_finite() {
+            return Err(Error::parameter(format!(
+                "--env-rotate {deg} is not finite"
+            )));
+        }
+        env.rotation_deg = deg;
+    }
+    if let Some(k) = args.env_intensity {
+        if !(k.is_finite() && k >= 0.0) {
+            return Err(Error::parameter(format!(
+                "--env-intensity {k} must be finite and ≥ 0"
+            )));
+        }
+        env.intensity = k;
+    }
+    if let Some(b) = args.background {
+        env.background = match b {
+            BackgroundArg::Env => Background::Environment,
+            BackgroundArg::Color => Background::Color,
+            BackgroundArg::None => Background::None,
+        };
+    }
+    if let Some(s) = args.ibl {
+        env.ibl = s == Switch::On;
+    }
+    if let Some(s) = args.reflections {
+        env.reflections = s == Switch::On;
     }
     Ok(())
 }
