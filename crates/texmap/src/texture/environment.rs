@@ -110,7 +110,7 @@ pub enum EnvironmentMap {
     /// A latitude-longitude panorama (the module docs' convention).
     Equirect(Texture2D),
     /// Six faces in OpenGL's layout, from a cross or six images (read mirrored in x).
-    Cube(TextureCube),
+    Cube(Box<TextureCube>),
     /// An OpenGL sphere map.
     Sphere(Texture2D),
 }
@@ -295,7 +295,7 @@ pub fn load_environment(
                 ),
             ));
         }
-        return load_faces(path, limits).map(EnvironmentMap::Cube);
+        return load_faces(path, limits).map(|c| EnvironmentMap::Cube(Box::new(c)));
     }
     let ext = path
         .extension()
@@ -350,7 +350,9 @@ pub fn load_environment(
             }
             texture(img).map(EnvironmentMap::Sphere)
         }
-        EnvironmentKind::Cross => cube_from_cross(img, path).map(EnvironmentMap::Cube),
+        EnvironmentKind::Cross => {
+            cube_from_cross(img, path).map(|c| EnvironmentMap::Cube(Box::new(c)))
+        }
         EnvironmentKind::Faces => unreachable!("folders are handled above"),
     }
 }
