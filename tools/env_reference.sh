@@ -25,33 +25,9 @@ mkdir -p "$OUT"
 [ -x "$TEXMAP" ] || { echo "no $TEXMAP: cargo build --release first" >&2; exit 1; }
 [ -x "$PY" ] || { echo "no $PY: run bash $P/setup.sh first" >&2; exit 1; }
 
-# The synthetic panorama (linear radiance, 1024x512, EXR), written once.
+# The synthetic panorama (tools/synthetic_env.py: linear radiance, 1024x512, EXR), written once.
 SYN="$OUT/synthetic.exr"
-if [ ! -f "$SYN" ]; then
-    "$PY" - "$SYN" <<'EOF'
-import sys, numpy as np, mitsuba as mi
-mi.set_variant("scalar_rgb")
-W, H = 1024, 512
-u = (np.arange(W) + 0.5) / W
-v = np.arange(H) / (H - 1)                    # Mitsuba's rows: theta = pi * i / (H - 1)
-U, V = np.meshgrid(u, v)
-th, ph = V * np.pi, U * 2 * np.pi
-d = np.stack([np.sin(ph) * np.sin(th), np.cos(th), -np.cos(ph) * np.sin(th)], -1)
-y = d[..., 1]
-sky = np.where(y[..., None] > 0, np.array([0.25, 0.45, 0.9]) * (0.4 + 0.6 * y[..., None])
-               + np.array([0.9, 0.8, 0.6]) * (1 - y[..., None]) ** 8, 0)
-# A checker ground and coloured bands around the horizon.
-cx, cz = np.floor(4 * ph / np.pi), np.floor(8 * th / np.pi)
-ground = np.where(((cx + cz) % 2 == 0)[..., None], [0.5, 0.45, 0.4], [0.08, 0.1, 0.12])
-img = np.where(y[..., None] > 0, sky, ground)
-band = (np.abs(y) < 0.12)[..., None] * np.stack([0.5 + 0.5 * np.sin(3 * ph),
-        0.5 + 0.5 * np.sin(3 * ph + 2.1), 0.5 + 0.5 * np.sin(3 * ph + 4.2)], -1)
-img = np.where((np.abs(y) < 0.12)[..., None], band, img)
-sun = np.array([0.4, 0.5, 0.77]); sun /= np.linalg.norm(sun)
-img = img + (d @ sun > np.cos(np.radians(2.5)))[..., None] * 60.0
-mi.Bitmap(img.astype(np.float32)).write(sys.argv[1])
-EOF
-fi
+[ -f "$SYN" ] || "$PY" tools/synthetic_env.py 1024 "$SYN"
 
 panoramas=("synthetic|$SYN")
 [ -f "$A/venice_sunset_1k.hdr" ] && panoramas=("venice|$A/venice_sunset_1k.hdr" "${panoramas[@]}")
