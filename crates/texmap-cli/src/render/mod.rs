@@ -341,10 +341,12 @@ fn build(args: &RenderArgs, texture: Option<Arc<Texture2D>>) -> Result<Built, Er
     } else {
         built.scene.lights.extend(own_lights);
     }
-    if built.scene.triangle_count() == 0 && built.volumes.is_empty() {
+    // An environment alone draws its background (scenes/reference/env.toml).
+    let environment = built.scene.environment.is_some() || args.env.is_some();
+    if built.scene.triangle_count() == 0 && built.volumes.is_empty() && !environment {
         let name = args.scene.as_deref().unwrap_or("builtin:demo");
         return Err(Error::parameter(format!(
-            "{name}: nothing to draw (no triangles and no volumes)"
+            "{name}: nothing to draw (no triangles, no volumes and no environment)"
         )));
     }
     if built.volumes.is_empty() && !built.scene.any_triangle_has_area() {
@@ -461,7 +463,13 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
     };
     // --env is read before the scene, so a bad file fails fast.
     let env_map = match &args.env {
-        Some(p) => Some(load_environment(p, None, &Limits::default())?),
+        Some(p) => {
+            let limits = match args.max_memory {
+                Some(bytes) => Limits::default().with_max_bytes(bytes),
+                None => Limits::default(),
+            };
+            Some(load_environment(p, None, &limits)?)
+        }
         None => None,
     };
     let Built {
