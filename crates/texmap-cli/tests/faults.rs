@@ -552,4 +552,112 @@ fn lights_that_light_nothing_and_meshes_of_no_area_are_errors() {
         &["flat.toml", "zero area"],
         &out,
     );
+/// A black RGB PNG of `w × h` in `d`.
+fn black_png(d: &Path, name: &str, w: u32, h: u32) -> PathBuf {
+    let p = d.join(name);
+    image::RgbImage::new(w, h).save(&p).unwrap();
+    p
+}
+
+#[test]
+fn a_missing_environment_image_is_named() {
+    let d = dir("env-missing");
+    let out = d.join("x.png");
+    let missing = d.join("missing.hdr");
+    assert_refused(
+        &render(&["builtin:sphere", "--env", missing.to_str().unwrap()], &out),
+        &["missing.hdr"],
+        &out,
+    );
+    // The same from a scene's [environment] table.
+    let scene = d.join("s.toml");
+    std::fs::write(
+        &scene,
+        "[[meshes]]\nprimitive = \"sphere\"\n[environment]\nfile = \"missing.hdr\"\n",
+    )
+    .unwrap();
+    assert_refused(
+        &render(&[scene.to_str().unwrap()], &out),
+        &["missing.hdr"],
+        &out,
+    );
+}
+
+#[test]
+fn a_corrupt_environment_image_is_named() {
+    let d = dir("env-corrupt");
+    let out = d.join("x.png");
+    // A Radiance header whose pixels stop short, a PNG that is not one, and a directory of
+    // faces missing five of them.
+    let hdr = d.join("short.hdr");
+    std::fs::write(
+        &hdr,
+        b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8 +X 16\n\x02\x02\x02\x02",
+    )
+    .unwrap();
+    let png = d.join("text.png");
+    std::fs::write(&png, "not an image").unwrap();
+    let faces = d.join("faces");
+    std::fs::create_dir_all(&faces).unwrap();
+    black_png(&faces, "posx.png", 8, 8);
+    for (file, says) in [
+        (&hdr, "short.hdr"),
+        (&png, "text.png"),
+        (&faces, "has no negx image"),
+    ] {
+        assert_refused(
+            &render(&["builtin:sphere", "--env", file.to_str().unwrap()], &out),
+            &[says],
+            &out,
+        );
+    }
+}
+
+#[test]
+fn environment_images_of_the_wrong_proportions_are_named() {
+    let d = dir("env-proportions");
+    let out = d.join("x.png");
+    // Neither 2:1, 4:3, 3:4 nor 1:1: no layout fits.
+    let odd = black_png(&d, "odd.png", 50, 30);
+    assert_refused(
+        &render(&["builtin:sphere", "--env", odd.to_str().unwrap()], &out),
+        &["odd.png", "50x30", "2:1"],
+        &out,
+    );
+    // Declared a cross, but 2:1; and close to 4:3 without being it.
+    black_png(&d, "wide.png", 40, 20);
+    black_png(&d, "uneven.png", 42, 31);
+    for (file, says) in [("wide.png", "40x20"), ("uneven.png", "42x31")] {
+        let scene = d.join(format!("{file}.toml"));
+        std::fs::write(
+            &scene,
+            format!(
+                "[[meshes]]\nprimitive = \"sphere\"\n[environment]\nfile = \"{file}\"\n\
+                 kind = \"cross\"\n"
+            ),
+        )
+        .unwrap();
+        assert_refused(
+            &render(&[scene.to_str().unwrap()], &out),
+            &[file, says, "a cross is 4N x 3N"],
+            &out,
+        );
+    }
+}
+
+#[test]
+fn an_environment_alone_is_something_to_draw() {
+    // No meshes and no volumes, but an environment: its background is the image.
+    let d = dir("env-alone");
+    let png = d.join("sky.png");
+    image::RgbImage::from_pixel(16, 8, image::Rgb([40, 90, 200]))
+        .save(&png)
+        .unwrap();
+    let scene = d.join("sky.toml");
+    std::fs::write(&scene, "lights = []\n[environment]\nfile = \"sky.png\"\n").unwrap();
+    let out = d.join("x.png");
+    let o = render(&[scene.to_str().unwrap()], &out);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&out).unwrap().to_rgb8();
+    assert_eq!(img.get_pixel(16, 12).0, [40, 90, 200]);
 }
