@@ -565,7 +565,10 @@ fn a_missing_environment_image_is_named() {
     let out = d.join("x.png");
     let missing = d.join("missing.hdr");
     assert_refused(
-        &render(&["builtin:sphere", "--env", missing.to_str().unwrap()], &out),
+        &render(
+            &["builtin:sphere", "--env", missing.to_str().unwrap()],
+            &out,
+        ),
         &["missing.hdr"],
         &out,
     );
