@@ -552,6 +552,8 @@ fn lights_that_light_nothing_and_meshes_of_no_area_are_errors() {
         &["flat.toml", "zero area"],
         &out,
     );
+}
+
 /// A black RGB PNG of `w × h` in `d`.
 fn black_png(d: &Path, name: &str, w: u32, h: u32) -> PathBuf {
     let p = d.join(name);
