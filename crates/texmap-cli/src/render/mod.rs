@@ -349,7 +349,7 @@ fn build(args: &RenderArgs, texture: Option<Arc<Texture2D>>) -> Result<Built, Er
             "{name}: nothing to draw (no triangles, no volumes and no environment)"
         )));
     }
-    if built.volumes.is_empty() && !built.scene.any_triangle_has_area() {
+    if built.volumes.is_empty() && !environment && !built.scene.any_triangle_has_area() {
         let name = args.scene.as_deref().unwrap_or("builtin:demo");
         return Err(Error::parameter(format!(
             "{name}: nothing to draw (every triangle has zero area)"
