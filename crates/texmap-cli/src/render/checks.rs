@@ -290,8 +290,6 @@ pub(super) fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error>
         )?;
     }
     check_shadow_flags(args, built, name)?;
-    // --texture gives the scene image textures, so sampler flags then act.
-    let samplers = built.scene.texture_samplers();
     // --texture gives the scene image textures, so sampler flags then act; the filter and
     // level-of-detail flags also act on the environment map's reads (its wrap is its own).
     let mut samplers = built.scene.texture_samplers();

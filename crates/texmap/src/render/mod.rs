@@ -51,8 +51,8 @@ pub use crate::frame::{Frame, FrameStats};
 use crate::pipeline::{self, DrawCall, Target};
 pub use crate::pipeline::{CullMode, Interpolation};
 use crate::scene::{Mesh, Scene};
-use crate::shading::shadow::{LightShadow, ShadowMaps};
 use crate::shading::ibl::{Background, EnvLight};
+use crate::shading::shadow::{LightShadow, ShadowMaps};
 use crate::shading::{AlphaMode, Light, Lighting};
 use crate::{Error, Result};
 

@@ -44,8 +44,8 @@ use std::sync::Arc;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::camera::{Camera, CameraProjection};
-pub use crate::shading::shadow::Shadows;
 pub use crate::shading::ibl::Environment;
+pub use crate::shading::shadow::Shadows;
 pub use crate::shading::{
     AlphaMode, Light, Material, Procedural, ShadingModel, SolidChannel, SolidMap, TextureSlot,
     Viewer,
