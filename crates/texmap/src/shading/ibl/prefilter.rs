@@ -1,0 +1,286 @@
+//! Prefiltering an environment: the source cube, the irradiance cube and the GGX lobe's
+//! levels (the `ibl` module docs give the method).
+
+use std::f32::consts::{FRAC_1_PI, PI, TAU};
+
+use glam::{Vec3, Vec4};
+use rayon::prelude::*;
+
+use super::super::pbr;
+use super::LEVELS;
+use crate::texture::environment::EnvironmentMap;
+use crate::texture::{
+    sample_cube, CubeFootprint, Filter, Sampler, Texture2D, TextureCube, TextureOptions, Wrap,
+};
+
+/// Six square faces of `n × n` linear RGB values with a one-texel apron, read bilinearly and
+/// seamlessly by direction (faces in OpenGL's order and orientation, world directions).
+#[derive(Clone, Debug)]
+pub struct FaceSet {
+    n: usize,
+    /// Per face `(n + 2)²` values, row-major, the apron around the face's own `n × n`.
+    texels: Vec<Vec3>,
+}
+
+/// The face a direction hits, and its face coordinates `(sc, tc)/|ma|` in [−1, 1]
+/// (OpenGL's table 8.19, as `texture::TextureCube`).
+#[inline]
+fn face_coords(d: Vec3) -> (usize, f32, f32) {
+    let a = d.abs();
+    let (f, s, t, m) = if a.x >= a.y && a.x >= a.z {
+        if d.x >= 0.0 {
+            (0, -d.z, -d.y, a.x)
+        } else {
+            (1, d.z, -d.y, a.x)
+        }
+    } else if a.y >= a.z {
+        if d.y >= 0.0 {
+            (2, d.x, d.z, a.y)
+        } else {
+            (3, d.x, -d.z, a.y)
+        }
+    } else if d.z >= 0.0 {
+        (4, d.x, -d.y, a.z)
+    } else {
+        (5, -d.x, -d.y, a.z)
+    };
+    let inv = if m > 0.0 { 1.0 / m } else { 0.0 };
+    (f, s * inv, t * inv)
+}
+
+/// The direction through face coordinates `(sc, tc)` of `face` (outside [−1, 1] on the
+/// face's extended plane).
+#[inline]
+fn face_direction(face: usize, sc: f32, tc: f32) -> Vec3 {
+    match face {
+        0 => Vec3::new(1.0, -tc, -sc),
+        1 => Vec3::new(-1.0, -tc, sc),
+        2 => Vec3::new(sc, 1.0, tc),
+        3 => Vec3::new(sc, -1.0, -tc),
+        4 => Vec3::new(sc, -tc, 1.0),
+        _ => Vec3::new(-sc, -tc, -1.0),
+    }
+}
+
+impl FaceSet {
+    /// Evaluates `f` at the direction through every texel centre (apron included), in
+    /// parallel.
+    pub fn from_fn(n: usize, f: impl Fn(Vec3) -> Vec3 + Sync) -> Self {
+        let m = n + 2;
+        let mut texels = vec![Vec3::ZERO; 6 * m * m];
+        texels.par_chunks_mut(m).enumerate().for_each(|(row, out)| {
+            let (face, y) = (row / m, row % m);
+            let tc = 2.0 * (y as f32 - 0.5) / n as f32 - 1.0;
+            for (x, o) in out.iter_mut().enumerate() {
+                let sc = 2.0 * (x as f32 - 0.5) / n as f32 - 1.0;
+                *o = f(face_direction(face, sc, tc).normalize());
+            }
+        });
+        FaceSet { n, texels }
+    }
+
+    /// Face size in texels (without the apron).
+    #[must_use]
+    pub fn size(&self) -> usize {
+        self.n
+    }
+
+    /// The bilinear value along `d` (any length).
+    #[inline]
+    #[must_use]
+    pub fn read(&self, d: Vec3) -> Vec3 {
+        let (f, sc, tc) = face_coords(d);
+        let n = self.n as f32;
+        let m = self.n + 2;
+        // Texel centre i sits at face coordinate 2(i + ½)/n − 1; the apron shifts by one.
+        let x = ((sc + 1.0) * 0.5 * n + 0.5).clamp(0.0, n + 1.0);
+        let y = ((tc + 1.0) * 0.5 * n + 0.5).clamp(0.0, n + 1.0);
+        let (x0, y0) = ((x as usize).min(self.n), (y as usize).min(self.n));
+        let (fx, fy) = (x - x0 as f32, y - y0 as f32);
+        let base = f * m * m + y0 * m + x0;
+        let t = &self.texels[base..base + m + 2];
+        let top = t[0].lerp(t[1], fx);
+        let bottom = t[m].lerp(t[m + 1], fx);
+        top.lerp(bottom, fy)
+    }
+}
+
+/// The solid angle of texel `(x, y)` of an `n × n` face: the integral of `dA/(1 + s² + t²)^{3/2}`
+/// over its square (by its corners' `atan` form).
+fn texel_solid_angle(x: usize, y: usize, n: usize) -> f32 {
+    let corner = |s: f64, t: f64| (s * t).atan2((s * s + t * t + 1.0).sqrt());
+    let step = 2.0 / n as f64;
+    let (s0, t0) = (x as f64 * step - 1.0, y as f64 * step - 1.0);
+    let (s1, t1) = (s0 + step, t0 + step);
+    (corner(s0, t0) - corner(s0, t1) - corner(s1, t0) + corner(s1, t1)) as f32
+}
+
+/// The map resampled to a world-direction cube of face size `min(256, the map's own
+/// density)`, each texel read with its footprint, mipmapped.
+pub(super) fn source_cube(map: &EnvironmentMap) -> TextureCube {
+    let density = (map.texels_per_steradian() * 4.0 * PI / 6.0).sqrt();
+    let n = (density.max(16.0) as u32).next_power_of_two().min(256);
+    let sampler = Sampler::new(Filter::TRILINEAR, Wrap::ClampToEdge);
+    let step = 2.0 / n as f32;
+    let faces: Vec<Texture2D> = (0..6)
+        .into_par_iter()
+        .map(|face| {
+            let rows: Vec<Vec<Vec4>> = (0..n)
+                .into_par_iter()
+                .map(|y| {
+                    let tc = (y as f32 + 0.5) * step - 1.0;
+                    (0..n)
+                        .map(|x| {
+                            let sc = (x as f32 + 0.5) * step - 1.0;
+                            let dir = face_direction(face, sc, tc);
+                            let fp = CubeFootprint {
+                                dir,
+                                ddir_dx: face_direction(face, sc + step, tc) - dir,
+                                ddir_dy: face_direction(face, sc, tc + step) - dir,
+                            };
+                            let c = map.sample(&sampler, &fp);
+                            c.truncate().extend(1.0)
+                        })
+                        .collect()
+                })
+                .collect();
+            Texture2D::from_fn(n, n, TextureOptions::default(), |x, y| {
+                rows[y as usize][x as usize]
+            })
+            .expect("a square face")
+        })
+        .collect();
+    TextureCube::new(faces.try_into().expect("six faces")).expect("equal faces")
+}
+
+/// `I_env` (the module docs: irradiance / π) on an `n`-texel cube, integrated over the
+/// source's level nearest 32 texels a side: every texel a small light of its solid angle.
+pub(super) fn irradiance_cube(source: &TextureCube, n: usize) -> FaceSet {
+    let face0 = &source.faces()[0];
+    let level = face0
+        .levels()
+        .iter()
+        .position(|l| l.width() <= 32)
+        .unwrap_or(face0.levels().len() - 1);
+    let size = face0.levels()[level].width() as usize;
+    let mut lights: Vec<(Vec3, Vec3)> = Vec::with_capacity(6 * size * size);
+    for (face, tex) in source.faces().iter().enumerate() {
+        let texels = tex.decode_level(level);
+        for y in 0..size {
+            for x in 0..size {
+                let sc = 2.0 * (x as f32 + 0.5) / size as f32 - 1.0;
+                let tc = 2.0 * (y as f32 + 0.5) / size as f32 - 1.0;
+                let d = face_direction(face, sc, tc).normalize();
+                let w = texel_solid_angle(x, y, size);
+                lights.push((d, texels[y * size + x].truncate() * w));
+            }
+        }
+    }
+    FaceSet::from_fn(n, |normal| {
+        let mut sum = Vec3::ZERO;
+        for &(d, lw) in &lights {
+            let c = normal.dot(d);
+            if c > 0.0 {
+                sum += lw * c;
+            }
+        }
+        sum * FRAC_1_PI
+    })
+}
+
+/// The base-2 radical inverse of `k` (van der Corput).
+fn radical_inverse(k: u32) -> f32 {
+    (f64::from(k.reverse_bits()) / 4_294_967_296.0) as f32
+}
+
+/// Face size and sample count of the level at `roughness`: a face texel (2/n radians at a
+/// face's centre) at most half of α, 16…128 texels, so the bilinear read adds little to the
+/// lobe; more samples for wider lobes.
+fn level_shape(roughness: f32, source: usize) -> (usize, u32) {
+    let alpha = roughness * roughness;
+    let n = ((4.0 / alpha) as usize)
+        .next_power_of_two()
+        .clamp(16, 128)
+        .min(source);
+    let samples = if roughness < 0.2 {
+        32
+    } else if roughness < 0.3 {
+        64
+    } else {
+        128
+    };
+    (n, samples)
+}
+
+/// The GGX-prefiltered levels (module docs), roughness `k/LEVELS` for `k = 1…LEVELS`.
+pub(super) fn specular_levels(source: &TextureCube) -> Vec<FaceSet> {
+    let n_src = source.size() as f32;
+    let levels = source.faces()[0].levels().len() as f32;
+    // The solid angle of a level-0 texel at a face's centre.
+    let texel_omega = 4.0 * PI / (6.0 * n_src * n_src);
+    (1..=LEVELS)
+        .map(|k| {
+            let roughness = k as f32 / LEVELS as f32;
+            let alpha = roughness * roughness;
+            let a2 = alpha * alpha;
+            let (n, samples) = level_shape(roughness, source.size() as usize);
+            // Half vectors (tangent space) and the source level each sample reads.
+            let taps: Vec<(Vec3, f32)> = (0..samples)
+                .map(|i| {
+                    let u1 = (i as f32 + 0.5) / samples as f32;
+                    let u2 = radical_inverse(i);
+                    let cos_h = ((1.0 - u1) / (1.0 + (a2 - 1.0) * u1)).sqrt();
+                    let sin_h = (1.0 - cos_h * cos_h).max(0.0).sqrt();
+                    let phi = TAU * u2;
+                    let h = Vec3::new(sin_h * phi.cos(), sin_h * phi.sin(), cos_h);
+                    // pdf(L) = D(N·H)/4 with N = V; the sample's solid angle 1/(M·pdf).
+                    let pdf = pbr::distribution(cos_h, alpha) * 0.25;
+                    let omega = 1.0 / (samples as f32 * pdf);
+                    let lod = (0.5 * (omega / texel_omega).log2() + 1.0).clamp(0.0, levels - 1.0);
+                    (h, lod)
+                })
+                .collect();
+            FaceSet::from_fn(n, |normal| {
+                let (t, b) = orthonormal_basis(normal);
+                let mut sum = Vec3::ZERO;
+                let mut weight = 0.0;
+                for &(h, lod) in &taps {
+                    let h = t * h.x + b * h.y + normal * h.z;
+                    let l = h * (2.0 * normal.dot(h)) - normal;
+                    let n_dot_l = normal.dot(l);
+                    if n_dot_l <= 0.0 {
+                        continue;
+                    }
+                    let s =
+                        Sampler::new(Filter::TRILINEAR, Wrap::ClampToEdge).with_lod_clamp(lod, lod);
+                    let c = sample_cube(
+                        source,
+                        &s,
+                        &CubeFootprint {
+                            dir: l,
+                            ..Default::default()
+                        },
+                    );
+                    sum += c.truncate() * n_dot_l;
+                    weight += n_dot_l;
+                }
+                if weight > 0.0 {
+                    sum / weight
+                } else {
+                    Vec3::ZERO
+                }
+            })
+        })
+        .collect()
+}
+
+/// Two unit vectors completing `n` to an orthonormal basis (Duff et al.'s branchless form).
+fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3) {
+    let sign = 1f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (
+        Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        Vec3::new(b, sign + n.y * n.y * a, -n.y),
+    )
+}

@@ -1,0 +1,163 @@
+//! Tests of image-based light.
+
+use std::f32::consts::{PI, TAU};
+
+use glam::{Mat3, Vec3, Vec4};
+
+use super::*;
+use crate::shading::{pbr, Material, ShadingModel, Surface, Viewer};
+use crate::texture::environment::EnvironmentMap;
+use crate::texture::{CubeFootprint, Texture2D, TextureOptions};
+
+fn uniform(c: Vec3) -> Environment {
+    let t = Texture2D::from_fn(64, 32, TextureOptions::default(), |_, _| c.extend(1.0)).unwrap();
+    Environment::new(EnvironmentMap::Equirect(t), "uniform")
+}
+
+/// A panorama lit by a small bright disc around `sun` (radius 5°) over a dim sky.
+fn sun_env(sun: Vec3) -> Environment {
+    let (w, h) = (256, 128);
+    let t = Texture2D::from_fn(w, h, TextureOptions::default(), |x, y| {
+        let u = (x as f32 + 0.5) / w as f32;
+        let v = y as f32 / (h - 1) as f32;
+        let d = crate::texture::environment::equirect_direction(u, v);
+        let c = if d.dot(sun) > 5f32.to_radians().cos() {
+            100.0
+        } else {
+            0.1
+        };
+        Vec4::new(c, c, c, 1.0)
+    })
+    .unwrap();
+    Environment::new(EnvironmentMap::Equirect(t), "sun")
+}
+
+#[test]
+fn a_uniform_environment_is_a_uniform_ambient_light_of_its_radiance() {
+    // The furnace: radiance 0.7 everywhere gives I_env = 0.7 for every normal, and every
+    // prefiltered level reads 0.7.
+    let env = uniform(Vec3::splat(0.7));
+    let light = EnvLight::new(&env, true, true);
+    for n in [Vec3::X, -Vec3::Y, Vec3::new(0.3, 0.5, -0.8).normalize()] {
+        let e = light.irradiance(n);
+        assert!(
+            (e - Vec3::splat(0.7)).abs().max_element() < 2e-3,
+            "{n}: {e}"
+        );
+        for r in [0.1, 0.3, 0.55, 1.0] {
+            let fp = CubeFootprint {
+                dir: n,
+                ..Default::default()
+            };
+            let l = light.radiance(&fp, r);
+            assert!(
+                (l - Vec3::splat(0.7)).abs().max_element() < 2e-3,
+                "{r}: {l}"
+            );
+        }
+    }
+}
+
+#[test]
+fn irradiance_of_a_small_sun_follows_the_cosine_law() {
+    // A disc of radiance 100 and solid angle 2π(1 − cos 5°) over a sky of 0.1: facing it,
+    // I_env = (100 − 0.1)·Ω·cos/π + 0.1.
+    let sun = Vec3::new(0.3, 0.8, -0.5).normalize();
+    let env = sun_env(sun);
+    let light = EnvLight::new(&env, true, false);
+    let omega = TAU * (1.0 - 5f32.to_radians().cos());
+    for angle in [0.0f32, 30.0, 60.0] {
+        // A normal `angle` degrees from the sun.
+        let axis = sun.cross(Vec3::Y).normalize();
+        let n = Mat3::from_axis_angle(axis, angle.to_radians()) * sun;
+        let want = (100.0 - 0.1) * omega * angle.to_radians().cos() / PI + 0.1;
+        let got = light.irradiance(n).x;
+        assert!(
+            (got - want).abs() < 0.02 * want,
+            "{angle}°: {got} vs {want}"
+        );
+    }
+}
+
+#[test]
+fn rough_levels_blur_the_sun_and_keep_its_energy() {
+    let sun = Vec3::new(0.0, 0.6, -0.8).normalize();
+    let env = sun_env(sun);
+    let light = EnvLight::new(&env, false, true);
+    let at = |d: Vec3, r: f32| {
+        light
+            .radiance(
+                &CubeFootprint {
+                    dir: d,
+                    ..Default::default()
+                },
+                r,
+            )
+            .x
+    };
+    // Towards the sun the peak falls as the lobe widens; 25° away it rises.
+    let away = Mat3::from_rotation_x(25f32.to_radians()) * sun;
+    let (p3, p6, p9) = (at(sun, 0.3), at(sun, 0.6), at(sun, 0.9));
+    assert!(p3 > p6 && p6 > p9, "{p3} {p6} {p9}");
+    assert!(
+        at(away, 0.9) > at(away, 0.3),
+        "{} {}",
+        at(away, 0.9),
+        at(away, 0.3)
+    );
+    // A wide footprint reads a blurrier level than a point.
+    let wide = CubeFootprint {
+        dir: sun,
+        ddir_dx: Vec3::new(0.5, 0.0, 0.0),
+        ddir_dy: Vec3::ZERO,
+    };
+    assert!(light.radiance(&wide, 0.3).x < p3);
+}
+
+#[test]
+fn refraction_follows_snell_and_reflection_the_mirror_law() {
+    let n = Vec3::Y;
+    let v = Vec3::new(1.0, 1.0, 0.0).normalize();
+    let r = reflect(n, v);
+    assert!((r - Vec3::new(-1.0, 1.0, 0.0).normalize()).length() < 1e-6);
+    let t = refract(n, v, 1.5);
+    // sin θt = sin 45° / 1.5.
+    let sin_t = t.x.abs() / t.length();
+    assert!((sin_t - 45f32.to_radians().sin() / 1.5).abs() < 1e-5, "{t}");
+    assert!(t.y < 0.0 && t.x < 0.0);
+    // Head-on the ray goes straight through.
+    assert!((refract(n, n, 1.5) + n).length() < 1e-6);
+    assert_eq!(dielectric_f0(1.5), pbr::DIELECTRIC_F0);
+}
+
+#[test]
+fn phong_mirror_and_glass_weights() {
+    let env = uniform(Vec3::splat(2.0));
+    let light = EnvLight::new(&env, true, true);
+    let mut m = Material {
+        ambient: 0.0,
+        ..Default::default()
+    };
+    m.ior = 1.5;
+    let s = Surface::new(&m, Vec3::ZERO, Vec3::Z);
+    let viewer = Viewer::Point(Vec3::Z * 3.0);
+    let rays = point_rays(&s, viewer);
+    let mirror = EnvMaterial {
+        reflection: 1.0,
+        transmission: 0.0,
+        phong_roughness: 0.0,
+    };
+    let (d, sp) = environment_terms(ShadingModel::Phong, &s, &mirror, viewer, &rays, &light);
+    assert_eq!(d, Vec3::ZERO);
+    assert!((sp - Vec3::splat(2.0)).abs().max_element() < 1e-5, "{sp}");
+    // Glass head-on: 4% reflected, 96% transmitted, summing to the environment.
+    let glass = EnvMaterial {
+        transmission: 1.0,
+        ..mirror
+    };
+    let (d, sp) = environment_terms(ShadingModel::Phong, &s, &glass, viewer, &rays, &light);
+    assert!(
+        (sp.x - 0.08).abs() < 1e-4 && (d.x - 1.92).abs() < 1e-4,
+        "{d} {sp}"
+    );
+}
