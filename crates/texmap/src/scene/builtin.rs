@@ -10,10 +10,14 @@ use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 
 use super::{Light, Material, Mesh, Procedural, Scene, TextureSlot};
 use crate::camera::{Camera, CameraProjection};
+use crate::shading::ibl::Environment;
 use crate::shading::shadow::{ShadowParams, Shadows};
 use crate::shading::AlphaMode;
+use crate::texture::environment::{equirect_direction, EnvironmentMap};
 use crate::texture::procedural::Solid;
-use crate::texture::{ColorSpace, Filter, Sampler, Texture2D, TextureTransform, Wrap};
+use crate::texture::{
+    ColorSpace, Filter, Sampler, Texture2D, TextureOptions, TextureTransform, Wrap,
+};
 use crate::{Error, Result};
 
 /// The peers' light direction (towards the light, world space), before normalizing.
@@ -284,10 +288,40 @@ fn brick_texture() -> Arc<Texture2D> {
     })
 }
 
+/// The demo's sky, an equirectangular panorama made here (256×128, linear radiance): a
+/// gradient from a pale horizon to a blue zenith, a warm glow and a small bright sun disc
+/// towards `sun`, and a dim ground below the horizon. Made once; its prefiltered forms are
+/// shared by every copy (they live behind the `Environment`'s `Arc`).
+fn demo_sky(sun: Vec3) -> Environment {
+    static SKY: OnceLock<Environment> = OnceLock::new();
+    SKY.get_or_init(|| {
+        let (w, h) = (256, 128);
+        // Rows are v = y/(h − 1), columns texel centres (the equirect convention).
+        let panorama = Texture2D::from_fn(w, h, TextureOptions::default(), |x, y| {
+            let u = (x as f32 + 0.5) / w as f32;
+            let v = y as f32 / (h - 1) as f32;
+            let d = equirect_direction(u, v);
+            let c = if d.y >= 0.0 {
+                let towards = d.dot(sun).max(0.0);
+                let disc = if towards > 0.9994 { 60.0 } else { 0.0 };
+                Vec3::new(0.78, 0.85, 0.95).lerp(Vec3::new(0.2, 0.4, 0.85), d.y.sqrt())
+                    + Vec3::new(1.0, 0.85, 0.6) * (0.8 * towards.powi(48) + disc)
+            } else {
+                Vec3::new(0.3, 0.28, 0.25) * (1.0 + 0.5 * d.y)
+            };
+            c.extend(1.0)
+        })
+        .unwrap_or_else(|e| unreachable!("demo sky: {e}"));
+        Environment::new(EnvironmentMap::Equirect(panorama), "builtin:demo sky")
+    })
+    .clone()
+}
+
 /// A showcase: a checker floor receding to the horizon (anisotropic filtering), a sphere carved
-/// from a block of solid marble (an antialiased procedural texture), a brick cube and a
-/// translucent panel, lit by a directional and a point light with Phong specular highlights;
-/// both cast shadows.
+/// from a block of solid marble (an antialiased procedural texture) that mirrors a little of
+/// the sky, a brick cube and a translucent panel, lit by a directional and a point light with
+/// Phong specular highlights, both casting shadows, and by the sky around them (image-based
+/// light, the background).
 #[must_use]
 pub fn demo() -> Scene {
     // The floor recedes to the horizon: 8× anisotropic filtering keeps it sharp without moiré.
@@ -318,6 +352,7 @@ pub fn demo() -> Scene {
         diffuse: 0.75,
         specular: 0.6,
         shininess: 60.0,
+        reflection: 0.12,
         ..Default::default()
     };
     let bricks = Material {
@@ -348,6 +383,7 @@ pub fn demo() -> Scene {
             Vec3::new(1.5, 0.7, -0.3),
         ),
     );
+    let sun = Vec3::new(-0.4, 0.8, 0.45).normalize();
     let mut panel = ground(0.8, 3);
     panel.world_from_object = Mat4::from_translation(Vec3::new(0.2, 0.9, 1.6))
         * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
@@ -356,7 +392,7 @@ pub fn demo() -> Scene {
         materials: vec![floor, marble, bricks, glass],
         lights: vec![
             Light::Directional {
-                direction: Vec3::new(-0.4, 0.8, 0.45).normalize(),
+                direction: sun,
                 color: Vec3::splat(0.7),
             },
             Light::Point {
@@ -380,7 +416,7 @@ pub fn demo() -> Scene {
         // over the floor), the point light's is a cube of six around it.
         shadows: Shadows::casting(vec![0, 1])
             .with_params(ShadowParams::default().with_map_size(1024)),
-        environment: None,
+        environment: Some(demo_sky(sun)),
     }
 }
 

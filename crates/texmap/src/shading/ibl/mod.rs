@@ -24,8 +24,9 @@
 //!   `K_R` (metals hardly follow a dielectric's Fresnel). Reflections and refractions are read
 //!   at the material's roughness (0, a mirror, by default for Phong materials).
 //! - **Metallic-roughness** (the split sum): diffuse `c_diff·(1 − E)·O·I_env(N)` and specular
-//!   `E·O·P(R, roughness)` with `E = f0·A + B` the lobe's albedo ([`pbr::specular_albedo`],
-//!   the table the uniform ambient already used) and `P` the environment prefiltered by the
+//!   `E·O·P(R, roughness)` with `E = f0·A + B` the lobe's albedo
+//!   ([`specular_albedo`](crate::shading::pbr::specular_albedo), the table the uniform
+//!   ambient already used) and `P` the environment prefiltered by the
 //!   GGX lobe; `KHR_materials_transmission` moves the share `transmission` of the diffuse
 //!   lobe to the refracted direction, `c_diff·(1 − E)·transmission·P(T, roughness)`. K_A does
 //!   not scale image-based light: it was the stand-in for the environment glTF scenes lack.
