@@ -21,7 +21,7 @@ use texmap::scene::{Environment, Material, Scene, ShadingModel, TextureSlot};
 use texmap::shading::ibl::Background;
 use texmap::shading::{MapChannel, MaterialMap};
 use texmap::texture::environment::equirect_direction;
-use texmap::texture::{EnvironmentMap, Sampler, Texture2D, TextureCube, TextureOptions};
+use texmap::texture::{CubeFace, EnvironmentMap, Sampler, Texture2D, TextureCube, TextureOptions};
 
 /// Radiance of the synthetic world along a unit direction.
 fn world(d: Vec3) -> Vec3 {
@@ -188,14 +188,7 @@ fn cube_of(n: u32, f: impl Fn(Vec3) -> Vec3) -> TextureCube {
         Texture2D::from_fn(n, n, TextureOptions::default(), |x, y| {
             let sc = 2.0 * (x as f32 + 0.5) / n as f32 - 1.0;
             let tc = 2.0 * (y as f32 + 0.5) / n as f32 - 1.0;
-            let g = match i {
-                0 => Vec3::new(1.0, -tc, -sc),
-                1 => Vec3::new(-1.0, -tc, sc),
-                2 => Vec3::new(sc, 1.0, tc),
-                3 => Vec3::new(sc, -1.0, -tc),
-                4 => Vec3::new(sc, -tc, 1.0),
-                _ => Vec3::new(-sc, -tc, -1.0),
-            };
+            let g = CubeFace::ALL[i].direction_through(sc, tc);
             f(Vec3::new(-g.x, g.y, g.z).normalize()).extend(1.0)
         })
         .unwrap()

@@ -42,9 +42,9 @@ impl CubeFace {
         CubeFace::NegZ,
     ];
 
-    /// The face a direction hits and its `(sc, tc, |ma|)`.
+    /// The face a direction hits and its `(sc, tc, |ma|)` (OpenGL's table 8.19).
     #[inline]
-    fn select(d: Vec3) -> (usize, f32, f32, f32) {
+    pub(crate) fn select(d: Vec3) -> (usize, f32, f32, f32) {
         let a = d.abs();
         if a.x >= a.y && a.x >= a.z {
             if d.x >= 0.0 {
@@ -65,9 +65,17 @@ impl CubeFace {
         }
     }
 
-    /// The direction through face coordinates `(sc, tc)` in [−1, 1] (may lie outside).
+    /// The direction (not normalised) through face coordinates `(sc, tc)` in [−1, 1] of
+    /// this face (outside that range, on the face's extended plane).
     #[inline]
-    fn direction(face: usize, sc: f32, tc: f32) -> Vec3 {
+    #[must_use]
+    pub fn direction_through(self, sc: f32, tc: f32) -> Vec3 {
+        Self::direction(self as usize, sc, tc)
+    }
+
+    /// [`CubeFace::direction_through`] by the face's index in [`CubeFace::ALL`].
+    #[inline]
+    pub(crate) fn direction(face: usize, sc: f32, tc: f32) -> Vec3 {
         match face {
             0 => Vec3::new(1.0, -tc, -sc),
             1 => Vec3::new(-1.0, -tc, sc),

@@ -437,7 +437,7 @@ fn load_faces(dir: &Path, limits: &Limits) -> Result<TextureCube> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::texture::Filter;
+    use crate::texture::{CubeFace, Filter};
 
     fn tmp(name: &str) -> PathBuf {
         let dir = std::env::temp_dir().join(format!("texmap-env-{}", std::process::id()));
@@ -556,14 +556,7 @@ mod tests {
                 for x in 0..n {
                     let sc = 2.0 * (x as f32 + 0.5) / n as f32 - 1.0;
                     let tc = 2.0 * (y as f32 + 0.5) / n as f32 - 1.0;
-                    let g = match f {
-                        0 => Vec3::new(1.0, -tc, -sc),
-                        1 => Vec3::new(-1.0, -tc, sc),
-                        2 => Vec3::new(sc, 1.0, tc),
-                        3 => Vec3::new(sc, -1.0, -tc),
-                        4 => Vec3::new(sc, -tc, 1.0),
-                        _ => Vec3::new(-sc, -tc, -1.0),
-                    };
+                    let g = CubeFace::direction(f, sc, tc);
                     // The world direction that reads this texel: x mirrored.
                     let world = Vec3::new(-g.x, g.y, g.z).normalize();
                     let c = colour_of(world);

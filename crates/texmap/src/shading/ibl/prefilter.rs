@@ -10,7 +10,8 @@ use super::super::pbr;
 use super::LEVELS;
 use crate::texture::environment::EnvironmentMap;
 use crate::texture::{
-    sample_cube, CubeFootprint, Filter, Sampler, Texture2D, TextureCube, TextureOptions, Wrap,
+    sample_cube, CubeFace, CubeFootprint, Filter, Sampler, Texture2D, TextureCube, TextureOptions,
+    Wrap,
 };
 
 /// Six square faces of `n × n` linear RGB values with a one-texel apron, read bilinearly and
@@ -22,44 +23,12 @@ pub struct FaceSet {
     texels: Vec<Vec3>,
 }
 
-/// The face a direction hits, and its face coordinates `(sc, tc)/|ma|` in [−1, 1]
-/// (OpenGL's table 8.19, as `texture::TextureCube`).
+/// The face a direction hits, and its face coordinates `(sc, tc)/|ma|` in [−1, 1].
 #[inline]
 fn face_coords(d: Vec3) -> (usize, f32, f32) {
-    let a = d.abs();
-    let (f, s, t, m) = if a.x >= a.y && a.x >= a.z {
-        if d.x >= 0.0 {
-            (0, -d.z, -d.y, a.x)
-        } else {
-            (1, d.z, -d.y, a.x)
-        }
-    } else if a.y >= a.z {
-        if d.y >= 0.0 {
-            (2, d.x, d.z, a.y)
-        } else {
-            (3, d.x, -d.z, a.y)
-        }
-    } else if d.z >= 0.0 {
-        (4, d.x, -d.y, a.z)
-    } else {
-        (5, -d.x, -d.y, a.z)
-    };
+    let (f, s, t, m) = CubeFace::select(d);
     let inv = if m > 0.0 { 1.0 / m } else { 0.0 };
     (f, s * inv, t * inv)
-}
-
-/// The direction through face coordinates `(sc, tc)` of `face` (outside [−1, 1] on the
-/// face's extended plane).
-#[inline]
-fn face_direction(face: usize, sc: f32, tc: f32) -> Vec3 {
-    match face {
-        0 => Vec3::new(1.0, -tc, -sc),
-        1 => Vec3::new(-1.0, -tc, sc),
-        2 => Vec3::new(sc, 1.0, tc),
-        3 => Vec3::new(sc, -1.0, -tc),
-        4 => Vec3::new(sc, -tc, 1.0),
-        _ => Vec3::new(-sc, -tc, -1.0),
-    }
 }
 
 impl FaceSet {
@@ -73,7 +42,7 @@ impl FaceSet {
             let tc = 2.0 * (y as f32 - 0.5) / n as f32 - 1.0;
             for (x, o) in out.iter_mut().enumerate() {
                 let sc = 2.0 * (x as f32 - 0.5) / n as f32 - 1.0;
-                *o = f(face_direction(face, sc, tc).normalize());
+                *o = f(CubeFace::direction(face, sc, tc).normalize());
             }
         });
         FaceSet { n, texels }
@@ -132,11 +101,11 @@ pub(super) fn source_cube(map: &EnvironmentMap) -> TextureCube {
                     (0..n)
                         .map(|x| {
                             let sc = (x as f32 + 0.5) * step - 1.0;
-                            let dir = face_direction(face, sc, tc);
+                            let dir = CubeFace::direction(face, sc, tc);
                             let fp = CubeFootprint {
                                 dir,
-                                ddir_dx: face_direction(face, sc + step, tc) - dir,
-                                ddir_dy: face_direction(face, sc, tc + step) - dir,
+                                ddir_dx: CubeFace::direction(face, sc + step, tc) - dir,
+                                ddir_dy: CubeFace::direction(face, sc, tc + step) - dir,
                             };
                             let c = map.sample(&sampler, &fp);
                             c.truncate().extend(1.0)
@@ -170,7 +139,7 @@ pub(super) fn irradiance_cube(source: &TextureCube, n: usize) -> FaceSet {
             for x in 0..size {
                 let sc = 2.0 * (x as f32 + 0.5) / size as f32 - 1.0;
                 let tc = 2.0 * (y as f32 + 0.5) / size as f32 - 1.0;
-                let d = face_direction(face, sc, tc).normalize();
+                let d = CubeFace::direction(face, sc, tc).normalize();
                 let w = texel_solid_angle(x, y, size);
                 lights.push((d, texels[y * size + x].truncate() * w));
             }
