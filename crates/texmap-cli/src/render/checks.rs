@@ -16,7 +16,8 @@ use texmap::shading::{MapChannel, ShadingModel};
 use texmap::texture::{Filter, LodRule, MinFilter, Sampler, Wrap};
 use texmap::Error;
 
-use super::{Built, InterpArg, LodRuleArg, RenderArgs};
+use super::args::{InterpArg, LodRuleArg, RenderArgs};
+use super::Built;
 
 /// The user's sampler flags, laid over every texture read.
 pub(super) fn texture_overrides(args: &RenderArgs) -> TextureOverrides {

@@ -1,15 +1,21 @@
 //! `texmap render [SCENE]`: one frame or a turntable of a built-in scene, a scene file, or a
 //! scan (with `--mesh` files inside it).
+//!
+//! The flags are `args.rs`; which flags apply to which scene, `checks.rs`; the bounds of a
+//! render (memory, frames, threads), `limits.rs`.
 
+mod args;
 mod checks;
 mod limits;
+
+pub use args::{parse_size, RenderArgs};
+use args::{BackgroundArg, ColorSpaceArg, CullArg, InterpArg, ShadingArg, Switch, VisibilityArg};
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-use clap::{Args, ValueEnum};
-use glam::{Vec3, Vec4};
+use glam::Vec3;
 use texmap::camera::CameraProjection;
 use texmap::render::framing::{choose_camera, CameraRequest, ProjectionRequest};
 use texmap::render::{
@@ -19,269 +25,10 @@ use texmap::render::{
 use texmap::scene::builtin::Builtin;
 use texmap::scene::{Environment, LoadOptions, Scene};
 use texmap::shading::ibl::Background;
-use texmap::shading::shadow::ShadowFilter;
 use texmap::texture::load::{load_texture, Limits};
-use texmap::texture::{load_environment, ColorSpace, EnvironmentMap, Filter, Texture2D, Wrap};
+use texmap::texture::{load_environment, ColorSpace, EnvironmentMap, Filter, Texture2D};
 use texmap::volume::SceneVolume;
 use texmap::Error;
-
-#[derive(Args)]
-pub struct RenderArgs {
-    /// `builtin:demo` (default), `builtin:plane`, `builtin:sphere`, `builtin:marble`, a scene
-    /// file (`.gltf`, `.glb`, `.obj` or `.toml`), or a volume (`.nii`, `.nii.gz`, `.nrrd`,
-    /// `.nhdr`, `.raw`).
-    scene: Option<String>,
-    /// A missing or undecodable texture becomes a warning and a magenta placeholder.
-    #[arg(long)]
-    lenient: bool,
-    /// Let a file's references leave its folder (`..`, absolute paths).
-    #[arg(long)]
-    allow_outside_paths: bool,
-    /// Ignore the file's own camera: frame the bounding box as `gl_render.py` does.
-    #[arg(long)]
-    auto_camera: bool,
-    /// Output PNG; a `{frame}` in the name writes every turntable frame.
-    #[arg(short = 'o', long = "output")]
-    output: Option<PathBuf>,
-    /// Image size, WxH.
-    #[arg(long, default_value = "640x360", value_parser = parse_size)]
-    size: (u32, u32),
-    /// Camera position x,y,z.
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
-    eye: Option<Vec3>,
-    /// Point the camera looks at, x,y,z.
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
-    target: Option<Vec3>,
-    /// Camera up vector, x,y,z.
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
-    up: Option<Vec3>,
-    /// Vertical field of view in degrees.
-    #[arg(long)]
-    fov: Option<f32>,
-    /// Orthographic projection showing HEIGHT world units vertically (the width follows the
-    /// image's aspect); without a value, the height that frames the scene's bounding sphere.
-    #[arg(
-        long,
-        value_name = "HEIGHT",
-        num_args = 0..=1,
-        allow_negative_numbers = true,
-        conflicts_with = "fov"
-    )]
-    ortho: Option<Option<f32>>,
-    // The help is the library's list of names (a doc comment cannot name a constant).
-    #[arg(long, value_parser = Filter::parse, help = Filter::SPELLINGS)]
-    filter: Option<Filter>,
-    #[arg(long, value_parser = Wrap::parse, help = Wrap::SPELLINGS)]
-    wrap: Option<Wrap>,
-    /// Texture coordinate scale: multiplies every texture's coordinates (the plane's repeat
-    /// count, 64 by default, as in gl_render.py).
-    #[arg(long)]
-    uv_scale: Option<f32>,
-    /// An image that becomes every material's base-colour texture (materials with a
-    /// procedural colour keep theirs).
-    #[arg(long)]
-    texture: Option<PathBuf>,
-    /// What --texture's 8/16-bit channels hold [default: srgb].
-    #[arg(long, value_enum)]
-    color_space: Option<ColorSpaceArg>,
-    /// LOD rule of every texture: gl (longer derivative) or rss (root of the sum of squares,
-    /// the article's).
-    #[arg(long, value_enum)]
-    lod_rule: Option<LodRuleArg>,
-    /// Added to every texture's level of detail.
-    #[arg(long, allow_hyphen_values = true)]
-    lod_bias: Option<f32>,
-    /// The lowest level of detail any texture read uses (GL's TEXTURE_MIN_LOD).
-    #[arg(long, allow_hyphen_values = true)]
-    min_lod: Option<f32>,
-    /// The highest level of detail any texture read uses (GL's TEXTURE_MAX_LOD; 0 reads the
-    /// full-size image only).
-    #[arg(long, allow_hyphen_values = true)]
-    max_lod: Option<f32>,
-    /// Border colour r,g,b,a (linear, straight alpha, each in 0..1) read outside the image
-    /// with --wrap border.
-    #[arg(long, value_parser = parse_rgba)]
-    border: Option<Vec4>,
-    /// perspective | affine | subdivide [default: perspective].
-    #[arg(long, value_enum)]
-    interp: Option<InterpArg>,
-    /// Largest affine error in pixels before --interp subdivide splits a triangle
-    /// [default: 0.5].
-    #[arg(long)]
-    subdivide_error: Option<f32>,
-    /// flat | gouraud | phong [default: phong].
-    #[arg(long, value_enum)]
-    shading: Option<ShadingArg>,
-    /// zbuffer | depth-sort [default: zbuffer].
-    #[arg(long, value_enum)]
-    visibility: Option<VisibilityArg>,
-    /// none | back | front [default: none].
-    #[arg(long, value_enum)]
-    cull: Option<CullArg>,
-    /// Multisample anti-aliasing of the meshes: 1, 2, 4, 8 or 16 samples per pixel.
-    #[arg(long)]
-    msaa: Option<u32>,
-    /// Supersampling of the meshes: render N×N samples per pixel and average.
-    #[arg(long)]
-    ssaa: Option<u32>,
-    /// Texture colour only, no lighting.
-    #[arg(long)]
-    unlit: bool,
-    /// Shadow maps: every light casts shadows; `--shadows=false`: none does, whatever the
-    /// scene file says.
-    #[arg(long, num_args = 0..=1, require_equals = true, default_missing_value = "true")]
-    shadows: Option<bool>,
-    /// Shadow map texels a side (each cube face of a point light) [default: 2048].
-    #[arg(long, value_name = "N")]
-    shadow_map_size: Option<u32>,
-    // The help is the library's list of names.
-    #[arg(long, value_parser = ShadowFilter::parse, help = ShadowFilter::SPELLINGS)]
-    shadow_filter: Option<ShadowFilter>,
-    /// Constant shadow bias, in map texels [default: 0.5].
-    #[arg(long, value_name = "TEXELS")]
-    shadow_bias: Option<f32>,
-    /// Slope-scaled shadow bias: texels per unit of tan θ (θ between normal and light)
-    /// [default: 1].
-    #[arg(long, value_name = "TEXELS")]
-    shadow_slope_bias: Option<f32>,
-    /// Normal offset of shadow lookups, in map texels [default: 0.5].
-    #[arg(long, value_name = "TEXELS")]
-    shadow_normal_offset: Option<f32>,
-    /// PCSS: angular diameter of directional lights, degrees [default: 2].
-    #[arg(long, value_name = "DEG")]
-    shadow_light_angle: Option<f32>,
-    /// PCSS: radius of point and spot lights, world units [default: 0.05].
-    #[arg(long, value_name = "R")]
-    shadow_light_radius: Option<f32>,
-    /// An environment map: a 2:1 equirectangular image (HDR, EXR, PNG…), a 4:3 or 3:4 cross,
-    /// a 1:1 sphere map, or a folder of six faces posx…negz. Replaces the scene's own; it is
-    /// drawn behind the surfaces, lights them (image-based light, in place of the uniform
-    /// ambient light) and is seen in their reflections and refractions.
-    #[arg(long, value_name = "FILE")]
-    env: Option<PathBuf>,
-    /// Rotates the environment about +y, in degrees.
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
-    env_rotate: Option<f32>,
-    /// Multiplies the environment's radiance.
-    #[arg(long, value_name = "K")]
-    env_intensity: Option<f32>,
-    /// What is seen where no surface is: the environment, the scene's colour, or nothing
-    /// (transparent black) [default: env].
-    #[arg(long, value_enum)]
-    background: Option<BackgroundArg>,
-    /// Image-based light from the environment (irradiance, and the prefiltered specular of
-    /// metallic-roughness materials); off lights with the scene's uniform ambient light
-    /// [default: on].
-    #[arg(long, value_enum, value_name = "on|off")]
-    ibl: Option<Switch>,
-    /// Reflected and refracted environment (K_R, K_T, transmission) [default: on].
-    #[arg(long, value_enum, value_name = "on|off")]
-    reflections: Option<Switch>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    threads: Option<usize>,
-    /// The most memory loading one input and the frame may take, e.g. 8G or 512M (default
-    /// 4G): a larger request is refused before anything is allocated.
-    #[arg(long, value_parser = limits::parse_bytes)]
-    max_memory: Option<u64>,
-    /// Turntable frames: the camera orbits the target by 360/N degrees per frame.
-    #[arg(long, default_value_t = 1)]
-    frames: u32,
-    /// Triangle count of builtin:sphere [default: 199200].
-    #[arg(long)]
-    tris: Option<usize>,
-    /// Print statistics as JSON on stdout.
-    #[arg(long)]
-    stats: bool,
-    /// Print nothing but errors.
-    #[arg(long, short)]
-    quiet: bool,
-    #[command(flatten)]
-    pub volume: Box<crate::volume::VolumeArgs>,
-}
-
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum BackgroundArg {
-    Env,
-    Color,
-    None,
-}
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum Switch {
-    On,
-    Off,
-}
-#[derive(Clone, Copy, ValueEnum)]
-enum ColorSpaceArg {
-    Srgb,
-    Linear,
-}
-#[derive(Clone, Copy, ValueEnum)]
-enum LodRuleArg {
-    Gl,
-    Rss,
-}
-#[derive(Clone, Copy, ValueEnum)]
-enum InterpArg {
-    Perspective,
-    Affine,
-    Subdivide,
-}
-#[derive(Clone, Copy, ValueEnum)]
-enum ShadingArg {
-    Flat,
-    Gouraud,
-    Phong,
-}
-#[derive(Clone, Copy, ValueEnum)]
-enum VisibilityArg {
-    Zbuffer,
-    DepthSort,
-}
-#[derive(Clone, Copy, ValueEnum)]
-enum CullArg {
-    None,
-    Back,
-    Front,
-}
-
-pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .to_lowercase()
-        .split_once('x')
-        .map(|(a, b)| (a.to_string(), b.to_string()))
-        .ok_or("expected WxH")?;
-    let w: u32 = w.parse().map_err(|_| "width is not a number")?;
-    let h: u32 = h.parse().map_err(|_| "height is not a number")?;
-    if w == 0 || h == 0 || w > 16384 || h > 16384 {
-        return Err(format!("{w}x{h} is outside 1x1..16384x16384"));
-    }
-    Ok((w, h))
-}
-
-fn parse_vec3(s: &str) -> Result<Vec3, String> {
-    let v: Vec<f32> = s
-        .split(',')
-        .map(|p| p.trim().parse::<f32>())
-        .collect::<Result<_, _>>()
-        .map_err(|e| e.to_string())?;
-    if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
-        return Err("expected three finite numbers x,y,z".into());
-    }
-    Ok(Vec3::new(v[0], v[1], v[2]))
-}
-
-fn parse_rgba(s: &str) -> Result<Vec4, String> {
-    let v: Vec<f32> = s
-        .split(',')
-        .map(|p| p.trim().parse::<f32>())
-        .collect::<Result<_, _>>()
-        .map_err(|e| e.to_string())?;
-    if v.len() != 4 || v.iter().any(|x| !(0.0..=1.0).contains(x)) {
-        return Err("expected four numbers r,g,b,a in 0..1".into());
-    }
-    Ok(Vec4::new(v[0], v[1], v[2], v[3]))
-}
 
 /// What `render` draws.
 struct Built {
@@ -742,50 +489,5 @@ fn camera_error(args: &RenderArgs, e: Error) -> Error {
         Error::parameter(format!("{scene}: {message}"))
     } else {
         Error::parameter(format!("{scene} with {}: {message}", flags.join(" ")))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use clap::{Args, Command};
-
-    use super::*;
-
-    fn command() -> Command {
-        RenderArgs::augment_args(Command::new("render"))
-    }
-
-    #[test]
-    fn filter_and_wrap_help_is_the_library_list() {
-        let cmd = command();
-        let help = |id: &str| {
-            let arg = cmd.get_arguments().find(|a| a.get_id() == id);
-            arg.and_then(|a| a.get_help()).map(|h| h.to_string())
-        };
-        assert_eq!(help("filter").as_deref(), Some(Filter::SPELLINGS));
-        assert_eq!(help("wrap").as_deref(), Some(Wrap::SPELLINGS));
-    }
-
-    #[test]
-    fn unknown_filter_and_wrap_names_are_refused_with_the_list() {
-        let refused = |args: &[&str]| {
-            let e = command().try_get_matches_from(args).unwrap_err();
-            e.to_string()
-        };
-        let e = refused(&["render", "--filter", "aniso32"]);
-        assert!(e.contains(Filter::SPELLINGS), "{e}");
-        let e = refused(&["render", "--wrap", "tile"]);
-        assert!(e.contains(Wrap::SPELLINGS), "{e}");
-    }
-
-    #[test]
-    fn mipmapped_filter_names_reach_the_sampler() {
-        let m = command()
-            .try_get_matches_from(["render", "--filter", "nearest-mipmap-linear"])
-            .unwrap();
-        assert_eq!(
-            m.get_one::<Filter>("filter").map(|f| f.name()).as_deref(),
-            Some("nearest-mipmap-linear")
-        );
     }
 }

@@ -1,0 +1,314 @@
+//! The flags of `texmap render`: `RenderArgs` (clap), the enums behind their values and the
+//! parsers of sizes, vectors and colours.
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+use glam::{Vec3, Vec4};
+use texmap::shading::shadow::ShadowFilter;
+use texmap::texture::{Filter, Wrap};
+
+use super::limits;
+
+#[derive(Args)]
+pub struct RenderArgs {
+    /// `builtin:demo` (default), `builtin:plane`, `builtin:sphere`, `builtin:marble`, a scene
+    /// file (`.gltf`, `.glb`, `.obj` or `.toml`), or a volume (`.nii`, `.nii.gz`, `.nrrd`,
+    /// `.nhdr`, `.raw`).
+    pub(crate) scene: Option<String>,
+    /// A missing or undecodable texture becomes a warning and a magenta placeholder.
+    #[arg(long)]
+    pub(crate) lenient: bool,
+    /// Let a file's references leave its folder (`..`, absolute paths).
+    #[arg(long)]
+    pub(crate) allow_outside_paths: bool,
+    /// Ignore the file's own camera: frame the bounding box as `gl_render.py` does.
+    #[arg(long)]
+    pub(crate) auto_camera: bool,
+    /// Output PNG; a `{frame}` in the name writes every turntable frame.
+    #[arg(short = 'o', long = "output")]
+    pub(crate) output: Option<PathBuf>,
+    /// Image size, WxH.
+    #[arg(long, default_value = "640x360", value_parser = parse_size)]
+    pub(crate) size: (u32, u32),
+    /// Camera position x,y,z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub(crate) eye: Option<Vec3>,
+    /// Point the camera looks at, x,y,z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub(crate) target: Option<Vec3>,
+    /// Camera up vector, x,y,z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub(crate) up: Option<Vec3>,
+    /// Vertical field of view in degrees.
+    #[arg(long)]
+    pub(crate) fov: Option<f32>,
+    /// Orthographic projection showing HEIGHT world units vertically (the width follows the
+    /// image's aspect); without a value, the height that frames the scene's bounding sphere.
+    #[arg(
+        long,
+        value_name = "HEIGHT",
+        num_args = 0..=1,
+        allow_negative_numbers = true,
+        conflicts_with = "fov"
+    )]
+    pub(crate) ortho: Option<Option<f32>>,
+    // The help is the library's list of names (a doc comment cannot name a constant).
+    #[arg(long, value_parser = Filter::parse, help = Filter::SPELLINGS)]
+    pub(crate) filter: Option<Filter>,
+    #[arg(long, value_parser = Wrap::parse, help = Wrap::SPELLINGS)]
+    pub(crate) wrap: Option<Wrap>,
+    /// Texture coordinate scale: multiplies every texture's coordinates (the plane's repeat
+    /// count, 64 by default, as in gl_render.py).
+    #[arg(long)]
+    pub(crate) uv_scale: Option<f32>,
+    /// An image that becomes every material's base-colour texture (materials with a
+    /// procedural colour keep theirs).
+    #[arg(long)]
+    pub(crate) texture: Option<PathBuf>,
+    /// What --texture's 8/16-bit channels hold [default: srgb].
+    #[arg(long, value_enum)]
+    pub(crate) color_space: Option<ColorSpaceArg>,
+    /// LOD rule of every texture: gl (longer derivative) or rss (root of the sum of squares,
+    /// the article's).
+    #[arg(long, value_enum)]
+    pub(crate) lod_rule: Option<LodRuleArg>,
+    /// Added to every texture's level of detail.
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) lod_bias: Option<f32>,
+    /// The lowest level of detail any texture read uses (GL's TEXTURE_MIN_LOD).
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) min_lod: Option<f32>,
+    /// The highest level of detail any texture read uses (GL's TEXTURE_MAX_LOD; 0 reads the
+    /// full-size image only).
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) max_lod: Option<f32>,
+    /// Border colour r,g,b,a (linear, straight alpha, each in 0..1) read outside the image
+    /// with --wrap border.
+    #[arg(long, value_parser = parse_rgba)]
+    pub(crate) border: Option<Vec4>,
+    /// perspective | affine | subdivide [default: perspective].
+    #[arg(long, value_enum)]
+    pub(crate) interp: Option<InterpArg>,
+    /// Largest affine error in pixels before --interp subdivide splits a triangle
+    /// [default: 0.5].
+    #[arg(long)]
+    pub(crate) subdivide_error: Option<f32>,
+    /// flat | gouraud | phong [default: phong].
+    #[arg(long, value_enum)]
+    pub(crate) shading: Option<ShadingArg>,
+    /// zbuffer | depth-sort [default: zbuffer].
+    #[arg(long, value_enum)]
+    pub(crate) visibility: Option<VisibilityArg>,
+    /// none | back | front [default: none].
+    #[arg(long, value_enum)]
+    pub(crate) cull: Option<CullArg>,
+    /// Multisample anti-aliasing of the meshes: 1, 2, 4, 8 or 16 samples per pixel.
+    #[arg(long)]
+    pub(crate) msaa: Option<u32>,
+    /// Supersampling of the meshes: render N×N samples per pixel and average.
+    #[arg(long)]
+    pub(crate) ssaa: Option<u32>,
+    /// Texture colour only, no lighting.
+    #[arg(long)]
+    pub(crate) unlit: bool,
+    /// Shadow maps: every light casts shadows; `--shadows=false`: none does, whatever the
+    /// scene file says.
+    #[arg(long, num_args = 0..=1, require_equals = true, default_missing_value = "true")]
+    pub(crate) shadows: Option<bool>,
+    /// Shadow map texels a side (each cube face of a point light) [default: 2048].
+    #[arg(long, value_name = "N")]
+    pub(crate) shadow_map_size: Option<u32>,
+    // The help is the library's list of names.
+    #[arg(long, value_parser = ShadowFilter::parse, help = ShadowFilter::SPELLINGS)]
+    pub(crate) shadow_filter: Option<ShadowFilter>,
+    /// Constant shadow bias, in map texels [default: 0.5].
+    #[arg(long, value_name = "TEXELS")]
+    pub(crate) shadow_bias: Option<f32>,
+    /// Slope-scaled shadow bias: texels per unit of tan θ (θ between normal and light)
+    /// [default: 1].
+    #[arg(long, value_name = "TEXELS")]
+    pub(crate) shadow_slope_bias: Option<f32>,
+    /// Normal offset of shadow lookups, in map texels [default: 0.5].
+    #[arg(long, value_name = "TEXELS")]
+    pub(crate) shadow_normal_offset: Option<f32>,
+    /// PCSS: angular diameter of directional lights, degrees [default: 2].
+    #[arg(long, value_name = "DEG")]
+    pub(crate) shadow_light_angle: Option<f32>,
+    /// PCSS: radius of point and spot lights, world units [default: 0.05].
+    #[arg(long, value_name = "R")]
+    pub(crate) shadow_light_radius: Option<f32>,
+    /// An environment map: a 2:1 equirectangular image (HDR, EXR, PNG…), a 4:3 or 3:4 cross,
+    /// a 1:1 sphere map, or a folder of six faces posx…negz. Replaces the scene's own; it is
+    /// drawn behind the surfaces, lights them (image-based light, in place of the uniform
+    /// ambient light) and is seen in their reflections and refractions.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) env: Option<PathBuf>,
+    /// Rotates the environment about +y, in degrees.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub(crate) env_rotate: Option<f32>,
+    /// Multiplies the environment's radiance.
+    #[arg(long, value_name = "K")]
+    pub(crate) env_intensity: Option<f32>,
+    /// What is seen where no surface is: the environment, the scene's colour, or nothing
+    /// (transparent black) [default: env].
+    #[arg(long, value_enum)]
+    pub(crate) background: Option<BackgroundArg>,
+    /// Image-based light from the environment (irradiance, and the prefiltered specular of
+    /// metallic-roughness materials); off lights with the scene's uniform ambient light
+    /// [default: on].
+    #[arg(long, value_enum, value_name = "on|off")]
+    pub(crate) ibl: Option<Switch>,
+    /// Reflected and refracted environment (K_R, K_T, transmission) [default: on].
+    #[arg(long, value_enum, value_name = "on|off")]
+    pub(crate) reflections: Option<Switch>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub(crate) threads: Option<usize>,
+    /// The most memory loading one input and the frame may take, e.g. 8G or 512M (default
+    /// 4G): a larger request is refused before anything is allocated.
+    #[arg(long, value_parser = limits::parse_bytes)]
+    pub(crate) max_memory: Option<u64>,
+    /// Turntable frames: the camera orbits the target by 360/N degrees per frame.
+    #[arg(long, default_value_t = 1)]
+    pub(crate) frames: u32,
+    /// Triangle count of builtin:sphere [default: 199200].
+    #[arg(long)]
+    pub(crate) tris: Option<usize>,
+    /// Print statistics as JSON on stdout.
+    #[arg(long)]
+    pub(crate) stats: bool,
+    /// Print nothing but errors.
+    #[arg(long, short)]
+    pub(crate) quiet: bool,
+    #[command(flatten)]
+    pub volume: Box<crate::volume::VolumeArgs>,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum BackgroundArg {
+    Env,
+    Color,
+    None,
+}
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum Switch {
+    On,
+    Off,
+}
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum ColorSpaceArg {
+    Srgb,
+    Linear,
+}
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum LodRuleArg {
+    Gl,
+    Rss,
+}
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum InterpArg {
+    Perspective,
+    Affine,
+    Subdivide,
+}
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum ShadingArg {
+    Flat,
+    Gouraud,
+    Phong,
+}
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum VisibilityArg {
+    Zbuffer,
+    DepthSort,
+}
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum CullArg {
+    None,
+    Back,
+    Front,
+}
+
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .to_lowercase()
+        .split_once('x')
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .ok_or("expected WxH")?;
+    let w: u32 = w.parse().map_err(|_| "width is not a number")?;
+    let h: u32 = h.parse().map_err(|_| "height is not a number")?;
+    if w == 0 || h == 0 || w > 16384 || h > 16384 {
+        return Err(format!("{w}x{h} is outside 1x1..16384x16384"));
+    }
+    Ok((w, h))
+}
+
+pub(crate) fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| e.to_string())?;
+    if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
+        return Err("expected three finite numbers x,y,z".into());
+    }
+    Ok(Vec3::new(v[0], v[1], v[2]))
+}
+
+pub(crate) fn parse_rgba(s: &str) -> Result<Vec4, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| e.to_string())?;
+    if v.len() != 4 || v.iter().any(|x| !(0.0..=1.0).contains(x)) {
+        return Err("expected four numbers r,g,b,a in 0..1".into());
+    }
+    Ok(Vec4::new(v[0], v[1], v[2], v[3]))
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::{Args, Command};
+
+    use super::*;
+
+    fn command() -> Command {
+        RenderArgs::augment_args(Command::new("render"))
+    }
+
+    #[test]
+    fn filter_and_wrap_help_is_the_library_list() {
+        let cmd = command();
+        let help = |id: &str| {
+            let arg = cmd.get_arguments().find(|a| a.get_id() == id);
+            arg.and_then(|a| a.get_help()).map(|h| h.to_string())
+        };
+        assert_eq!(help("filter").as_deref(), Some(Filter::SPELLINGS));
+        assert_eq!(help("wrap").as_deref(), Some(Wrap::SPELLINGS));
+    }
+
+    #[test]
+    fn unknown_filter_and_wrap_names_are_refused_with_the_list() {
+        let refused = |args: &[&str]| {
+            let e = command().try_get_matches_from(args).unwrap_err();
+            e.to_string()
+        };
+        let e = refused(&["render", "--filter", "aniso32"]);
+        assert!(e.contains(Filter::SPELLINGS), "{e}");
+        let e = refused(&["render", "--wrap", "tile"]);
+        assert!(e.contains(Wrap::SPELLINGS), "{e}");
+    }
+
+    #[test]
+    fn mipmapped_filter_names_reach_the_sampler() {
+        let m = command()
+            .try_get_matches_from(["render", "--filter", "nearest-mipmap-linear"])
+            .unwrap();
+        assert_eq!(
+            m.get_one::<Filter>("filter").map(|f| f.name()).as_deref(),
+            Some("nearest-mipmap-linear")
+        );
+    }
+}
