@@ -115,18 +115,7 @@ fn check_shadow_flags(args: &RenderArgs, built: &Built, name: &str) -> Result<()
     }
     let overrides = shadow_overrides(args)?;
     let casters = overrides.casters(scene);
-    let params = [
-        ("--shadow-map-size", args.shadow_map_size.is_some()),
-        ("--shadow-filter", args.shadow_filter.is_some()),
-        ("--shadow-bias", args.shadow_bias.is_some()),
-        ("--shadow-slope-bias", args.shadow_slope_bias.is_some()),
-        (
-            "--shadow-normal-offset",
-            args.shadow_normal_offset.is_some(),
-        ),
-        ("--shadow-light-angle", args.shadow_light_angle.is_some()),
-        ("--shadow-light-radius", args.shadow_light_radius.is_some()),
-    ];
+    let params = shadow_parameter_flags(args);
     let given: Vec<&str> = params.iter().filter(|(_, g)| *g).map(|(f, _)| *f).collect();
     if given.is_empty() {
         return Ok(());
@@ -265,28 +254,23 @@ pub(super) fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error>
         .is_some_and(|e| e.background == Background::Environment);
     if built.scene.meshes.is_empty() {
         refuse(
-            given(&[
-                ("--texture", args.texture.is_some()),
-                ("--interp", args.interp.is_some()),
-                ("--subdivide-error", args.subdivide_error.is_some()),
-                ("--shading", args.shading.is_some()),
-                ("--visibility", args.visibility.is_some()),
-                ("--cull", args.cull.is_some()),
-                ("--msaa", args.msaa.is_some()),
-                ("--ssaa", args.ssaa.is_some() && !env_background),
-                ("--unlit", args.unlit),
-                ("--shadows", args.shadows.is_some()),
-                ("--shadow-map-size", args.shadow_map_size.is_some()),
-                ("--shadow-filter", args.shadow_filter.is_some()),
-                ("--shadow-bias", args.shadow_bias.is_some()),
-                ("--shadow-slope-bias", args.shadow_slope_bias.is_some()),
-                (
-                    "--shadow-normal-offset",
-                    args.shadow_normal_offset.is_some(),
-                ),
-                ("--shadow-light-angle", args.shadow_light_angle.is_some()),
-                ("--shadow-light-radius", args.shadow_light_radius.is_some()),
-            ]),
+            given(
+                &[
+                    ("--texture", args.texture.is_some()),
+                    ("--interp", args.interp.is_some()),
+                    ("--subdivide-error", args.subdivide_error.is_some()),
+                    ("--shading", args.shading.is_some()),
+                    ("--visibility", args.visibility.is_some()),
+                    ("--cull", args.cull.is_some()),
+                    ("--msaa", args.msaa.is_some()),
+                    ("--ssaa", args.ssaa.is_some() && !env_background),
+                    ("--unlit", args.unlit),
+                    ("--shadows", args.shadows.is_some()),
+                ]
+                .into_iter()
+                .chain(shadow_parameter_flags(args))
+                .collect::<Vec<_>>(),
+            ),
             format!("{name} has no meshes to draw (these flags act on meshes)"),
         )?;
     }
@@ -425,4 +409,20 @@ pub(super) fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error>
         )?;
     }
     Ok(())
+}
+
+/// The shadow parameter flags (all but `--shadows`), each with whether it was given.
+fn shadow_parameter_flags(args: &RenderArgs) -> [(&'static str, bool); 7] {
+    [
+        ("--shadow-map-size", args.shadow_map_size.is_some()),
+        ("--shadow-filter", args.shadow_filter.is_some()),
+        ("--shadow-bias", args.shadow_bias.is_some()),
+        ("--shadow-slope-bias", args.shadow_slope_bias.is_some()),
+        (
+            "--shadow-normal-offset",
+            args.shadow_normal_offset.is_some(),
+        ),
+        ("--shadow-light-angle", args.shadow_light_angle.is_some()),
+        ("--shadow-light-radius", args.shadow_light_radius.is_some()),
+    ]
 }
