@@ -14,7 +14,7 @@ use crate::{Error, Result};
 /// when `qform_code > 0`, else the spacing alone. A 4D file gives its first volume.
 ///
 /// # Errors
-/// See [`load_volume`].
+/// See [`load_volume`](super::load_volume).
 pub fn load_nifti(path: &Path) -> Result<Volume> {
     load_nifti_with(path, &VolumeOptions::default())
 }
@@ -22,7 +22,7 @@ pub fn load_nifti(path: &Path) -> Result<Volume> {
 /// [`load_nifti`] with `options`.
 ///
 /// # Errors
-/// See [`load_volume`].
+/// See [`load_volume`](super::load_volume).
 pub fn load_nifti_with(path: &Path, options: &VolumeOptions) -> Result<Volume> {
     let file = crate::files::read_bounded(path, options.max_bytes)?;
     let bytes = if file.starts_with(&[0x1f, 0x8b]) {

@@ -14,7 +14,7 @@ use crate::{Error, Result};
 /// `spacings`.
 ///
 /// # Errors
-/// See [`load_volume`].
+/// See [`load_volume`](super::load_volume).
 pub fn load_nrrd(path: &Path) -> Result<Volume> {
     load_nrrd_with(path, &VolumeOptions::default())
 }
@@ -22,7 +22,7 @@ pub fn load_nrrd(path: &Path) -> Result<Volume> {
 /// [`load_nrrd`] with `options`.
 ///
 /// # Errors
-/// See [`load_volume`].
+/// See [`load_volume`](super::load_volume).
 pub fn load_nrrd_with(path: &Path, options: &VolumeOptions) -> Result<Volume> {
     let bytes = crate::files::read_bounded(path, options.max_bytes)?;
     if !bytes.starts_with(b"NRRD000") {

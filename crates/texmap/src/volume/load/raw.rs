@@ -14,7 +14,7 @@ use crate::{Error, Result};
 /// `dims`·size bytes of voxels, x fastest, in the given byte order.
 ///
 /// # Errors
-/// See [`load_volume`].
+/// See [`load_volume`](super::load_volume).
 pub fn load_raw(path: &Path, desc: &RawDesc) -> Result<Volume> {
     load_raw_with(path, desc, &VolumeOptions::default())
 }
@@ -22,7 +22,7 @@ pub fn load_raw(path: &Path, desc: &RawDesc) -> Result<Volume> {
 /// [`load_raw`] with `options`.
 ///
 /// # Errors
-/// See [`load_volume`].
+/// See [`load_volume`](super::load_volume).
 pub fn load_raw_with(path: &Path, desc: &RawDesc, options: &VolumeOptions) -> Result<Volume> {
     let dims = check_dims(path, &desc.dims.map(i64::from))?;
     let count: usize = dims.iter().map(|&d| d as usize).product();
