@@ -36,8 +36,8 @@
 //! irradiance is integrated exactly over the cube's 32×32 level into a 32×32 cube; the
 //! specular lobe is prefiltered at roughness k/8, k = 1…8, by filtered importance sampling
 //! (GGX half vectors from a Hammersley set, N = V = R, each sample read at the source level
-//! its solid angle covers, weighted by N·L: Karis's split sum), into cubes of 128 down to 16
-//! texels a side. Each derived cube stores a one-texel apron computed from the directions
+//! its solid angle covers with no extra level of blur, weighted by N·L: Karis's split sum),
+//! into cubes of 128 down to 16 texels a side. Each derived cube stores a one-texel apron computed from the directions
 //! beyond its edges, so bilinear reads are seamless with no neighbour lookup.
 //!
 //! Reads and their footprints. Mirror reads (roughness 0) go to the map itself through the

@@ -205,7 +205,7 @@ pub(super) fn specular_levels(source: &TextureCube) -> Vec<FaceSet> {
                     // pdf(L) = D(N·H)/4 with N = V; the sample's solid angle 1/(M·pdf).
                     let pdf = pbr::distribution(cos_h, alpha) * 0.25;
                     let omega = 1.0 / (samples as f32 * pdf);
-                    let lod = (0.5 * (omega / texel_omega).log2() + 1.0).clamp(0.0, levels - 1.0);
+                    let lod = (0.5 * (omega / texel_omega).log2()).clamp(0.0, levels - 1.0);
                     (h, lod)
                 })
                 .collect();

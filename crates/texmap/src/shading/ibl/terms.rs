@@ -210,7 +210,12 @@ pub fn environment_terms(
                 0.0
             };
             if env.ibl {
-                d += light.irradiance(n) * diffuse * (s.occlusion * (1.0 - transmission));
+                // A metal (or a fully transmitting surface) has no diffuse lobe: its
+                // irradiance read is skipped, not multiplied by zero.
+                let kd = diffuse * (s.occlusion * (1.0 - transmission));
+                if kd != Vec3::ZERO {
+                    d += light.irradiance(n) * kd;
+                }
                 sp += light.radiance(&rays.reflected, roughness) * e * s.occlusion;
             }
             if transmission > 0.0 {
