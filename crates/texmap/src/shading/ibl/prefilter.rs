@@ -59,6 +59,21 @@ impl FaceSet {
     #[must_use]
     pub fn read(&self, d: Vec3) -> Vec3 {
         let (f, sc, tc) = face_coords(d);
+        self.read_at(f, sc, tc)
+    }
+
+    /// The bilinear values of `self` and `other` along `d`: one face selection for both
+    /// (the two prefiltered levels a rough read blends).
+    #[inline]
+    #[must_use]
+    pub fn read_pair(&self, other: &FaceSet, d: Vec3) -> (Vec3, Vec3) {
+        let (f, sc, tc) = face_coords(d);
+        (self.read_at(f, sc, tc), other.read_at(f, sc, tc))
+    }
+
+    /// The bilinear value at face coordinates `(sc, tc)` of face `f`.
+    #[inline]
+    fn read_at(&self, f: usize, sc: f32, tc: f32) -> Vec3 {
         let n = self.n as f32;
         let m = self.n + 2;
         // Texel centre i sits at face coordinate 2(i + ½)/n − 1; the apron shifts by one.

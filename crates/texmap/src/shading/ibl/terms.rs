@@ -83,15 +83,18 @@ impl<'a> EnvLight<'a> {
         let frac = ((a2.min(1.0) - a2_at(k)) / (a2_at(k + 1) - a2_at(k))).clamp(0.0, 1.0);
         let dir = self.env_from_world * fp.dir;
         let intensity = self.env.intensity;
-        let lower = if k == 0 {
-            self.mirror(fp)
-        } else {
-            levels[k - 1].read(dir) * intensity
-        };
-        if frac <= 0.0 {
-            return lower;
+        if k == 0 {
+            let lower = self.mirror(fp);
+            if frac <= 0.0 {
+                return lower;
+            }
+            return lower.lerp(levels[0].read(dir) * intensity, frac);
         }
-        lower.lerp(levels[k].read(dir) * intensity, frac)
+        if frac <= 0.0 {
+            return levels[k - 1].read(dir) * intensity;
+        }
+        let (lower, upper) = levels[k - 1].read_pair(&levels[k], dir);
+        lower.lerp(upper, frac) * intensity
     }
 
     /// The background along a world-direction footprint: premultiplied RGBA, alpha 1.
