@@ -19,7 +19,8 @@
 //!   port of Perfare's Texture2DDecoder); `decode_block_f32` gives those bytes / 255.
 //! - **BC1's three-colour mode** (`color_0 <= color_1`): code 3 is *transparent* black,
 //!   (0, 0, 0, 0), as D3D's BC1 and Khronos's "BC1 with alpha" say. The reference gives opaque
-//!   black there (its alpha is 255); that departs from the D3D rule, so it is not followed.
+//!   black there (its alpha is 255); that departs from the D3D rule, so it is not followed. A
+//!   caller that knows its texture is Khronos's "BC1 with no alpha" reads alpha as 1.
 //! - **BC2 and BC3 colour** always use the four-colour rule, whatever the endpoint order. The
 //!   reference applies BC1's three-colour rule there; again a departure, not followed.
 //! - **BC3 alpha, BC4, BC5**: D3D gives exact sevenths and fifths and requires them to 1/65535,
@@ -40,6 +41,16 @@
 //!   reserved modes decode to 0 (alpha 1).
 //! - **BC7** is bit-exact by the specification, and the same as the reference; the reserved
 //!   mode (a zero low byte) decodes to (0, 0, 0, 0).
+//!
+//! # How this was checked
+//! (2026-12-01.) Every level of every slice of the eight BC files in the shared assets'
+//! `compressed/` (58 level-slices, 14,010,572 output bytes) against `bc_decode.py`'s PNGs:
+//! BC1 and BC7 equal in every byte, BC3 in every colour byte, and each of the 106,421 alpha
+//! bytes that differ is one above the reference where it truncates a seventh or fifth that
+//! rounds up. 100,000 random blocks of each of BC1, BC3, BC4, BC5 and BC7 against the same
+//! reference: BC7 equal, every other difference one of the three departures above. BC6H
+//! (200,000 random blocks over all modes, unsigned and signed) and BC7 against a second
+//! independent decoder (the `bcdec_rs` crate): equal.
 
 use rayon::prelude::*;
 
@@ -56,6 +67,7 @@ mod tests;
 
 use alpha::{Channel, Signedness};
 use bc1::ColourRule;
+
 /// A block-compressed format: the image is cut in 4×4 texel blocks, each stored in
 /// [`BlockFormat::block_bytes`] bytes, blocks row-major. Edge blocks of a level whose size is
 /// not a multiple of 4 are whole blocks whose texels past the edge are ignored.
