@@ -11,6 +11,7 @@
 //! here knows the pipeline: the module uses only `color`, the crate's `Error`, `glam` and,
 //! to decode files, `image`.
 
+pub mod compressed;
 mod cube;
 pub mod environment;
 pub(crate) mod filter;
