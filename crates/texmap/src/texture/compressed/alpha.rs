@@ -11,9 +11,10 @@
 //!
 //! D3D requires these values to 1/65535 (1/32767 signed), finer than 8 bits, so the exact
 //! values are kept: [`Channel`] holds each one as an integer over 35 (the common denominator of
-//! the sevenths and fifths) and 255 or 127. The `f32` output is that fraction; the 8-bit output
-//! is its nearest UNORM8 (or SNORM8) value. A seventh or a fifth never falls on a half, so the
-//! rounding never meets a tie.
+//! the sevenths and fifths) and 255 or 127. The `f32` output is that fraction. The unsigned
+//! 8-bit output truncates it (`(6·a0 + a1)/7` in integers, the rule of the reference decoder
+//! and of most software decoders, so dumps compare byte for byte); the signed one is the
+//! nearest SNORM8 value (a seventh or a fifth never falls on a half, so no tie).
 
 /// BC2's alpha half: sixteen 4-bit values, texel 0 in the low nibble of byte 0. `a/15` is
 /// exactly the UNORM8 value `a·17`.
@@ -75,11 +76,16 @@ impl Channel {
         }
     }
 
-    /// The values as UNORM8 (unsigned) or SNORM8 two's-complement bytes (signed): the nearest
-    /// 8-bit value of each.
+    /// The values as UNORM8 (unsigned: the weighted sum divided with truncation, the integer
+    /// rule of the common decoders and of the reference) or SNORM8 two's-complement bytes
+    /// (signed: the nearest 8-bit value).
     pub(super) fn to_8bit(&self) -> [u8; 16] {
-        // floor((num + 17.5) / 35): no value is a tie, and this rounds negatives too.
-        self.num.map(|n| (2 * n + 35).div_euclid(70) as u8)
+        match self.signedness {
+            // num = 35·(weighted sum over 7 or 5): floor(num / 35) is the truncated division.
+            Signedness::Unsigned => self.num.map(|n| (n / 35) as u8),
+            // floor((num + 17.5) / 35): no value is a tie, and this rounds negatives too.
+            Signedness::Signed => self.num.map(|n| (2 * n + 35).div_euclid(70) as u8),
+        }
     }
 
     /// The values as `f32`: in [0, 1] unsigned, [−1, 1] signed.
@@ -117,10 +123,10 @@ mod tests {
     #[test]
     fn eight_value_block_rounds_to_nearest() {
         let ch = Channel::decode(&block(200, 10), Signedness::Unsigned);
-        // (6·200 + 10)/7 = 172.86, (5·200 + 20)/7 = 145.71, … (200 + 60)/7 = 37.14.
+        // (6·200 + 10)/7 = 172.86, (5·200 + 20)/7 = 145.71, … (200 + 60)/7 = 37.14: truncated.
         assert_eq!(
             first_eight(ch.to_8bit()),
-            [200, 10, 173, 146, 119, 91, 64, 37]
+            [200, 10, 172, 145, 118, 91, 64, 37]
         );
         let f = ch.to_f32();
         assert_eq!(f[0], 200.0 / 255.0);
@@ -139,9 +145,9 @@ mod tests {
         );
         let f = ch.to_f32();
         assert_eq!((f[6], f[7]), (0.0, 1.0));
-        // Close endpoints: (4·3 + 4)/5 = 3.2 → 3, (3·3 + 8)/5 = 3.4 → 3, 3.6 → 4, 3.8 → 4.
+        // Close endpoints: (4·3 + 4)/5 = 3.2, 3.4, 3.6, 3.8 all truncate to 3.
         let ch = Channel::decode(&block(3, 4), Signedness::Unsigned);
-        assert_eq!(first_eight(ch.to_8bit()), [3, 4, 3, 3, 4, 4, 0, 255]);
+        assert_eq!(first_eight(ch.to_8bit()), [3, 4, 3, 3, 3, 3, 0, 255]);
     }
 
     #[test]

@@ -24,10 +24,10 @@
 //! - **BC2 and BC3 colour** always use the four-colour rule, whatever the endpoint order. The
 //!   reference applies BC1's three-colour rule there; again a departure, not followed.
 //! - **BC3 alpha, BC4, BC5**: D3D gives exact sevenths and fifths and requires them to 1/65535,
-//!   finer than 8 bits. `decode_block_f32` gives the exact value (as an `f32`); the 8-bit
-//!   output is its *nearest* UNORM8 value. The reference truncates instead (up to 6/7 of a step
-//!   low, outside D3D's tolerance), so for these channels the bytes differ from it by one
-//!   where truncation and rounding part (and nowhere else).
+//!   finer than 8 bits. `decode_block_f32` gives the exact value (as an `f32`: what texmap
+//!   samples); the 8-bit output truncates the integer division, `(6·a0 + a1)/7`, as the
+//!   reference and most software decoders do (bcdec, Texture2DDecoder), so 8-bit dumps
+//!   compare byte for byte; it is up to 6/7 of a step below the exact value.
 //! - **BC4 → (R, 0, 0, 1), BC5 → (R, G, 0, 1)**: D3D's and Khronos's rule, and the
 //!   reference's. BC5 does not reconstruct a normal's Z: that is the shader's business.
 //! - **Signed BC4 and BC5**: endpoints `max(v, −127)/127` (so −128 and −127 are both −1),
@@ -45,9 +45,9 @@
 //! # How this was checked
 //! (2026-12-01.) Every level of every slice of the eight BC files in the shared assets'
 //! `compressed/` (58 level-slices, 14,010,572 output bytes) against `bc_decode.py`'s PNGs:
-//! BC1 and BC7 equal in every byte, BC3 in every colour byte, and each of the 106,421 alpha
-//! bytes that differ is one above the reference where it truncates a seventh or fifth that
-//! rounds up. 100,000 random blocks of each of BC1, BC3, BC4, BC5 and BC7 against the same
+//! BC1 and BC7 equal in every byte; BC3 too once its 8-bit alpha truncated as the reference
+//! does (with rounding to nearest, 106,421 alpha bytes were one above it, and nothing else
+//! differed). 100,000 random blocks of each of BC1, BC3, BC4, BC5 and BC7 against the same
 //! reference: BC7 equal, every other difference one of the three departures above. BC6H
 //! (200,000 random blocks over all modes, unsigned and signed) and BC7 against a second
 //! independent decoder (the `bcdec_rs` crate): equal.

@@ -82,7 +82,7 @@ proptest! {
     }
 
     #[test]
-    fn interpolated_channels_are_the_nearest_bytes_of_the_f32(
+    fn interpolated_channels_are_the_truncated_bytes_of_the_f32(
         bytes in prop::array::uniform16(any::<u8>())
     ) {
         for format in [BlockFormat::Bc3, BlockFormat::Bc4, BlockFormat::Bc5] {
@@ -94,7 +94,9 @@ proptest! {
             };
             for (b, v) in rgba8.iter().zip(&f) {
                 for &c in channels {
-                    prop_assert_eq!(f32::from(b[c]), (v[c] * 255.0).round(), "{}", format.name());
+                    // A seventh or fifth is never within 1e-4 below an integer: the margin only
+                    // absorbs the f32 division's error at exact values.
+                    prop_assert_eq!(f32::from(b[c]), (v[c] * 255.0 + 1e-4).floor(), "{}", format.name());
                     prop_assert!((0.0..=1.0).contains(&v[c]));
                 }
                 if format != BlockFormat::Bc3 {
