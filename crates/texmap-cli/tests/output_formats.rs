@@ -291,19 +291,20 @@ fn volumes_alpha_is_their_opacity() {
     for (q, e) in a.iter().zip(&f) {
         assert_eq!(q[3], linear_to_unorm8(e[3]));
     }
-    // A scan's background is already transparent: --background none changes nothing.
+    // A scan's background is already transparent: --background none or color changes
+    // nothing.
     let out = d.join("none.png");
-    let r = texmap(&[
-        "render",
-        s(&ball),
-        "--dims",
-        "16,16,16",
-        "--background",
-        "none",
-        "-o",
-        s(&out),
-    ]);
-    assert_refused(&r, "--background none", &out);
+    for (flags, needle) in [
+        (&["--background", "none"][..], "--background none"),
+        (
+            &["--background", "color", "--alpha"][..],
+            "--background color",
+        ),
+    ] {
+        let mut v = vec!["render", s(&ball), "--dims", "16,16,16", "-o", s(&out)];
+        v.extend_from_slice(flags);
+        assert_refused(&texmap(&v), needle, &out);
+    }
 }
 
 #[test]

@@ -29,7 +29,7 @@ pub struct RenderArgs {
     /// Output image, its format from the extension: `.png` (8-bit sRGB), `.exr` (OpenEXR,
     /// 32-bit float linear RGBA, premultiplied) or `.hdr` (Radiance, linear RGB); `-` is
     /// stdout (PNG unless --format); a `{frame}` in the name writes every turntable frame
-    /// [default: texmap-SCENE.png].
+    /// [default: texmap-SCENE.png, or .exr/.hdr after --format].
     #[arg(short = 'o', long = "output")]
     pub(crate) output: Option<PathBuf>,
     /// The output's format where its name does not say (`-`, a device, no extension); a name

@@ -94,8 +94,8 @@ impl ImageOut {
 ///
 /// # Errors
 /// [`Error::Parameter`] naming the flag where it changes nothing or has nothing to show:
-/// `env` without an environment, `color` without one or `--alpha`, `none` on a background
-/// already transparent; and a scene left with nothing to draw (an environment alone whose
+/// `env` without an environment; without one, `color` but with `--alpha` and a colour that
+/// is not transparent black, `none` on a background already transparent; and a scene left with nothing to draw (an environment alone whose
 /// background is left out).
 pub(super) fn apply_background(
     args: &RenderArgs,
@@ -131,6 +131,12 @@ pub(super) fn apply_background(
             return Err(Error::parameter(format!(
                 "--background color: {name} has no environment; its colour is already the \
                  background (only --alpha leaves it out)"
+            )));
+        }
+        (None, BackgroundArg::Color) if scene.background == Vec4::ZERO => {
+            return Err(Error::parameter(format!(
+                "--background color: {name}'s background colour is transparent black, what \
+                 --alpha leaves"
             )));
         }
         (None, BackgroundArg::Color) => {}
