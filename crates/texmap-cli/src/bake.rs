@@ -5,18 +5,26 @@
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec3, Vec4};
 use rayon::prelude::*;
+use texmap::frame::Frame;
 use texmap::texture::procedural::Solid;
 use texmap::Error;
+
+use crate::formats::{OutputFormat, Picture, Png8};
 
 #[derive(Args)]
 pub struct BakeArgs {
     /// marble | wood | granite | clouds | checker3d | bricks.
     pattern: String,
-    /// Output PNG.
+    /// Output image, its format from the extension: `.png` (8-bit sRGB; with --gray the
+    /// values themselves), `.exr` (32-bit float, linear) or `.hdr` (Radiance, linear); `-` is
+    /// stdout (PNG unless --format).
     #[arg(short = 'o', long = "output")]
     output: PathBuf,
+    /// The output's format where its name does not say (`-`, a device, no extension).
+    #[arg(long, value_enum)]
+    format: Option<OutputFormat>,
     /// Image size, WxH.
     #[arg(long, default_value = "512x512", value_parser = crate::render::parse_size)]
     size: (u32, u32),
@@ -80,35 +88,82 @@ pub fn run(args: BakeArgs) -> Result<(), Error> {
             "--extent must be positive and --depth finite",
         ));
     }
+    let format = OutputFormat::for_output(&args.output, "-o", args.format)?;
     let (w, h) = args.size;
+    // PNG rows are encoded as they are made (3 bytes a texel); the float formats hold the
+    // linear texels (16 bytes) and what their encoder holds.
+    let pixels = u64::from(w) * u64::from(h);
+    let need = match format {
+        OutputFormat::Png => pixels * 3,
+        f => pixels * (16 + f.buffer_bytes_per_pixel()),
+    };
+    if need > texmap::files::DEFAULT_MAX_BYTES {
+        return Err(Error::parameter(format!(
+            "--size {w}x{h} as {} needs {} MiB, above the {} MiB budget",
+            format.name(),
+            need >> 20,
+            texmap::files::DEFAULT_MAX_BYTES >> 20
+        )));
+    }
     let colors: [Vec3; 2] = solid.default_colors();
-    let rows: Vec<Vec<u8>> = (0..h)
-        .into_par_iter()
-        .map(|y| {
-            let mut row = Vec::with_capacity(w as usize * 3);
-            for x in 0..w {
-                let (u, v) = ((x as f64 + 0.5) / w as f64, (y as f64 + 0.5) / h as f64);
-                let p = args.point(u, v);
-                // Footprint: the distance to the neighbouring texel centres in object space.
-                let extent = if args.no_antialias {
-                    DVec3::ZERO
-                } else {
-                    let du = args.point(u + 1.0 / w as f64, v) - p;
-                    let dv = args.point(u, v + 1.0 / h as f64) - p;
-                    du.abs() + dv.abs()
-                };
-                if args.gray {
-                    let g = texmap::color::linear_to_unorm8(solid.value(p, extent) as f32);
-                    row.extend([g, g, g]);
-                } else {
-                    let c = solid.color(p, extent, colors);
-                    row.extend([c.x, c.y, c.z].map(texmap::color::linear_to_srgb8));
+    // The linear value at texel (x, y).
+    let texel = |x: u32, y: u32| -> Vec3 {
+        let (u, v) = ((x as f64 + 0.5) / w as f64, (y as f64 + 0.5) / h as f64);
+        let p = args.point(u, v);
+        // Footprint: the distance to the neighbouring texel centres in object space.
+        let extent = if args.no_antialias {
+            DVec3::ZERO
+        } else {
+            let du = args.point(u + 1.0 / w as f64, v) - p;
+            let dv = args.point(u, v + 1.0 / h as f64) - p;
+            du.abs() + dv.abs()
+        };
+        if args.gray {
+            Vec3::splat(solid.value(p, extent) as f32)
+        } else {
+            solid.color(p, extent, colors)
+        }
+    };
+    if format == OutputFormat::Png {
+        // Grey values are data (a roughness or height map): stored without sRGB.
+        let encode = if args.gray {
+            texmap::color::linear_to_unorm8
+        } else {
+            texmap::color::linear_to_srgb8
+        };
+        let mut rgb = vec![0u8; w as usize * h as usize * 3];
+        rgb.par_chunks_mut(w as usize * 3)
+            .enumerate()
+            .for_each(|(y, row)| {
+                for (x, px) in row.chunks_exact_mut(3).enumerate() {
+                    let c = texel(x as u32, y as u32);
+                    px.copy_from_slice(&[c.x, c.y, c.z].map(encode));
                 }
-            }
-            row
-        })
-        .collect();
-    crate::output::write_png_rgb8(&args.output, w, h, &rows.concat())?;
+            });
+        let picture = Picture::Rgb8 {
+            width: w,
+            height: h,
+            rgb: &rgb,
+        };
+        crate::output::write_image(&args.output, format, &picture)?;
+    } else {
+        let mut color = vec![Vec4::ZERO; w as usize * h as usize];
+        color
+            .par_chunks_mut(w as usize)
+            .enumerate()
+            .for_each(|(y, row)| {
+                for (x, c) in row.iter_mut().enumerate() {
+                    *c = texel(x as u32, y as u32).extend(1.0);
+                }
+            });
+        let frame = Frame {
+            width: w,
+            height: h,
+            color,
+            ..Frame::default()
+        };
+        crate::output::write_image(&args.output, format, &Picture::Linear(&frame, Png8::Srgb))?;
+    }
     crate::output::stderr_line(&format!(
         "wrote {} ({w}x{h}, {})",
         args.output.display(),

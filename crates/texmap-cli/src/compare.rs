@@ -6,13 +6,17 @@ use clap::Args;
 use texmap::metrics::compare_rgb8;
 use texmap::Error;
 
+use crate::formats::{OutputFormat, Picture};
+
 #[derive(Args)]
 pub struct CompareArgs {
     /// First image.
     a: PathBuf,
     /// Second image (same size).
     b: PathBuf,
-    /// Write a false-colour difference image here (blue = equal, red = 32 levels or more apart).
+    /// Write a false-colour difference image here (blue = equal, red = 32 levels or more
+    /// apart): an 8-bit PNG, whatever the name, so only `.png`, a name without an extension
+    /// or `-` is taken.
     #[arg(long)]
     diff: Option<PathBuf>,
     /// Compare only where this greyscale mask is non-zero.
@@ -29,6 +33,18 @@ fn load_rgb8(path: &Path) -> Result<image::RgbImage, Error> {
 }
 
 pub fn run(args: CompareArgs) -> Result<(), Error> {
+    // Before anything is read: the difference image is display colour, PNG only.
+    if let Some(out) = &args.diff {
+        let format = OutputFormat::for_output(out, "--diff", None)?;
+        if format != OutputFormat::Png {
+            return Err(Error::parameter(format!(
+                "--diff {}: the difference image is 8-bit false colour, written as PNG only, \
+                 not {}",
+                out.display(),
+                format.name()
+            )));
+        }
+    }
     let a = load_rgb8(&args.a)?;
     let b = load_rgb8(&args.b)?;
     if a.dimensions() != b.dimensions() {
@@ -83,7 +99,12 @@ pub fn run(args: CompareArgs) -> Result<(), Error> {
                 .unwrap_or(0);
             rgb.extend(false_colour((d as f32 / 32.0).min(1.0)));
         }
-        crate::output::write_png_rgb8(out, w, h, &rgb)?;
+        let picture = Picture::Rgb8 {
+            width: w,
+            height: h,
+            rgb: &rgb,
+        };
+        crate::output::write_image(out, OutputFormat::Png, &picture)?;
     }
     Ok(())
 }

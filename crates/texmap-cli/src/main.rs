@@ -2,6 +2,7 @@
 
 mod bake;
 mod compare;
+mod formats;
 mod info;
 mod output;
 mod progress;

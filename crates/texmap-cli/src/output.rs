@@ -2,9 +2,10 @@
 //! target, created exclusively, then a rename, so a failed or interrupted write never leaves
 //! a partial file or clobbers the old one), and text to stdout and stderr without panicking.
 //!
-//! Images: `-o -` writes the PNG to stdout; a FIFO or character device (`/dev/null`) is
-//! written through, not replaced; a symbolic link is followed (the file it names is replaced
-//! atomically, the link stays); a dangling link or a directory is an error.
+//! Images (in the formats of `formats.rs`): `-o -` writes to stdout; a FIFO or character
+//! device (`/dev/null`) is written through, not replaced; a symbolic link is followed (the
+//! file it names is replaced atomically, the link stays); a dangling link or a directory is
+//! an error.
 //!
 //! Standard streams: a closed stdout (`texmap info … | head -1`) ends the program quietly
 //! with success, as Unix filters expect of a reader that stopped reading; any other failure
@@ -14,8 +15,9 @@
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
-use image::ImageEncoder;
 use texmap::Error;
+
+use crate::formats::{self, OutputFormat, Picture};
 
 /// Where an image is written.
 enum Target {
@@ -49,35 +51,18 @@ fn target(path: &Path) -> Result<Target, Error> {
     }
 }
 
-/// Encodes RGB8 rows as PNG into `w`.
-fn encode(
-    w: impl std::io::Write,
-    path: &Path,
-    width: u32,
-    height: u32,
-    rgb: &[u8],
-) -> Result<(), Error> {
-    let mut w = std::io::BufWriter::new(w);
-    image::codecs::png::PngEncoder::new(&mut w)
-        .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
-        .map_err(|e| match e {
-            image::ImageError::IoError(e) => Error::io(path, e),
-            e => Error::decode(path, e.to_string()),
-        })?;
-    w.flush().map_err(|e| Error::io(path, e))
-}
-
-/// Writes RGB8 rows as a PNG at `path`: atomically for a file, through for a FIFO or a
-/// device, to stdout for `-`.
-pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(), Error> {
+/// Writes `picture` as `format` at `path`: atomically for a file, through for a FIFO or a
+/// device, to stdout for `-` (see the module docs). A format that seeks in its output
+/// (OpenEXR) is encoded in memory first when the target is a stream.
+pub fn write_image(path: &Path, format: OutputFormat, picture: &Picture) -> Result<(), Error> {
     let path = match target(path)? {
-        Target::Stdout => return encode(std::io::stdout().lock(), path, width, height, rgb),
+        Target::Stdout => return write_stream(std::io::stdout().lock(), path, format, picture),
         Target::Stream(p) => {
             let f = std::fs::OpenOptions::new()
                 .write(true)
                 .open(&p)
                 .map_err(|e| Error::io(&p, e))?;
-            return encode(f, &p, width, height, rgb);
+            return write_stream(f, &p, format, picture);
         }
         Target::File(p) => p,
     };
@@ -101,7 +86,7 @@ pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Resul
         .map_err(|e| Error::io(&tmp, e))?;
     let result = (|| {
         let mut file = file;
-        encode(&mut file, &path, width, height, rgb)?;
+        formats::encode_seekable(&mut file, &path, format, picture)?;
         file.sync_all().map_err(|e| Error::io(&path, e))?;
         std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))
     })();
@@ -109,6 +94,23 @@ pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Resul
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// `picture` into a stream that cannot seek.
+fn write_stream(
+    mut w: impl std::io::Write,
+    path: &Path,
+    format: OutputFormat,
+    picture: &Picture,
+) -> Result<(), Error> {
+    if !format.needs_seek() {
+        return formats::encode_stream(w, path, format, picture);
+    }
+    let mut encoded = std::io::Cursor::new(Vec::new());
+    formats::encode_seekable(&mut encoded, path, format, picture)?;
+    w.write_all(encoded.get_ref())
+        .and_then(|()| w.flush())
+        .map_err(|e| Error::io(path, e))
 }
 
 /// True when `output` names the same existing file as one of `inputs` (which a write would

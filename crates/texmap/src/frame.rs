@@ -1,8 +1,14 @@
 //! A rendered image: linear premultiplied colour and what it cost.
+//!
+//! The colour is linear light, premultiplied by alpha; alpha is the coverage of what was
+//! drawn (surfaces, their antialiased edges, blended layers, volumes' accumulated opacity,
+//! and a background unless it was left out). The 8-bit encodings below are the two ways it
+//! leaves as a display image: composited over black ([`Frame::to_srgb8`]), or with straight
+//! alpha for compositing ([`Frame::to_srgba8`]).
 
 use glam::Vec4;
 
-use crate::color::linear_to_srgb8;
+use crate::color::{linear_to_srgb8, linear_to_unorm8};
 
 /// What a frame cost.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -35,5 +41,102 @@ impl Frame {
             out.extend([c.x, c.y, c.z].map(linear_to_srgb8));
         }
         out
+    }
+
+    /// RGBA8 rows with straight (un-premultiplied) alpha, as PNG stores it: the colour is
+    /// the sRGB code of `rgb / a` (exactly rounded, as [`Frame::to_srgb8`]), alpha the 8-bit
+    /// code of `a` rounded to nearest; a pixel of alpha 0 is `(0, 0, 0, 0)`.
+    ///
+    /// Laying the result over black in linear light gives back [`Frame::to_srgb8`]'s colour
+    /// (within the 8-bit rounding of alpha).
+    ///
+    /// ```
+    /// use glam::Vec4;
+    /// use texmap::frame::Frame;
+    ///
+    /// // Half of a white pixel covered, and an empty one.
+    /// let frame = Frame {
+    ///     width: 2,
+    ///     height: 1,
+    ///     color: vec![Vec4::new(0.5, 0.5, 0.5, 0.5), Vec4::ZERO],
+    ///     ..Frame::default()
+    /// };
+    /// assert_eq!(frame.to_srgba8(), [255, 255, 255, 128, 0, 0, 0, 0]);
+    /// ```
+    #[must_use]
+    pub fn to_srgba8(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(self.color.len() * 4);
+        for c in &self.color {
+            // Also NaN: nothing to divide by.
+            if !(c.w > 0.0) {
+                out.extend([0; 4]);
+                continue;
+            }
+            let straight = c.truncate() / c.w.min(1.0);
+            out.extend([straight.x, straight.y, straight.z].map(linear_to_srgb8));
+            out.push(linear_to_unorm8(c.w));
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::color::srgb_to_linear;
+
+    fn frame(color: Vec<Vec4>) -> Frame {
+        Frame {
+            width: color.len() as u32,
+            height: 1,
+            color,
+            ..Frame::default()
+        }
+    }
+
+    #[test]
+    fn opaque_pixels_have_the_same_colour_in_both_encodings() {
+        let f = frame(vec![
+            Vec4::new(0.2, 0.5, 1.0, 1.0),
+            Vec4::new(0.0, 0.01, 0.3, 1.0),
+        ]);
+        let rgb = f.to_srgb8();
+        let rgba = f.to_srgba8();
+        for p in 0..2 {
+            assert_eq!(rgb[3 * p..3 * p + 3], rgba[4 * p..4 * p + 3], "pixel {p}");
+            assert_eq!(rgba[4 * p + 3], 255);
+        }
+    }
+
+    #[test]
+    fn straight_alpha_undoes_the_premultiplication() {
+        // A red surface covering a quarter of the pixel, a blue one 0.9 of it.
+        let f = frame(vec![
+            Vec4::new(0.25, 0.0, 0.0, 0.25),
+            Vec4::new(0.0, 0.0, 0.9 * 0.4, 0.9),
+        ]);
+        let rgba = f.to_srgba8();
+        assert_eq!(rgba[..4], [255, 0, 0, 64]);
+        assert_eq!(rgba[4 + 2], linear_to_srgb8(0.4));
+        assert_eq!(rgba[4 + 3], 230);
+        // Over black in linear light: within a code of the composited encoding.
+        let rgb = f.to_srgb8();
+        for p in 0..2 {
+            for k in 0..3 {
+                let a = f32::from(rgba[4 * p + 3]) / 255.0;
+                let over = linear_to_srgb8(srgb_to_linear(f32::from(rgba[4 * p + k]) / 255.0) * a);
+                assert!(over.abs_diff(rgb[3 * p + k]) <= 1, "pixel {p} channel {k}");
+            }
+        }
+    }
+
+    #[test]
+    fn empty_and_non_finite_alpha_are_transparent_black() {
+        let f = frame(vec![
+            Vec4::ZERO,
+            Vec4::new(0.3, 0.3, 0.3, 0.0),
+            Vec4::new(0.3, 0.3, 0.3, f32::NAN),
+        ]);
+        assert_eq!(f.to_srgba8(), [0; 12]);
     }
 }

@@ -9,6 +9,7 @@ use texmap::shading::shadow::ShadowFilter;
 use texmap::texture::{Filter, Wrap};
 
 use super::limits;
+use crate::formats::OutputFormat;
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -25,9 +26,21 @@ pub struct RenderArgs {
     /// Ignore the file's own camera: frame the bounding box as `gl_render.py` does.
     #[arg(long)]
     pub(crate) auto_camera: bool,
-    /// Output PNG; a `{frame}` in the name writes every turntable frame.
+    /// Output image, its format from the extension: `.png` (8-bit sRGB), `.exr` (OpenEXR,
+    /// 32-bit float linear RGBA, premultiplied) or `.hdr` (Radiance, linear RGB); `-` is
+    /// stdout (PNG unless --format); a `{frame}` in the name writes every turntable frame
+    /// [default: texmap-SCENE.png, or .exr/.hdr after --format].
     #[arg(short = 'o', long = "output")]
     pub(crate) output: Option<PathBuf>,
+    /// The output's format where its name does not say (`-`, a device, no extension); a name
+    /// with another format's extension is refused.
+    #[arg(long, value_enum)]
+    pub(crate) format: Option<OutputFormat>,
+    /// Keep alpha, for compositing: the background is left out (unless --background names
+    /// one), alpha is the coverage of the surfaces and the opacity of the volumes, and PNG is
+    /// written RGBA with straight alpha. OpenEXR always carries alpha; Radiance HDR has none.
+    #[arg(long)]
+    pub(crate) alpha: bool,
     /// Image size, WxH.
     #[arg(long, default_value = "640x360", value_parser = parse_size)]
     pub(crate) size: (u32, u32),
@@ -150,8 +163,9 @@ pub struct RenderArgs {
     /// Multiplies the environment's radiance.
     #[arg(long, value_name = "K")]
     pub(crate) env_intensity: Option<f32>,
-    /// What is seen where no surface is: the environment, the scene's colour, or nothing
-    /// (transparent black) [default: env].
+    /// What is seen where no surface is: the environment (the scene's or --env's), the
+    /// scene's colour, or nothing (transparent black) [default: env with an environment, else
+    /// color; none with --alpha].
     #[arg(long, value_enum)]
     pub(crate) background: Option<BackgroundArg>,
     /// Image-based light from the environment (irradiance, and the prefiltered specular of

@@ -6,7 +6,8 @@
 //! the default camera of a scene with volumes, load flags a file; `--cull` a single-sided
 //! material; shadow flags a lit scene with a light that casts (the PCSS light sizes, PCSS and a
 //! light of their kind); environment flags an environment (`--ibl` a lit surface,
-//! `--reflections` a material that reflects or refracts).
+//! `--reflections` a material that reflects or refracts). `--background` is checked where
+//! it is applied (`image_out.rs`: it also acts without an environment).
 
 use texmap::render::{ShadowOverrides, TextureOverrides};
 use texmap::scene::Light;
@@ -186,7 +187,6 @@ fn check_environment_flags(args: &RenderArgs, built: &Built, name: &str) -> Resu
     let flags: Vec<&str> = [
         ("--env-rotate", args.env_rotate.is_some()),
         ("--env-intensity", args.env_intensity.is_some()),
-        ("--background", args.background.is_some()),
         ("--ibl", args.ibl.is_some()),
         ("--reflections", args.reflections.is_some()),
     ]

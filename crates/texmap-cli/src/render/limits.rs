@@ -59,16 +59,36 @@ pub fn frames_and_threads(frames: u32, threads: Option<usize>) -> Result<usize, 
     })
 }
 
-/// Refuses a frame whose buffers would not fit in `max_bytes`: the (supersampled) colour
-/// target, the resolved frame and its 8-bit copy.
-pub fn check_frame(width: u32, height: u32, ssaa: u32, max_bytes: u64) -> Result<(), Error> {
-    let pixels = u64::from(width) * u64::from(height);
-    let samples = pixels * u64::from(ssaa) * u64::from(ssaa);
-    let need = samples * 16 + if ssaa > 1 { pixels * 16 } else { 0 } + pixels * 3;
+/// The buffers of a frame: the (supersampled) colour target, the resolved frame and what
+/// the output's encoder holds besides ([`crate::formats::OutputFormat::buffer_bytes_per_pixel`]).
+#[derive(Clone, Copy)]
+pub struct FrameBuffers {
+    pub width: u32,
+    pub height: u32,
+    pub ssaa: u32,
+    pub output_bytes_per_pixel: u64,
+}
+
+impl FrameBuffers {
+    /// Their bytes.
+    pub fn bytes(&self) -> u64 {
+        let pixels = u64::from(self.width) * u64::from(self.height);
+        let samples = pixels * u64::from(self.ssaa) * u64::from(self.ssaa);
+        let resolved = if self.ssaa > 1 { pixels * 16 } else { 0 };
+        samples * 16 + resolved + pixels * self.output_bytes_per_pixel
+    }
+}
+
+/// Refuses a frame whose buffers would not fit in `max_bytes`.
+pub fn check_frame(frame: &FrameBuffers, max_bytes: u64) -> Result<(), Error> {
+    let need = frame.bytes();
     if need > max_bytes {
         return Err(Error::parameter(format!(
-            "--size {width}x{height} with --ssaa {ssaa} needs {} MiB of frame buffers, above \
+            "--size {}x{} with --ssaa {} needs {} MiB of frame buffers, above \
              --max-memory {} MiB",
+            frame.width,
+            frame.height,
+            frame.ssaa,
             need >> 20,
             max_bytes >> 20
         )));
@@ -77,17 +97,14 @@ pub fn check_frame(width: u32, height: u32, ssaa: u32, max_bytes: u64) -> Result
 }
 
 /// Refuses shadow maps of `bytes` that would not fit in `max_bytes` next to the frame's
-/// buffers (as [`check_frame`] counts them); `source` names where their size came from.
+/// buffers; `source` names where their size came from.
 pub fn check_shadow_maps(
     bytes: u64,
     source: &str,
-    frame: (u32, u32, u32),
+    frame: &FrameBuffers,
     max_bytes: u64,
 ) -> Result<(), Error> {
-    let (width, height, ssaa) = frame;
-    let pixels = u64::from(width) * u64::from(height);
-    let samples = pixels * u64::from(ssaa) * u64::from(ssaa);
-    let frame_bytes = samples * 16 + if ssaa > 1 { pixels * 16 } else { 0 } + pixels * 3;
+    let frame_bytes = frame.bytes();
     if bytes.saturating_add(frame_bytes) > max_bytes {
         return Err(Error::parameter(format!(
             "{source}: the shadow maps need {} MiB, with the frame's {} MiB \
@@ -114,6 +131,7 @@ pub fn check_output(output: &Path, inputs: &[&Path]) -> Result<(), Error> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::formats::OutputFormat;
 
     #[test]
     fn byte_counts_take_binary_suffixes() {
@@ -127,17 +145,32 @@ mod tests {
         assert!(parse_bytes("99999999999T").is_err());
     }
 
+    fn png(width: u32, height: u32) -> FrameBuffers {
+        FrameBuffers {
+            width,
+            height,
+            ssaa: 1,
+            output_bytes_per_pixel: OutputFormat::Png.buffer_bytes_per_pixel(),
+        }
+    }
+
     #[test]
     fn frame_budget() {
-        assert!(check_frame(1920, 1080, 1, 4 << 30).is_ok());
-        let e = check_frame(16384, 16384, 1, 4 << 30)
+        assert!(check_frame(&png(1920, 1080), 4 << 30).is_ok());
+        let e = check_frame(&png(16384, 16384), 4 << 30)
             .unwrap_err()
             .to_string();
         assert!(
             e.contains("--size 16384x16384") && e.contains("--max-memory"),
             "{e}"
         );
-        assert!(check_frame(16384, 16384, 1, 8 << 30).is_ok());
+        assert!(check_frame(&png(16384, 16384), 8 << 30).is_ok());
+        // An EXR for a stream is encoded in memory: 33 bytes a pixel in all.
+        let exr = FrameBuffers {
+            output_bytes_per_pixel: OutputFormat::Exr.buffer_bytes_per_pixel(),
+            ..png(16384, 16384)
+        };
+        assert!(check_frame(&exr, 8 << 30).is_err());
     }
 
     #[test]
@@ -145,9 +178,9 @@ mod tests {
         // A cube of six 4096² maps and its target: 640 MiB.
         let cube = 4096u64 * 4096 * (4 * 6 + 16);
         assert!(
-            check_shadow_maps(cube, "--shadow-map-size 4096", (1920, 1080, 1), 4 << 30).is_ok()
+            check_shadow_maps(cube, "--shadow-map-size 4096", &png(1920, 1080), 4 << 30).is_ok()
         );
-        let e = check_shadow_maps(cube, "--shadow-map-size 4096", (1920, 1080, 1), 512 << 20)
+        let e = check_shadow_maps(cube, "--shadow-map-size 4096", &png(1920, 1080), 512 << 20)
             .unwrap_err()
             .to_string();
         assert!(

@@ -2,14 +2,16 @@
 //! scan (with `--mesh` files inside it).
 //!
 //! The flags are `args.rs`; which flags apply to which scene, `checks.rs`; the bounds of a
-//! render (memory, frames, threads), `limits.rs`.
+//! render (memory, frames, threads), `limits.rs`; the image written (format, `--alpha`, the
+//! background), `image_out.rs`.
 
 mod args;
 mod checks;
+mod image_out;
 mod limits;
 
 pub use args::{parse_size, RenderArgs};
-use args::{BackgroundArg, ColorSpaceArg, CullArg, InterpArg, ShadingArg, Switch, VisibilityArg};
+use args::{ColorSpaceArg, CullArg, InterpArg, ShadingArg, Switch, VisibilityArg};
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -24,7 +26,6 @@ use texmap::render::{
 };
 use texmap::scene::builtin::Builtin;
 use texmap::scene::{Environment, LoadOptions, Scene};
-use texmap::shading::ibl::Background;
 use texmap::texture::load::{load_texture, Limits};
 use texmap::texture::{load_environment, ColorSpace, EnvironmentMap, Filter, Texture2D};
 use texmap::volume::SceneVolume;
@@ -183,13 +184,20 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             )));
         }
     }
-    limits::check_frame(args.size.0, args.size.1, ssaa, max_memory)?;
     if let Some(out) = &args.output {
         let mut inputs: Vec<&Path> = args.scene.iter().map(Path::new).collect();
         inputs.extend(args.texture.as_deref());
         inputs.extend(args.volume.meshes.iter().map(PathBuf::as_path));
         limits::check_output(out, &inputs)?;
     }
+    let format = image_out::output_format(&args)?;
+    let frame_buffers = limits::FrameBuffers {
+        width: args.size.0,
+        height: args.size.1,
+        ssaa,
+        output_bytes_per_pixel: format.buffer_bytes_per_pixel(),
+    };
+    limits::check_frame(&frame_buffers, max_memory)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -227,6 +235,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
     } = pool.install(|| {
         let mut built = build(&args, texture.clone())?;
         apply_environment(&args, &mut built.scene, env_map)?;
+        image_out::apply_background(&args, &mut built.scene, !built.volumes.is_empty())?;
         checks::check_flags(&args, &built)?;
         Ok::<_, Error>(built)
     })?;
@@ -301,7 +310,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
                 scene.shadows.params.map_size
             ),
         },
-        (args.size.0, args.size.1, ssaa),
+        &frame_buffers,
         max_memory,
     )?;
     // The shadow maps do not depend on the camera: drawn once for the whole turntable (the
@@ -313,11 +322,8 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
     let prefilter_start = Instant::now();
     let prefiltered = pool.install(|| prefilter_environment(&scene, &settings));
     let prefilter_ms = prefilter_start.elapsed().as_secs_f64() * 1e3;
-    let output = args
-        .output
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("texmap-{short}.png")));
-    let per_frame = output.to_string_lossy().contains("{frame}");
+    let output = image_out::ImageOut::new(&args, format, &short);
+    let per_frame = output.per_frame();
     let setup_ms = setup_start.elapsed().as_secs_f64() * 1e3;
 
     let mut times = Vec::with_capacity(args.frames as usize);
@@ -342,12 +348,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
         })?;
         times.push(start.elapsed().as_secs_f64() * 1e3);
         if per_frame {
-            let path = PathBuf::from(
-                output
-                    .to_string_lossy()
-                    .replace("{frame}", &format!("{k:04}")),
-            );
-            crate::output::write_png_rgb8(&path, frame.width, frame.height, &frame.to_srgb8())?;
+            output.write(&frame, k)?;
         }
         progress.tick();
     }
@@ -356,7 +357,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
         return Err(Error::parameter("no frame rendered"));
     }
     if !per_frame {
-        crate::output::write_png_rgb8(&output, frame.width, frame.height, &frame.to_srgb8())?;
+        output.write(&frame, args.frames)?;
     }
     let mut sorted = times.clone();
     sorted.sort_by(f64::total_cmp);
@@ -382,7 +383,8 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             "triangles_after_clip": s.triangles_after_clip,
             "pixels_shaded": s.pixels_shaded,
             "texture_samples": s.texture_samples,
-            "output": output,
+            "output": output.path,
+            "format": output.format.extension(),
         });
         if prefiltered {
             json["env_prefilter_ms"] = serde_json::json!(round2(prefilter_ms));
@@ -402,7 +404,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
     } else if !args.quiet {
         crate::output::stderr_line(&format!(
             "wrote {} ({}x{}, {} frame{}, median {:.1} ms/frame)",
-            output.display(),
+            output.path.display(),
             frame.width,
             frame.height,
             args.frames,
@@ -414,7 +416,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
 }
 
 /// Lays `--env` (the map, replacing the scene's) and the environment flags over the scene's
-/// environment. Flags that need one where there is none are left for `checks` to refuse.
+/// environment (`--background` is `image_out::apply_background`). Flags that need one where there is none are left for `checks` to refuse.
 fn apply_environment(
     args: &RenderArgs,
     scene: &mut Scene,
@@ -446,13 +448,6 @@ fn apply_environment(
             )));
         }
         env.intensity = k;
-    }
-    if let Some(b) = args.background {
-        env.background = match b {
-            BackgroundArg::Env => Background::Environment,
-            BackgroundArg::Color => Background::Color,
-            BackgroundArg::None => Background::None,
-        };
     }
     if let Some(s) = args.ibl {
         env.ibl = s == Switch::On;
