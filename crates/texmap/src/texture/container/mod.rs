@@ -37,7 +37,8 @@ use super::ColorSpace;
 use crate::{Error, Result};
 
 pub use plain::PlainFormat;
-pub use texture::{cube_from_file, texture_from_file};
+pub(crate) use texture::texture_from_file_with;
+pub use texture::{cube_from_file, flat_image, texture_from_file};
 
 /// The container a file is in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

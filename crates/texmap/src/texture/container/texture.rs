@@ -23,17 +23,32 @@ fn engine_format(format: FileFormat) -> Format {
     }
 }
 
-/// One image's texels as bytes of [`engine_format`].
-fn engine_texels(file: &TextureFile, layer: u32, face: u32, level: u32) -> Result<Vec<u8>> {
+/// One image's texels as bytes of [`engine_format`], alpha 1 when `opaque`.
+fn engine_texels(
+    file: &TextureFile,
+    (layer, face, level): (u32, u32, u32),
+    opaque: bool,
+) -> Result<Vec<u8>> {
+    let floats = |file: &TextureFile| -> Result<Vec<f32>> {
+        let mut f = file.decode_f32(layer, face, level)?;
+        if opaque {
+            f.chunks_exact_mut(4).for_each(|t| t[3] = 1.0);
+        }
+        Ok(f)
+    };
     Ok(match engine_format(file.format()) {
-        Format::Rgba8 => file.decode_rgba8(layer, face, level)?,
-        Format::Rgba16F => file
-            .decode_f32(layer, face, level)?
+        Format::Rgba8 => {
+            let mut b = file.decode_rgba8(layer, face, level)?;
+            if opaque {
+                b.chunks_exact_mut(4).for_each(|t| t[3] = 255);
+            }
+            b
+        }
+        Format::Rgba16F => floats(file)?
             .into_iter()
             .flat_map(|v| f32_to_f16(v).to_le_bytes())
             .collect(),
-        _ => file
-            .decode_f32(layer, face, level)?
+        _ => floats(file)?
             .into_iter()
             .flat_map(f32::to_le_bytes)
             .collect(),
@@ -43,10 +58,10 @@ fn engine_texels(file: &TextureFile, layer: u32, face: u32, level: u32) -> Resul
 /// `layer`'s `face` of `file` as a texture with its mip chain.
 fn image_texture(
     file: &TextureFile,
-    layer: u32,
-    face: u32,
+    (layer, face): (u32, u32),
     color_space: ColorSpace,
     options: TextureOptions,
+    opaque: bool,
 ) -> Result<Texture2D> {
     let color_space = if file.color_space() == ColorSpace::Srgb {
         ColorSpace::Srgb
@@ -59,7 +74,7 @@ fn image_texture(
         1
     };
     let levels = (0..stored)
-        .map(|level| engine_texels(file, layer, face, level))
+        .map(|level| engine_texels(file, (layer, face, level), opaque))
         .collect::<Result<Vec<_>>>()?;
     let slices: Vec<&[u8]> = levels.iter().map(Vec::as_slice).collect();
     Texture2D::from_texel_levels(
@@ -99,13 +114,52 @@ pub fn texture_from_file(
     color_space: ColorSpace,
     options: TextureOptions,
 ) -> Result<Texture2D> {
+    texture_from_file_with(file, color_space, options, false)
+}
+
+/// [`texture_from_file`], with every texel's alpha made 1 when `drop_alpha` (glTF's OPAQUE
+/// base colour).
+pub(crate) fn texture_from_file_with(
+    file: &TextureFile,
+    color_space: ColorSpace,
+    options: TextureOptions,
+    drop_alpha: bool,
+) -> Result<Texture2D> {
     if let Some(shape) = shape_name(file) {
         return Err(Error::decode(
             file.path(),
             format!("is {shape}; a 2D texture is needed here"),
         ));
     }
-    image_texture(file, 0, 0, color_space, options)
+    image_texture(file, (0, 0), color_space, options, drop_alpha)
+}
+
+/// Level 0 of a flat 2D file as an image: RGBA8 for 8-bit formats (values as stored), RGBA
+/// `f32` for float and signed ones.
+///
+/// # Errors
+/// One line naming the file: a cube map, array or volume texture, or an image that fails to
+/// decode.
+pub fn flat_image(file: &TextureFile) -> Result<image::DynamicImage> {
+    if let Some(shape) = shape_name(file) {
+        return Err(Error::decode(
+            file.path(),
+            format!("is {shape}; one flat image is needed here"),
+        ));
+    }
+    let (w, h) = (file.width(), file.height());
+    let lost = || Error::decode(file.path(), "decoded level 0 has the wrong size");
+    if engine_format(file.format()) == Format::Rgba8 {
+        let texels = file.decode_rgba8(0, 0, 0)?;
+        image::RgbaImage::from_raw(w, h, texels)
+            .map(image::DynamicImage::ImageRgba8)
+            .ok_or_else(lost)
+    } else {
+        let texels = file.decode_f32(0, 0, 0)?;
+        image::Rgba32FImage::from_raw(w, h, texels)
+            .map(image::DynamicImage::ImageRgba32F)
+            .ok_or_else(lost)
+    }
 }
 
 /// The cube map a file holds, faces in the file's (and [`crate::texture::CubeFace::ALL`]'s)
@@ -126,7 +180,7 @@ pub fn cube_from_file(
         ));
     }
     let faces = (0..6)
-        .map(|face| image_texture(file, 0, face, color_space, options))
+        .map(|face| image_texture(file, (0, face), color_space, options, false))
         .collect::<Result<Vec<_>>>()?;
     let faces: [Texture2D; 6] = faces
         .try_into()
