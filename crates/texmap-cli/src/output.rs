@@ -2,7 +2,7 @@
 //! target, created exclusively, then a rename, so a failed or interrupted write never leaves
 //! a partial file or clobbers the old one), and text to stdout and stderr without panicking.
 //!
-//! Images: `-o -` writes the PNG to stdout; a FIFO or character device (`/dev/null`) is
+//! Images (PNG, or OpenEXR for `texmap convert`): `-o -` writes the image to stdout; a FIFO or character device (`/dev/null`) is
 //! written through, not replaced; a symbolic link is followed (the file it names is replaced
 //! atomically, the link stays); a dangling link or a directory is an error.
 //!
@@ -49,35 +49,67 @@ fn target(path: &Path) -> Result<Target, Error> {
     }
 }
 
-/// Encodes RGB8 rows as PNG into `w`.
+/// The encoding of an image: PNG of 8-bit RGB or RGBA rows, or OpenEXR of `f32` RGBA.
+#[derive(Clone, Copy)]
+pub enum Image<'a> {
+    /// 8-bit RGB rows.
+    Rgb8(&'a [u8]),
+    /// 8-bit RGBA rows (straight alpha).
+    Rgba8(&'a [u8]),
+    /// `f32` RGBA rows, linear (an OpenEXR file).
+    Rgba32F(&'a [f32]),
+}
+
+/// Encodes `image` into `w`.
 fn encode(
     w: impl std::io::Write,
     path: &Path,
     width: u32,
     height: u32,
-    rgb: &[u8],
+    image: Image<'_>,
 ) -> Result<(), Error> {
+    let image_error = |e: image::ImageError| match e {
+        image::ImageError::IoError(e) => Error::io(path, e),
+        e => Error::decode(path, e.to_string()),
+    };
     let mut w = std::io::BufWriter::new(w);
-    image::codecs::png::PngEncoder::new(&mut w)
-        .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
-        .map_err(|e| match e {
-            image::ImageError::IoError(e) => Error::io(path, e),
-            e => Error::decode(path, e.to_string()),
-        })?;
+    match image {
+        Image::Rgb8(rgb) => image::codecs::png::PngEncoder::new(&mut w)
+            .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
+            .map_err(image_error)?,
+        Image::Rgba8(rgba) => image::codecs::png::PngEncoder::new(&mut w)
+            .write_image(rgba, width, height, image::ExtendedColorType::Rgba8)
+            .map_err(image_error)?,
+        Image::Rgba32F(texels) => {
+            // The EXR encoder seeks: encode in memory, then write the bytes.
+            let mut bytes = std::io::Cursor::new(Vec::new());
+            let raw: Vec<u8> = texels.iter().flat_map(|v| v.to_ne_bytes()).collect();
+            image::codecs::openexr::OpenExrEncoder::new(&mut bytes)
+                .write_image(&raw, width, height, image::ExtendedColorType::Rgba32F)
+                .map_err(image_error)?;
+            w.write_all(bytes.get_ref())
+                .map_err(|e| Error::io(path, e))?;
+        }
+    }
     w.flush().map_err(|e| Error::io(path, e))
 }
 
 /// Writes RGB8 rows as a PNG at `path`: atomically for a file, through for a FIFO or a
 /// device, to stdout for `-`.
 pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(), Error> {
+    write_image(path, width, height, Image::Rgb8(rgb))
+}
+
+/// Writes `image` at `path` as [`write_png_rgb8`] does (an EXR to `-` goes to stdout too).
+pub fn write_image(path: &Path, width: u32, height: u32, image: Image<'_>) -> Result<(), Error> {
     let path = match target(path)? {
-        Target::Stdout => return encode(std::io::stdout().lock(), path, width, height, rgb),
+        Target::Stdout => return encode(std::io::stdout().lock(), path, width, height, image),
         Target::Stream(p) => {
             let f = std::fs::OpenOptions::new()
                 .write(true)
                 .open(&p)
                 .map_err(|e| Error::io(&p, e))?;
-            return encode(f, &p, width, height, rgb);
+            return encode(f, &p, width, height, image);
         }
         Target::File(p) => p,
     };
@@ -101,7 +133,7 @@ pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Resul
         .map_err(|e| Error::io(&tmp, e))?;
     let result = (|| {
         let mut file = file;
-        encode(&mut file, &path, width, height, rgb)?;
+        encode(&mut file, &path, width, height, image)?;
         file.sync_all().map_err(|e| Error::io(&path, e))?;
         std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))
     })();
