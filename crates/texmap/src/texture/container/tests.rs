@@ -201,7 +201,9 @@ fn dds_volume_levels_halve_the_depth_too() {
 
 #[test]
 fn dds_masks_name_the_8_bit_formats() {
-    let cases: [(u32, u32, [u32; 4], &str, [u8; 4]); 5] = [
+    // (pixel-format flags, bits, masks, format, RGBA of texel bytes 1, 2, 3, 4)
+    type Case = (u32, u32, [u32; 4], &'static str, [u8; 4]);
+    let cases: [Case; 5] = [
         (RGB | ALPHA, 32, BGRA_MASKS, "BGRA8", [3, 2, 1, 4]),
         (
             RGB,
