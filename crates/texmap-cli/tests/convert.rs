@@ -351,7 +351,18 @@ fn dds_files_are_textures_and_environments_for_the_renderer() {
         s(&out),
     ]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-    // A cube map where a 2D texture is needed, a flat file where a cube is: named.
+    // A scene's texture: an OBJ material's map_Kd.
+    std::fs::write(d.join("m.mtl"), "newmtl m\nKd 1 1 1\nmap_Kd t.dds\n").unwrap();
+    let obj = d.join("tri.obj");
+    std::fs::write(&obj, "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3\n").unwrap();
+    let info = texmap(&["info", s(&obj)]);
+    let text = String::from_utf8_lossy(&info.stdout);
+    assert!(
+        text.contains("t.dds: 16x16, Rgba8"),
+        "{text}{}",
+        String::from_utf8_lossy(&info.stderr)
+    );
+    // A cube map where a 2D texture is needed is refused by name.
     let out = d.join("x.png");
     let r = texmap(&[
         "render",

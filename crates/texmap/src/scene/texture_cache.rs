@@ -83,7 +83,7 @@ impl TextureCache {
 
     /// The texture `key` names (a file path, or an index inside the asset), decoded from
     /// `source` in `color_space`; `None` when the image format is one texmap cannot decode
-    /// (KTX2, WebP: a warning, the channel reads as absent), or an error for a
+    /// (WebP, Basis Universal KTX2: a warning, the channel reads as absent), or an error for a
     /// missing/corrupt image unless lenient (then a magenta placeholder).
     pub fn get(
         &mut self,
