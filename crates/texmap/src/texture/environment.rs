@@ -307,7 +307,14 @@ pub fn load_environment(
         return cube_from_file(file, ColorSpace::Srgb, TextureOptions::default())
             .map(|c| EnvironmentMap::Cube(Box::new(c)));
     }
-    if container.is_none() && (path.is_dir() || kind == Some(EnvironmentKind::Faces)) {
+    if container.is_some() && kind == Some(EnvironmentKind::Faces) {
+        return Err(Error::decode(
+            path,
+            "is one flat texture; a faces environment is a folder of six images or a cube map \
+             file",
+        ));
+    }
+    if path.is_dir() || kind == Some(EnvironmentKind::Faces) {
         if kind.is_some_and(|k| k != EnvironmentKind::Faces) {
             return Err(Error::decode(
                 path,
