@@ -9,7 +9,7 @@ set -uo pipefail
 cd "$(dirname "$0")"
 secs=${1:-600}; shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(gltf glb obj toml image nifti nrrd raw)
+[ ${#targets[@]} -gt 0 ] || targets=(gltf glb obj toml image nifti nrrd raw dds ktx ktx2)
 mkdir -p logs
 for t in "${targets[@]}"; do
   mkdir -p "corpus/$t" "artifacts/$t"

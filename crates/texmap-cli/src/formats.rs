@@ -143,13 +143,22 @@ pub enum Picture<'a> {
         height: u32,
         rgb: &'a [u8],
     },
+    /// 8-bit RGBA rows written as they are, straight alpha (a texture's decoded bytes, for
+    /// `texmap convert`): PNG only.
+    Rgba8 {
+        width: u32,
+        height: u32,
+        rgba: &'a [u8],
+    },
 }
 
 impl Picture<'_> {
     fn size(&self) -> (u32, u32) {
         match self {
             Picture::Linear(f, _) => (f.width, f.height),
-            Picture::Rgb8 { width, height, .. } => (*width, *height),
+            Picture::Rgb8 { width, height, .. } | Picture::Rgba8 { width, height, .. } => {
+                (*width, *height)
+            }
         }
     }
 }
@@ -167,6 +176,9 @@ pub fn encode_stream(
     match (format, picture) {
         (OutputFormat::Png, Picture::Rgb8 { rgb, .. }) => {
             png(&mut w, path, width, height, rgb, false)?
+        }
+        (OutputFormat::Png, Picture::Rgba8 { rgba, .. }) => {
+            png(&mut w, path, width, height, rgba, true)?
         }
         (OutputFormat::Png, Picture::Linear(frame, Png8::Srgb)) => {
             png(&mut w, path, width, height, &frame.to_srgb8(), false)?;
@@ -190,7 +202,9 @@ pub fn encode_stream(
                 path.display()
             )))
         }
-        (OutputFormat::Hdr, Picture::Rgb8 { .. }) => return Err(eight_bit_only(path, format)),
+        (OutputFormat::Hdr, Picture::Rgb8 { .. } | Picture::Rgba8 { .. }) => {
+            return Err(eight_bit_only(path, format))
+        }
     }
     w.flush().map_err(|e| Error::io(path, e))
 }
@@ -208,7 +222,9 @@ pub fn encode_seekable(
             exr_rgba(&mut w, path, frame)?;
             w.flush().map_err(|e| Error::io(path, e))
         }
-        (OutputFormat::Exr, Picture::Rgb8 { .. }) => Err(eight_bit_only(path, format)),
+        (OutputFormat::Exr, Picture::Rgb8 { .. } | Picture::Rgba8 { .. }) => {
+            Err(eight_bit_only(path, format))
+        }
         _ => encode_stream(w, path, format, picture),
     }
 }

@@ -6,6 +6,7 @@ use clap::Args;
 use texmap::camera::CameraProjection;
 use texmap::scene::{Environment, LoadOptions, Loaded};
 use texmap::shading::{AlphaMode, MapChannel, Procedural, ShadingModel, SolidChannel};
+use texmap::texture::container::{read_texture_file, Container, TextureFile};
 use texmap::texture::load::{load_texture, Limits};
 use texmap::texture::{ColorSpace, EnvironmentMap};
 use texmap::volume::{load_volume_with, SceneVolume, Volume};
@@ -13,7 +14,8 @@ use texmap::Error;
 
 #[derive(Args)]
 pub struct InfoArgs {
-    /// A scene (.gltf, .glb, .obj, .toml), an image, or a volume.
+    /// A scene (.gltf, .glb, .obj, .toml), an image, a texture file (DDS, KTX, KTX2), or a
+    /// volume.
     file: PathBuf,
     /// A missing texture becomes a warning and a placeholder.
     #[arg(long)]
@@ -42,6 +44,10 @@ pub fn run(args: InfoArgs) -> Result<(), Error> {
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase)
         .unwrap_or_default();
+    if Container::of_file(path).is_some() {
+        let file = read_texture_file(path, &Limits::default())?;
+        return crate::output::stdout(&describe_texture_file(&file));
+    }
     if IMAGE_EXTENSIONS.contains(&ext.as_str()) {
         let t = load_texture(path, ColorSpace::Srgb, &Limits::default())?;
         let mut out = String::new();
@@ -71,6 +77,65 @@ pub fn run(args: InfoArgs) -> Result<(), Error> {
     let mut out = String::new();
     print_scene(&mut out, path, &loaded);
     crate::output::stdout(&out)
+}
+
+/// A texture container: its format, shape, levels and bytes.
+fn describe_texture_file(f: &TextureFile) -> String {
+    let mut out = String::new();
+    let plural = |n: u32, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+    outln!(
+        out,
+        "{}: {} texture",
+        f.path().display(),
+        f.container().name()
+    );
+    let space = if f.format().is_float() {
+        "float, linear"
+    } else if f.color_space() == ColorSpace::Srgb {
+        "sRGB"
+    } else {
+        "8-bit, colour space unstated"
+    };
+    outln!(out, "  format {} ({space})", f.format().name());
+    outln!(
+        out,
+        "  {}x{}, depth {}, {}{}, {}, {}",
+        f.width(),
+        f.height(),
+        f.depth(),
+        plural(f.levels(), "mip level"),
+        if f.has_full_chain() {
+            " (full chain)"
+        } else {
+            ""
+        },
+        plural(f.faces(), "face"),
+        plural(f.layers(), "layer")
+    );
+    let sizes: Vec<String> = (0..f.levels())
+        .map(|l| {
+            let (w, h, d) = f.level_size(l);
+            if f.depth() > 1 {
+                format!("{w}x{h}x{d}")
+            } else {
+                format!("{w}x{h}")
+            }
+        })
+        .collect();
+    outln!(out, "  levels: {}", sizes.join(", "));
+    outln!(
+        out,
+        "  bytes: file {}, texel data {}, decoded {} ({})",
+        f.file_bytes(),
+        f.texel_bytes(),
+        f.decoded_bytes(),
+        if f.format().is_float() {
+            "RGBA f32"
+        } else {
+            "RGBA8"
+        }
+    );
+    out
 }
 
 /// Which lights cast shadows and how their maps are made and read.

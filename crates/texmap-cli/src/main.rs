@@ -2,6 +2,7 @@
 
 mod bake;
 mod compare;
+mod convert;
 mod formats;
 mod info;
 mod output;
@@ -31,6 +32,8 @@ enum Command {
     Compare(compare::CompareArgs),
     /// List what a model, scene or texture holds: meshes, triangles, materials, textures, cameras.
     Info(info::InfoArgs),
+    /// Write one image of a texture (PNG, JPEG, TGA, BMP, HDR, EXR, DDS, KTX, KTX2) as PNG or EXR.
+    Convert(convert::ConvertArgs),
 }
 
 fn main() -> ExitCode {
@@ -40,6 +43,7 @@ fn main() -> ExitCode {
         Command::Compare(args) => compare::run(args),
         Command::Bake(args) => bake::run(args),
         Command::Info(args) => info::run(args),
+        Command::Convert(args) => convert::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

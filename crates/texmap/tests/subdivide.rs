@@ -133,7 +133,7 @@ fn subdivided_closed_mesh_outside_covers_pixels_zero_or_two_times() {
     // of hits, 16·value, is even (silhouette pixels mix 0s and 2s).
     let odd = hits
         .iter()
-        .filter(|&&c| (c * 16.0).round() as u32 % 2 != 0)
+        .filter(|&&c| !((c * 16.0).round() as u32).is_multiple_of(2))
         .count();
     assert_eq!(
         odd, 0,

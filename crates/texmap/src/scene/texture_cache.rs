@@ -4,8 +4,9 @@
 //! `texmap info`.
 //!
 //! Rules: image limits (size, decoded bytes) are never relaxed by `--lenient`: an image over
-//! them is an error. Formats texmap cannot decode (KTX2, WebP, BasisU, DDS) are a warning and
-//! the channel is left out, not an error, as in the peer.
+//! them is an error. DDS, KTX and KTX2 files (told by their magic bytes) load through
+//! [`crate::texture::container`]. Formats texmap cannot decode (WebP, `.basis`, KTX2 holding
+//! Basis Universal) are a warning and the channel is left out, not an error, as in the peer.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -15,6 +16,7 @@ use image::DynamicImage;
 
 use super::asset::{LoadOptions, TextureInfo};
 use crate::shading::MapChannel;
+use crate::texture::container::{self, Container, TextureFile};
 use crate::texture::load::{decode_image, decode_image_bytes, texture_from_image, Limits};
 use crate::texture::{ColorSpace, Texture2D, TextureOptions};
 use crate::{Error, Result};
@@ -81,7 +83,7 @@ impl TextureCache {
 
     /// The texture `key` names (a file path, or an index inside the asset), decoded from
     /// `source` in `color_space`; `None` when the image format is one texmap cannot decode
-    /// (KTX2, WebP: a warning, the channel reads as absent), or an error for a
+    /// (WebP, Basis Universal KTX2: a warning, the channel reads as absent), or an error for a
     /// missing/corrupt image unless lenient (then a magenta placeholder).
     pub fn get(
         &mut self,
@@ -103,33 +105,30 @@ impl TextureCache {
             ImageSource::Bytes { name, .. } => name.clone(),
         };
         let lower = name.to_ascii_lowercase();
-        if lower.ends_with(".ktx2")
-            || lower.ends_with(".webp")
-            || lower.ends_with(".basis")
-            || lower.ends_with(".dds")
-        {
+        if lower.ends_with(".webp") || lower.ends_with(".basis") {
             self.warnings.push(format!(
                 "{name}: image format not decoded by texmap; the texture is left out"
             ));
             self.cache.insert(key, None);
             return Ok(None);
         }
-        let decoded = match &source {
-            ImageSource::File(p) => decode_image(p, &self.limits),
-            ImageSource::Bytes { name, bytes } => {
-                decode_image_bytes(bytes, Path::new(name), &self.limits)
-            }
+        let container = match &source {
+            ImageSource::File(p) => Container::of_file(p),
+            ImageSource::Bytes { bytes, .. } => Container::sniff(bytes),
         };
-        let decoded = decoded.map(|img| match alpha {
-            AlphaChannel::Keep => img,
-            AlphaChannel::Drop => drop_alpha(img),
-        });
-        let result = decoded.and_then(|img| {
-            texture_from_image(img, color_space, TextureOptions::default())
-                .map_err(|e| Error::decode(&name, e.to_string()))
-        });
+        let result = if container.is_some() {
+            self.container_texture(&source, &name, color_space, alpha)
+        } else {
+            self.image_texture(&source, &name, color_space, alpha)
+        };
         let (tex, placeholder) = match result {
             Ok(t) => (Arc::new(t), false),
+            Err(Error::Unsupported(e)) => {
+                // Basis Universal: left out, as an image format texmap cannot decode.
+                self.warnings.push(format!("{e}; the texture is left out"));
+                self.cache.insert(key, None);
+                return Ok(None);
+            }
             Err(e @ Error::Limits { .. }) => return Err(e),
             Err(e) if self.lenient => {
                 self.warnings
@@ -148,6 +147,62 @@ impl TextureCache {
         });
         self.cache.insert(key, Some(tex.clone()));
         Ok(Some(tex))
+    }
+}
+
+impl TextureCache {
+    /// A texture from an image file or bytes the `image` crate decodes.
+    fn image_texture(
+        &self,
+        source: &ImageSource<'_>,
+        name: &str,
+        color_space: ColorSpace,
+        alpha: AlphaChannel,
+    ) -> Result<Texture2D> {
+        let img = match source {
+            ImageSource::File(p) => decode_image(p, &self.limits)?,
+            ImageSource::Bytes { name, bytes } => {
+                decode_image_bytes(bytes, Path::new(name), &self.limits)?
+            }
+        };
+        let img = match alpha {
+            AlphaChannel::Keep => img,
+            AlphaChannel::Drop => drop_alpha(img),
+        };
+        texture_from_image(img, color_space, TextureOptions::default())
+            .map_err(|e| Error::decode(name, e.to_string()))
+    }
+
+    /// A texture from a DDS, KTX or KTX2 file or bytes.
+    fn container_texture(
+        &self,
+        source: &ImageSource<'_>,
+        name: &str,
+        color_space: ColorSpace,
+        alpha: AlphaChannel,
+    ) -> Result<Texture2D> {
+        let file = match source {
+            ImageSource::File(p) => container::read_texture_file(p, &self.limits)?,
+            ImageSource::Bytes { bytes, .. } => {
+                if bytes.len() as u64 > self.limits.max_bytes {
+                    return Err(Error::limits(
+                        name,
+                        format!(
+                            "texture file is {} bytes, above the limit of {}",
+                            bytes.len(),
+                            self.limits.max_bytes
+                        ),
+                    ));
+                }
+                TextureFile::from_bytes(bytes.to_vec(), Path::new(name), &self.limits)?
+            }
+        };
+        container::texture_from_file_with(
+            &file,
+            color_space,
+            TextureOptions::default(),
+            alpha == AlphaChannel::Drop,
+        )
     }
 }
 

@@ -40,8 +40,10 @@
 //!
 //! Files: an equirectangular image is 2:1 (HDR, EXR, PNG or any format [`load`] reads), a
 //! cross 4:3 or 3:4, a sphere map 1:1; a folder holds six faces named `posx`, `negx`, `posy`,
-//! `negy`, `posz`, `negz` (any image extension). DDS and KTX cube files wait for compressed
-//! textures and are refused with a message saying so.
+//! `negy`, `posz`, `negz` (any image extension). A DDS, KTX or KTX2 cube map file gives its
+//! six faces in its own order (+X, −X, +Y, −Y, +Z, −Z, rows top first as OpenGL uploads them,
+//! which is this layout: `posx` … `negz` written out from it load as the same cube); a flat
+//! 2D container file is an image like any other (level 0, the proportions above).
 //!
 //! [`load`]: super::load
 
@@ -50,6 +52,7 @@ use std::path::{Path, PathBuf};
 use glam::{Vec2, Vec3, Vec4};
 use image::DynamicImage;
 
+use super::container::{cube_from_file, flat_image, read_texture_file, Container};
 use super::load::{decode_image, texture_from_image, Limits};
 use super::{
     sample, sample_cube, ColorSpace, CubeFootprint, Footprint, Sampler, TextureCube,
@@ -279,12 +282,38 @@ pub const FACE_NAMES: [&str; 6] = ["posx", "negx", "posy", "negy", "posz", "negz
 ///
 /// # Errors
 /// One line naming the file or folder: missing, undecodable, above `limits`, proportions that
-/// fit no layout (or not the one asked for), faces of different sizes, or a DDS/KTX cube file.
+/// fit no layout (or not the one asked for), faces of different sizes, a container file that
+/// is an array or volume texture.
 pub fn load_environment(
     path: &Path,
     kind: Option<EnvironmentKind>,
     limits: &Limits,
 ) -> Result<EnvironmentMap> {
+    let container = (!path.is_dir())
+        .then(|| Container::of_file(path))
+        .flatten()
+        .map(|_| read_texture_file(path, limits))
+        .transpose()?;
+    if let Some(file) = container.as_ref().filter(|f| f.faces() == 6) {
+        if kind.is_some_and(|k| k != EnvironmentKind::Faces) {
+            return Err(Error::decode(
+                path,
+                format!(
+                    "is a cube map; a {} environment is one flat image",
+                    kind.map_or("", EnvironmentKind::name)
+                ),
+            ));
+        }
+        return cube_from_file(file, ColorSpace::Srgb, TextureOptions::default())
+            .map(|c| EnvironmentMap::Cube(Box::new(c)));
+    }
+    if container.is_some() && kind == Some(EnvironmentKind::Faces) {
+        return Err(Error::decode(
+            path,
+            "is one flat texture; a faces environment is a folder of six images or a cube map \
+             file",
+        ));
+    }
     if path.is_dir() || kind == Some(EnvironmentKind::Faces) {
         if kind.is_some_and(|k| k != EnvironmentKind::Faces) {
             return Err(Error::decode(
@@ -297,20 +326,10 @@ pub fn load_environment(
         }
         return load_faces(path, limits).map(|c| EnvironmentMap::Cube(Box::new(c)));
     }
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
-    if matches!(ext.as_str(), "dds" | "ktx" | "ktx2") {
-        return Err(Error::Unsupported(format!(
-            "{}: {} cube maps need compressed textures, which texmap does not read yet \
-             (give an equirectangular image, a cross or a folder of six faces)",
-            path.display(),
-            ext.to_ascii_uppercase()
-        )));
-    }
-    let img = decode_image(path, limits)?;
+    let img = match &container {
+        Some(file) => flat_image(file)?,
+        None => decode_image(path, limits)?,
+    };
     let (w, h) = (img.width(), img.height());
     let kind = match kind {
         Some(k) => k,
@@ -605,7 +624,7 @@ mod tests {
     }
 
     #[test]
-    fn wrong_proportions_and_compressed_cubes_are_refused_naming_the_file() {
+    fn wrong_proportions_and_bad_cube_files_are_refused_naming_the_file() {
         let p = tmp("odd.png");
         image::RgbImage::new(30, 20).save(&p).unwrap();
         let e = load_environment(&p, None, &Limits::default()).unwrap_err();

@@ -1,10 +1,13 @@
 //! Loading textures from image files: PNG (8 and 16 bit), JPEG, TGA, BMP, Radiance HDR and
-//! OpenEXR, through the `image` crate, with size limits checked before any large allocation.
+//! OpenEXR, through the `image` crate, and the texture containers DDS, KTX and KTX2
+//! ([`super::container`], told by their magic bytes), with size limits checked before any
+//! large allocation.
 
 use std::path::Path;
 
 use image::{DynamicImage, ImageReader};
 
+use super::container::{read_texture_file, texture_from_file, Container};
 use super::{ColorSpace, Format, Texture2D, TextureOptions};
 use crate::{Error, Result};
 
@@ -72,7 +75,14 @@ impl Limits {
 ///
 /// `color_space` says what 8- and 16-bit channels hold (sRGB colour or linear data); float
 /// images (HDR, EXR) are always linear. Grey images are expanded to RGB(A) so they read grey.
+/// A DDS, KTX or KTX2 file gives its 2D texture with its own mip chain when complete, its
+/// `_SRGB` formats decoded as sRGB whatever `color_space` says
+/// ([`super::container::texture_from_file`]); a cube map, array or volume texture is refused.
 pub fn load_texture(path: &Path, color_space: ColorSpace, limits: &Limits) -> Result<Texture2D> {
+    if Container::of_file(path).is_some() {
+        let file = read_texture_file(path, limits)?;
+        return texture_from_file(&file, color_space, TextureOptions::default());
+    }
     let img = decode_image(path, limits)?;
     texture_from_image(img, color_space, TextureOptions::default())
         .map_err(|e| Error::decode(path, e.to_string()))
@@ -109,7 +119,7 @@ fn decode_with<R: std::io::BufRead + std::io::Seek>(
     if reader.format().is_none() {
         return Err(Error::decode(
             name,
-            "not an image format texmap reads (PNG, JPEG, TGA, BMP, HDR, EXR)",
+            "not an image format texmap reads (PNG, JPEG, TGA, BMP, HDR, EXR; DDS, KTX, KTX2)",
         ));
     }
     // Read the header first: refuse oversized images before the decoder allocates.

@@ -12,6 +12,7 @@
 //! to decode files, `image`.
 
 pub mod compressed;
+pub mod container;
 mod cube;
 pub mod environment;
 pub(crate) mod filter;

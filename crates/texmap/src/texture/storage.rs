@@ -148,17 +148,47 @@ impl Texture2D {
         texels: &[u8],
         options: TextureOptions,
     ) -> Result<Self> {
+        Self::from_texel_levels(width, height, format, color_space, &[texels], options)
+    }
+
+    /// Builds a texture from its mip chain given level by level: `levels[i]` holds the
+    /// row-major texels of level `i` (`max(1, ⌊width/2ⁱ⌋)` × `max(1, ⌊height/2ⁱ⌋)`). One
+    /// level is level 0 alone, from which the options' chain is built; more must be the full
+    /// chain down to 1×1, which is kept as given (with `options.mipmaps` off, only level 0).
+    ///
+    /// # Errors
+    /// [`Error::Parameter`] for a zero side, a level of the wrong size, or a chain neither
+    /// one level nor complete.
+    pub fn from_texel_levels(
+        width: u32,
+        height: u32,
+        format: Format,
+        color_space: ColorSpace,
+        levels: &[&[u8]],
+        options: TextureOptions,
+    ) -> Result<Self> {
         if width == 0 || height == 0 {
             return Err(Error::parameter(format!(
                 "texture size {width}x{height} has a zero side"
             )));
         }
-        let expected = width as usize * height as usize * format.bytes_per_texel();
-        if texels.len() != expected {
+        let full = mip::level_count(width, height);
+        if levels.is_empty() || (levels.len() > 1 && levels.len() != full) {
             return Err(Error::parameter(format!(
-                "texture {width}x{height} {format:?} needs {expected} bytes, got {}",
-                texels.len()
+                "texture {width}x{height} given {} levels; give 1 or the full chain of {full}",
+                levels.len()
             )));
+        }
+        let given = if options.mipmaps { levels.len() } else { 1 };
+        for (i, texels) in levels.iter().enumerate().take(given) {
+            let (w, h) = ((width >> i).max(1), (height >> i).max(1));
+            let expected = w as usize * h as usize * format.bytes_per_texel();
+            if texels.len() != expected {
+                return Err(Error::parameter(format!(
+                    "texture level {i} of {w}x{h} {format:?} needs {expected} bytes, got {}",
+                    texels.len()
+                )));
+            }
         }
         let color_space = if format.is_unorm() {
             color_space
@@ -179,20 +209,31 @@ impl Texture2D {
             lut: lut_of(stored),
             sat: std::sync::OnceLock::new(),
         };
-        let linear = if stored == format {
-            tex.levels.push(tex.store_level(width, height, texels));
-            options.mipmaps.then(|| tex.decode_level(0))
-        } else {
+        let decode = |texels: &[u8]| -> Vec<Vec4> {
             let lut = lut_of(format);
-            let linear: Vec<Vec4> = with_codec!(format, C => texels
+            with_codec!(format, C => texels
                 .chunks_exact(format.bytes_per_texel())
                 .map(|b| C::decode_premultiplied(b, lut))
-                .collect());
-            let bytes = tex.encode_level(&linear);
-            tex.levels.push(tex.store_level(width, height, &bytes));
-            options.mipmaps.then_some(linear)
+                .collect())
         };
-        if let Some(linear) = linear {
+        // Level 0 in linear light, kept when the chain is built from it.
+        let mut base = None;
+        for (i, texels) in levels.iter().enumerate().take(given) {
+            let (w, h) = ((width >> i).max(1), (height >> i).max(1));
+            let level = if stored == format {
+                tex.store_level(w, h, texels)
+            } else {
+                let linear = decode(texels);
+                let bytes = tex.encode_level(&linear);
+                if i == 0 {
+                    base = Some(linear);
+                }
+                tex.store_level(w, h, &bytes)
+            };
+            tex.levels.push(level);
+        }
+        if options.mipmaps && given == 1 {
+            let linear = base.unwrap_or_else(|| tex.decode_level(0));
             for (w, h, texels) in mip::build_chain(width, height, linear) {
                 let bytes = tex.encode_level(&texels);
                 let level = tex.store_level(w, h, &bytes);

@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 use texmap::render::framing::{choose_camera, CameraRequest};
 use texmap::render::{render, Settings};
 use texmap::scene::LoadOptions;
+use texmap::texture::container::{cube_from_file, texture_from_file, TextureFile};
 use texmap::texture::load::{decode_image_bytes, texture_from_image, Limits};
 use texmap::texture::{ColorSpace, TextureOptions};
 use texmap::volume::{load_volume_with, RawDesc, ScalarType, VolumeOptions};
@@ -94,6 +95,55 @@ pub fn image(data: &[u8]) {
     }
 }
 
+/// A texture container (`magic` prepended unless the bytes start with it): parsed, then up to
+/// 64 of its images decoded, and made into the texture or cube map it is.
+fn container(data: &[u8], magic: &[u8], name: &str) {
+    let mut bytes = Vec::with_capacity(data.len() + magic.len());
+    if !data.starts_with(magic) {
+        bytes.extend_from_slice(magic);
+    }
+    bytes.extend_from_slice(data);
+    let limits = Limits::default()
+        .with_max_dimension(2048)
+        .with_max_bytes(MAX_BYTES);
+    let Ok(file) = TextureFile::from_bytes(bytes, Path::new(name), &limits) else {
+        return;
+    };
+    let mut decoded = 0;
+    'all: for layer in 0..file.layers() {
+        for face in 0..file.faces() {
+            for level in 0..file.levels() {
+                if decoded == 64 {
+                    break 'all;
+                }
+                decoded += 1;
+                if file.format().is_float() {
+                    let _ = file.decode_f32(layer, face, level);
+                } else {
+                    let _ = file.decode_rgba8(layer, face, level);
+                }
+            }
+        }
+    }
+    let _ = texture_from_file(&file, ColorSpace::Srgb, TextureOptions::default());
+    let _ = cube_from_file(&file, ColorSpace::Srgb, TextureOptions::default());
+}
+
+/// A DDS file (`DDS ` prepended unless present).
+pub fn dds(data: &[u8]) {
+    container(data, b"DDS ", "f.dds");
+}
+
+/// A KTX 1 file (its magic prepended unless present).
+pub fn ktx(data: &[u8]) {
+    container(data, b"\xABKTX 11\xBB\r\n\x1A\n", "f.ktx");
+}
+
+/// A KTX2 file (its magic prepended unless present).
+pub fn ktx2(data: &[u8]) {
+    container(data, b"\xABKTX 20\xBB\r\n\x1A\n", "f.ktx2");
+}
+
 fn volume_options() -> VolumeOptions {
     VolumeOptions::default().max_bytes(MAX_BYTES)
 }
@@ -148,7 +198,7 @@ pub fn raw(data: &[u8]) {
 /// A fuzz target: bytes in, a clean load or a clean error out (a panic is the fault).
 pub type Target = fn(&[u8]);
 
-pub const TARGETS: [(&str, Target); 8] = [
+pub const TARGETS: [(&str, Target); 11] = [
     ("gltf", gltf),
     ("glb", glb),
     ("obj", obj),
@@ -157,4 +207,7 @@ pub const TARGETS: [(&str, Target); 8] = [
     ("nifti", nifti),
     ("nrrd", nrrd),
     ("raw", raw),
+    ("dds", dds),
+    ("ktx", ktx),
+    ("ktx2", ktx2),
 ];

@@ -2,8 +2,9 @@
 //! the asset, through the scene's texture cache, so each image is decoded once per colour
 //! space and alpha handling), the sampler mapped straight onto texmap's OpenGL filters and wraps (undefined
 //! filters are trilinear, undefined wraps repeat), the uv set, and `KHR_texture_transform`
-//! as [`TextureTransform`] — on every texture, normal and occlusion ones included. KTX2,
-//! WebP and DDS images are a warning and the channel is left out, as in the peer.
+//! as [`TextureTransform`] — on every texture, normal and occlusion ones included. KTX2 and
+//! DDS images load through the texture containers (KTX2 holding Basis Universal is a warning
+//! and the channel is left out); WebP images are a warning and left out, as in the peer.
 
 use std::sync::Arc;
 
@@ -63,9 +64,7 @@ impl Loader<'_> {
         alpha: AlphaChannel,
     ) -> Result<Option<Arc<Texture2D>>> {
         let key = format!("image{}", img.index());
-        let unsupported = |mime: Option<&str>| {
-            matches!(mime, Some("image/ktx2" | "image/webp" | "image/vnd-ms.dds"))
-        };
+        let unsupported = |mime: Option<&str>| matches!(mime, Some("image/webp"));
         match img.source() {
             gltf::image::Source::View { view, mime_type } => {
                 let name = format!(
