@@ -100,11 +100,18 @@ pub fn metallic_roughness(s: &Surface, lighting: &Lighting, viewer: Viewer) -> (
     let n_dot_v = n.dot(v).max(1e-4);
     let diffuse_weight = 1.0 - metallic;
 
-    let e = specular_albedo(n_dot_v, a.sqrt());
-    let e = f0 * e.x + Vec3::splat(e.y);
     let ambient = lighting.ambient * (s.ambient * s.occlusion);
-    let mut d = ambient * diffuse_weight * (Vec3::ONE - e);
-    let mut sp = s.emissive + ambient * e;
+    let (mut d, mut sp) = if ambient == Vec3::ZERO {
+        // No ambient light (the environment lights instead): the lobe's albedo is not needed.
+        (Vec3::ZERO, s.emissive)
+    } else {
+        let e = specular_albedo(n_dot_v, a.sqrt());
+        let e = f0 * e.x + Vec3::splat(e.y);
+        (
+            ambient * diffuse_weight * (Vec3::ONE - e),
+            s.emissive + ambient * e,
+        )
+    };
     for (i, light) in lighting.lights.iter().enumerate() {
         let Some((l, mut intensity)) = light.incidence(s.position) else {
             continue;
