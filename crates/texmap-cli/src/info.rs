@@ -6,9 +6,9 @@ use clap::Args;
 use texmap::camera::CameraProjection;
 use texmap::scene::{Environment, LoadOptions, Loaded};
 use texmap::shading::{AlphaMode, MapChannel, Procedural, ShadingModel, SolidChannel};
-use texmap::texture::container::{read_texture_file, Container, TextureFile};
-use texmap::texture::load::{load_texture, Limits};
-use texmap::texture::{ColorSpace, EnvironmentMap};
+use texmap::texture::container::{read_texture_file, texture_from_file, Container, TextureFile};
+use texmap::texture::load::{load_texture_with, Limits};
+use texmap::texture::{ColorSpace, EnvironmentMap, Texture2D, TextureOptions};
 use texmap::volume::{load_volume_with, SceneVolume, Volume};
 use texmap::Error;
 
@@ -23,6 +23,9 @@ pub struct InfoArgs {
     /// Let the file's references leave its folder.
     #[arg(long)]
     allow_outside_paths: bool,
+    /// How the textures would be held (decoded, native, compressed), to see their memory.
+    #[arg(long, value_parser = crate::render::parse_storage, value_name = "decoded|native|compressed")]
+    texture_storage: Option<texmap::texture::Storage>,
     #[command(flatten)]
     raw: crate::volume::RawArgs,
 }
@@ -44,12 +47,30 @@ pub fn run(args: InfoArgs) -> Result<(), Error> {
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase)
         .unwrap_or_default();
+    let storage = args.texture_storage.unwrap_or_default();
+    let held = |t: &Texture2D| {
+        format!(
+            "  held {}{}: {} bytes with its mip levels",
+            t.storage().name(),
+            t.block_format()
+                .map(|b| format!(" ({})", b.name()))
+                .unwrap_or_default(),
+            t.texel_bytes()
+        )
+    };
+    let options = TextureOptions::default().with_storage(storage);
     if Container::of_file(path).is_some() {
         let file = read_texture_file(path, &Limits::default())?;
-        return crate::output::stdout(&describe_texture_file(&file));
+        let mut out = describe_texture_file(&file);
+        if args.texture_storage.is_some() {
+            // A 2D texture's memory as the renderer would hold it.
+            let t = texture_from_file(&file, ColorSpace::Srgb, options)?;
+            outln!(out, "{}", held(&t));
+        }
+        return crate::output::stdout(&out);
     }
     if IMAGE_EXTENSIONS.contains(&ext.as_str()) {
-        let t = load_texture(path, ColorSpace::Srgb, &Limits::default())?;
+        let t = load_texture_with(path, ColorSpace::Srgb, &Limits::default(), options)?;
         let mut out = String::new();
         let out = &mut out;
         outln!(out, "{}: image", path.display());
@@ -61,11 +82,13 @@ pub fn run(args: InfoArgs) -> Result<(), Error> {
             t.format(),
             t.levels().len()
         );
+        outln!(out, "{}", held(&t));
         return crate::output::stdout(out);
     }
     let options = LoadOptions::default()
         .allow_outside_paths(args.allow_outside_paths)
-        .lenient(args.lenient);
+        .lenient(args.lenient)
+        .texture_storage(args.texture_storage.unwrap_or_default());
     if crate::volume::is_volume_path(&path.to_string_lossy()) {
         let vol = load_volume_with(path, args.raw.desc().as_ref(), &options.volume_options())?;
         let mut out = String::new();
@@ -324,12 +347,17 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
     for t in &l.info.textures {
         outln!(
             out,
-            "  {}: {}x{}, {:?}, {:?}{}",
+            "  {}: {}x{}, {:?}, {:?}, held {}{}, {} bytes{}",
             t.name,
             t.width,
             t.height,
             t.format,
             t.color_space,
+            t.storage.name(),
+            t.block_format
+                .map(|b| format!(" ({})", b.name()))
+                .unwrap_or_default(),
+            t.bytes,
             if t.placeholder { " (placeholder)" } else { "" }
         );
     }

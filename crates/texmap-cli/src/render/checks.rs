@@ -284,6 +284,7 @@ pub(super) fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error>
                 ("--wrap", args.wrap.is_some()),
                 ("--uv-scale", args.uv_scale.is_some()),
                 ("--border", args.border.is_some()),
+                ("--texture-storage", args.texture_storage.is_some()),
             ]),
             format!("{name} reads no image texture (its colours are procedural or constant)"),
         )?;
@@ -390,6 +391,13 @@ pub(super) fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error>
                 ("--allow-outside-paths", args.allow_outside_paths),
             ]),
             format!("{name} is built in: these flags apply to loading files"),
+        )?;
+        refuse(
+            given(&[(
+                "--texture-storage",
+                args.texture_storage.is_some() && args.texture.is_none(),
+            )]),
+            format!("{name} is built in: its textures are made in code, held decoded"),
         )?;
     }
     if built.volumes.is_empty() {

@@ -10,6 +10,7 @@ mod checks;
 mod image_out;
 mod limits;
 
+pub(crate) use args::parse_storage;
 pub use args::{parse_size, RenderArgs};
 use args::{ColorSpaceArg, CullArg, InterpArg, ShadingArg, Switch, VisibilityArg};
 
@@ -26,8 +27,10 @@ use texmap::render::{
 };
 use texmap::scene::builtin::Builtin;
 use texmap::scene::{Environment, LoadOptions, Scene};
-use texmap::texture::load::{load_texture, Limits};
-use texmap::texture::{load_environment, ColorSpace, EnvironmentMap, Filter, Texture2D};
+use texmap::texture::load::{load_texture_with, Limits};
+use texmap::texture::{
+    load_environment, ColorSpace, EnvironmentMap, Filter, Texture2D, TextureOptions,
+};
 use texmap::volume::SceneVolume;
 use texmap::Error;
 
@@ -48,7 +51,8 @@ fn build(args: &RenderArgs, texture: Option<Arc<Texture2D>>) -> Result<Built, Er
         .allow_outside_paths(args.allow_outside_paths)
         .lenient(args.lenient)
         // --env replaces the scene's environment map: its own is not read.
-        .environment_image(args.env.is_none());
+        .environment_image(args.env.is_none())
+        .texture_storage(args.texture_storage.unwrap_or_default());
     if let Some(bytes) = args.max_memory {
         options = options.max_memory(bytes);
     }
@@ -212,7 +216,14 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
                 ColorSpaceArg::Srgb => ColorSpace::Srgb,
                 ColorSpaceArg::Linear => ColorSpace::Linear,
             };
-            Some(Arc::new(load_texture(p, cs, &Limits::default())?))
+            let options =
+                TextureOptions::default().with_storage(args.texture_storage.unwrap_or_default());
+            Some(Arc::new(load_texture_with(
+                p,
+                cs,
+                &Limits::default(),
+                options,
+            )?))
         }
         None => None,
     };

@@ -5,7 +5,7 @@
 use super::Scene;
 use crate::camera::Camera;
 use crate::texture::load::Limits;
-use crate::texture::{ColorSpace, Format};
+use crate::texture::{ColorSpace, Format, Storage};
 
 /// How scene files are read.
 ///
@@ -36,6 +36,9 @@ pub struct LoadOptions {
     /// Read a scene's environment image (default true); off for a caller that replaces the
     /// map (the command line's `--env`): the environment then holds a black placeholder.
     pub environment_image: bool,
+    /// How image textures are held in memory unless a texture says otherwise (TOML
+    /// `storage`; `--texture-storage`; default [`Storage::Linear16`], "decoded").
+    pub texture_storage: Storage,
 }
 
 impl Default for LoadOptions {
@@ -47,6 +50,7 @@ impl Default for LoadOptions {
             max_buffer_bytes: 1 << 30,
             max_volume_bytes: crate::files::DEFAULT_MAX_BYTES,
             environment_image: true,
+            texture_storage: Storage::Linear16,
         }
     }
 }
@@ -98,6 +102,13 @@ impl LoadOptions {
             .max_bytes(self.max_volume_bytes)
     }
 
+    /// Sets [`LoadOptions::texture_storage`] (`--texture-storage`).
+    #[must_use]
+    pub fn texture_storage(mut self, storage: Storage) -> Self {
+        self.texture_storage = storage;
+        self
+    }
+
     /// Sets [`LoadOptions::environment_image`].
     #[must_use]
     pub fn environment_image(mut self, read: bool) -> Self {
@@ -115,6 +126,11 @@ pub struct TextureInfo {
     pub height: u32,
     pub format: Format,
     pub color_space: ColorSpace,
+    /// How its texels are held, and their bytes (every level).
+    pub storage: Storage,
+    pub bytes: usize,
+    /// The block format it is held in, for a block-compressed file kept compressed.
+    pub block_format: Option<crate::texture::compressed::BlockFormat>,
     /// True for the magenta placeholder that stands for a missing texture (`--lenient`).
     pub placeholder: bool,
 }

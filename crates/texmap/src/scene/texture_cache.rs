@@ -18,7 +18,7 @@ use super::asset::{LoadOptions, TextureInfo};
 use crate::shading::MapChannel;
 use crate::texture::container::{self, Container, TextureFile};
 use crate::texture::load::{decode_image, decode_image_bytes, texture_from_image, Limits};
-use crate::texture::{ColorSpace, Texture2D, TextureOptions};
+use crate::texture::{ColorSpace, Storage, Texture2D, TextureOptions};
 use crate::{Error, Result};
 
 /// Where a texture's bytes come from.
@@ -55,6 +55,7 @@ struct CacheKey {
     source: String,
     color_space: ColorSpace,
     alpha: AlphaChannel,
+    storage: Storage,
 }
 
 /// Loads textures once per (source, colour space, alpha), applying `--lenient` and recording
@@ -65,6 +66,8 @@ pub(crate) struct TextureCache {
     pub warnings: Vec<String>,
     lenient: bool,
     limits: Limits,
+    /// How textures are held unless one says otherwise (`--texture-storage`).
+    storage: Storage,
     /// How the volumes a scene's textures come from (3D solid textures) are read.
     pub volumes: crate::volume::VolumeOptions,
 }
@@ -78,6 +81,7 @@ impl TextureCache {
             warnings: Vec::new(),
             lenient: options.lenient,
             limits: options.limits,
+            storage: options.texture_storage,
         }
     }
 
@@ -92,11 +96,26 @@ impl TextureCache {
         color_space: ColorSpace,
         alpha: AlphaChannel,
     ) -> Result<Option<Arc<Texture2D>>> {
+        self.get_stored(key, source, color_space, alpha, None)
+    }
+
+    /// [`TextureCache::get`], held as `storage` says (the load's storage when `None`).
+    pub fn get_stored(
+        &mut self,
+        key: &str,
+        source: ImageSource<'_>,
+        color_space: ColorSpace,
+        alpha: AlphaChannel,
+        storage: Option<Storage>,
+    ) -> Result<Option<Arc<Texture2D>>> {
+        let storage = storage.unwrap_or(self.storage);
         let key = CacheKey {
             source: key.to_string(),
             color_space,
             alpha,
+            storage,
         };
+        let options = TextureOptions::default().with_storage(storage);
         if let Some(t) = self.cache.get(&key) {
             return Ok(t.clone());
         }
@@ -117,9 +136,9 @@ impl TextureCache {
             ImageSource::Bytes { bytes, .. } => Container::sniff(bytes),
         };
         let result = if container.is_some() {
-            self.container_texture(&source, &name, color_space, alpha)
+            self.container_texture(&source, &name, color_space, alpha, options)
         } else {
-            self.image_texture(&source, &name, color_space, alpha)
+            self.image_texture(&source, &name, color_space, alpha, options)
         };
         let (tex, placeholder) = match result {
             Ok(t) => (Arc::new(t), false),
@@ -143,6 +162,9 @@ impl TextureCache {
             height: tex.height(),
             format: tex.format(),
             color_space: tex.color_space(),
+            storage: tex.storage(),
+            bytes: tex.texel_bytes(),
+            block_format: tex.block_format(),
             placeholder,
         });
         self.cache.insert(key, Some(tex.clone()));
@@ -158,6 +180,7 @@ impl TextureCache {
         name: &str,
         color_space: ColorSpace,
         alpha: AlphaChannel,
+        options: TextureOptions,
     ) -> Result<Texture2D> {
         let img = match source {
             ImageSource::File(p) => decode_image(p, &self.limits)?,
@@ -169,7 +192,7 @@ impl TextureCache {
             AlphaChannel::Keep => img,
             AlphaChannel::Drop => drop_alpha(img),
         };
-        texture_from_image(img, color_space, TextureOptions::default())
+        texture_from_image(img, color_space, options)
             .map_err(|e| Error::decode(name, e.to_string()))
     }
 
@@ -180,6 +203,7 @@ impl TextureCache {
         name: &str,
         color_space: ColorSpace,
         alpha: AlphaChannel,
+        options: TextureOptions,
     ) -> Result<Texture2D> {
         let file = match source {
             ImageSource::File(p) => container::read_texture_file(p, &self.limits)?,
@@ -197,12 +221,7 @@ impl TextureCache {
                 TextureFile::from_bytes(bytes.to_vec(), Path::new(name), &self.limits)?
             }
         };
-        container::texture_from_file_with(
-            &file,
-            color_space,
-            TextureOptions::default(),
-            alpha == AlphaChannel::Drop,
-        )
+        container::texture_from_file_with(&file, color_space, options, alpha == AlphaChannel::Drop)
     }
 }
 

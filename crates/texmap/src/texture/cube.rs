@@ -14,7 +14,7 @@
 use glam::{Vec2, Vec3, Vec4};
 
 use super::filter::{ellipse_axes, floor_index};
-use super::format::{with_codec, Codec};
+use super::format::{with_texture_codec, Codec};
 use super::{
     sample, CubeFootprint, Filter, Footprint, MipChoice, Sampler, TexelFilter, Texture2D, Wrap,
 };
@@ -97,8 +97,10 @@ impl TextureCube {
     /// Builds a cube map from six faces in [`CubeFace::ALL`] order.
     pub fn new(faces: [Texture2D; 6]) -> Result<Self> {
         let (w, f) = (faces[0].width(), faces[0].storage_format());
+        let blocks = faces[0].block_format();
         for (i, t) in faces.iter().enumerate() {
-            if t.width() != w || t.height() != w || t.storage_format() != f {
+            let same = t.storage_format() == f && t.block_format() == blocks;
+            if t.width() != w || t.height() != w || !same {
                 return Err(Error::parameter(format!(
                     "cube face {i} is {}x{} {:?}; every face must be {w}x{w} {f:?}",
                     t.width(),
@@ -136,7 +138,7 @@ impl TextureCube {
 /// Reads a cube map along a direction footprint: linear, premultiplied RGBA.
 #[must_use]
 pub fn sample_cube(cube: &TextureCube, sampler: &Sampler, fp: &CubeFootprint) -> Vec4 {
-    with_codec!(cube.faces[0].storage_format(), C => sample_cube_with::<C>(cube, sampler, fp))
+    with_texture_codec!(&cube.faces[0], C => sample_cube_with::<C>(cube, sampler, fp))
 }
 
 /// The face footprint of a direction footprint (derivatives by the quotient rule).

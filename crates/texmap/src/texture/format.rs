@@ -156,6 +156,9 @@ pub(crate) fn decode_table(format: Format, color_space: ColorSpace) -> &'static 
 pub(crate) trait Codec: Copy + Send + Sync + 'static {
     const BPP: usize;
     const HAS_ALPHA: bool;
+    /// True for [`Blocks`]: levels held block-compressed are read through the block cache
+    /// (`storage/blocks.rs`), the others as this codec's texels.
+    const BLOCKS: bool = false;
     /// Straight-alpha linear RGBA; `lut` maps unorm codes to linear values.
     fn decode(bytes: &[u8], lut: &[f32]) -> Vec4;
 
@@ -328,6 +331,51 @@ macro_rules! with_codec {
     }};
 }
 pub(crate) use with_codec;
+
+/// The codec of a texture held block-compressed ([`super::Storage::Compressed`]): its levels
+/// with blocks are decoded through the per-thread block cache; levels built from them (a
+/// file without its full chain) are texels of `T`.
+#[derive(Clone, Copy)]
+pub(crate) struct Blocks<T>(std::marker::PhantomData<T>);
+
+impl<T: Codec> Codec for Blocks<T> {
+    const BPP: usize = T::BPP;
+    const HAS_ALPHA: bool = T::HAS_ALPHA;
+    const BLOCKS: bool = true;
+    #[inline(always)]
+    fn decode(bytes: &[u8], lut: &[f32]) -> Vec4 {
+        T::decode(bytes, lut)
+    }
+}
+
+/// Runs `$body` with `$C` bound to the codec a 2D texture's texels are read with: its
+/// storage format's, or [`Blocks`] of it when the texture is held block-compressed (the
+/// formats block textures keep their other levels in: RGBA8, RGBA16F, RGBA32F).
+macro_rules! with_texture_codec {
+    ($texture:expr, $C:ident => $body:expr) => {{
+        use $crate::texture::format::*;
+        let texture: &$crate::texture::Texture2D = $texture;
+        if texture.block_format().is_some() {
+            match texture.storage_format() {
+                Format::Rgba16F => {
+                    type $C = Blocks<CodecRgba16F>;
+                    $body
+                }
+                Format::Rgba32F => {
+                    type $C = Blocks<CodecRgba32F>;
+                    $body
+                }
+                _ => {
+                    type $C = Blocks<CodecRgba8>;
+                    $body
+                }
+            }
+        } else {
+            with_codec!(texture.storage_format(), $C => $body)
+        }
+    }};
+}
+pub(crate) use with_texture_codec;
 
 /// IEEE half → single precision (subnormals, infinities and NaN included).
 #[must_use]

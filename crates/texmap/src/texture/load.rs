@@ -79,13 +79,23 @@ impl Limits {
 /// `_SRGB` formats decoded as sRGB whatever `color_space` says
 /// ([`super::container::texture_from_file`]); a cube map, array or volume texture is refused.
 pub fn load_texture(path: &Path, color_space: ColorSpace, limits: &Limits) -> Result<Texture2D> {
+    load_texture_with(path, color_space, limits, TextureOptions::default())
+}
+
+/// [`load_texture`] with the mip chain, layout and storage `options` say (with
+/// [`super::Storage::Compressed`], a block-compressed file's levels stay its blocks).
+pub fn load_texture_with(
+    path: &Path,
+    color_space: ColorSpace,
+    limits: &Limits,
+    options: TextureOptions,
+) -> Result<Texture2D> {
     if Container::of_file(path).is_some() {
         let file = read_texture_file(path, limits)?;
-        return texture_from_file(&file, color_space, TextureOptions::default());
+        return texture_from_file(&file, color_space, options);
     }
     let img = decode_image(path, limits)?;
-    texture_from_image(img, color_space, TextureOptions::default())
-        .map_err(|e| Error::decode(path, e.to_string()))
+    texture_from_image(img, color_space, options).map_err(|e| Error::decode(path, e.to_string()))
 }
 
 /// Decodes an image file, refusing it before allocation when it breaks `limits`.

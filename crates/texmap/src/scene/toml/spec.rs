@@ -361,6 +361,9 @@ pub(super) struct TextureSpec {
     /// Normal scale, occlusion strength or bump multiplier.
     #[serde(default = "one")]
     pub(super) scale: f32,
+    /// How the image is held in memory: decoded | native | compressed (default: the
+    /// load's, `--texture-storage`).
+    pub(super) storage: Option<String>,
 }
 
 /// A texture table's `transform`, in `KHR_texture_transform`'s order.

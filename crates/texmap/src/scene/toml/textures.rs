@@ -2,7 +2,8 @@
 //! once per colour space through the scene's texture cache), its sampler (`sampler`), its
 //! colour space (`color_space`, else the channel's: sRGB for colour, linear for data), its
 //! coordinates (`tex_coord` 0 or 1, `transform` in `KHR_texture_transform`'s order with the
-//! rotation in degrees, then `uv_scale`).
+//! rotation in degrees, then `uv_scale`) and how it is held (`storage`: decoded, native or
+//! compressed).
 
 use std::path::Path;
 
@@ -12,7 +13,7 @@ use super::sampler::texture_sampler;
 use super::spec::TextureSpec;
 use crate::scene::texture_cache::{AlphaChannel, ImageSource, TextureCache};
 use crate::shading::TextureSlot;
-use crate::texture::{ColorSpace, TextureTransform};
+use crate::texture::{ColorSpace, Storage, TextureTransform};
 use crate::{Error, Result};
 
 /// The slot texture table `table` (`t`) describes; `None` when the image's format is one
@@ -46,12 +47,23 @@ pub(super) fn slot(
             t.tex_coord
         ))));
     }
+    let storage = match t.storage.as_deref() {
+        None => None,
+        Some(name) => Some(Storage::from_name(name).ok_or_else(|| {
+            let names: Vec<&str> = Storage::NAMES.iter().map(|(n, _)| *n).collect();
+            in_table(Error::parameter(format!(
+                "storage {name:?} is not one of {}",
+                names.join(", ")
+            )))
+        })?),
+    };
     let file = dir.join(&t.file);
-    let Some(tex) = textures.get(
+    let Some(tex) = textures.get_stored(
         &file.to_string_lossy(),
         ImageSource::File(file.clone()),
         color_space,
         AlphaChannel::Keep,
+        storage,
     )?
     else {
         return Ok(None);

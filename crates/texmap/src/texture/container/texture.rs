@@ -6,11 +6,15 @@
 //! exactly as a PNG's texels are). Float formats are linear: the ones whose values are all
 //! halves (RGBA16F, R11G11B10F, RGB9E5, BC6H) as [`Format::Rgba16F`], exactly, the rest
 //! (RGBA32F, the signed BC4 and BC5) as [`Format::Rgba32F`]. The file's own mip chain is used
-//! when it is complete; otherwise the chain is built from level 0, as for any image.
+//! when it is complete; otherwise the chain is built from level 0, as for any image. With
+//! [`Storage::Compressed`] a block-compressed file's levels stay its blocks
+//! ([`Texture2D::from_blocks`]).
 
 use super::{FileFormat, PlainFormat, TextureFile};
 use crate::texture::compressed::BlockFormat;
-use crate::texture::{f32_to_f16, ColorSpace, Format, Texture2D, TextureCube, TextureOptions};
+use crate::texture::{
+    f32_to_f16, ColorSpace, Format, Storage, Texture2D, TextureCube, TextureOptions,
+};
 use crate::{Error, Result};
 
 /// The engine format `file`'s texels are held in.
@@ -73,6 +77,22 @@ fn image_texture(
     } else {
         1
     };
+    if let (Storage::Compressed, FileFormat::Block(format)) = (options.storage, file.format()) {
+        // Kept as the file's blocks, decoded when read.
+        let levels = (0..stored)
+            .map(|level| file.data(layer, face, level))
+            .collect::<Result<Vec<_>>>()?;
+        return Texture2D::from_blocks(
+            file.width(),
+            file.height(),
+            format,
+            color_space,
+            &levels,
+            options,
+            opaque,
+        )
+        .map_err(|e| Error::decode(file.path(), e.to_string()));
+    }
     let levels = (0..stored)
         .map(|level| engine_texels(file, (layer, face, level), opaque))
         .collect::<Result<Vec<_>>>()?;

@@ -12,7 +12,7 @@ pub(crate) mod summed_area;
 
 use glam::{Vec2, Vec4};
 
-use super::format::{with_codec, Codec};
+use super::format::{with_texture_codec, Codec};
 use super::storage::LevelRef;
 use super::{
     Filter, Footprint, MagFilter, MinFilter, MipChoice, Sampler, TexelFilter, Texture2D, Wrap,
@@ -30,7 +30,7 @@ use super::{
 /// ```
 #[must_use]
 pub fn sample(texture: &Texture2D, sampler: &Sampler, footprint: &Footprint) -> Vec4 {
-    with_codec!(texture.storage_format(), C => sample_with::<C>(texture, sampler, footprint))
+    with_texture_codec!(texture, C => sample_with::<C>(texture, sampler, footprint))
 }
 
 /// [`sample`] over many footprints: the format and filter are dispatched once.
@@ -47,7 +47,7 @@ pub fn sample_batch(
         out.len() >= footprints.len(),
         "output shorter than the footprints"
     );
-    with_codec!(texture.storage_format(), C => {
+    with_texture_codec!(texture, C => {
         for (fp, o) in footprints.iter().zip(out.iter_mut()) {
             *o = sample_with::<C>(texture, sampler, fp);
         }
@@ -84,7 +84,7 @@ pub fn sample_quad_lanes(
     mask: u8,
 ) -> [Vec4; 4] {
     let Filter::Gl { mag, min } = sampler.filter else {
-        return with_codec!(texture.storage_format(), C => {
+        return with_texture_codec!(texture, C => {
             std::array::from_fn(|j| {
                 if mask & (1 << j) == 0 {
                     return Vec4::ZERO;
@@ -113,7 +113,7 @@ fn gl_read(
     mask: u8,
 ) -> [Vec4; 4] {
     fixed16::read_quad(texture, sampler, choice, uv.0, uv.1, mask).unwrap_or_else(
-        || with_codec!(texture.storage_format(), C => gl_quad::<C>(texture, sampler, uv, choice, mask)),
+        || with_texture_codec!(texture, C => gl_quad::<C>(texture, sampler, uv, choice, mask)),
     )
 }
 

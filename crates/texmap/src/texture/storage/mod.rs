@@ -8,6 +8,10 @@
 //! [`Storage::Native`] keeps the texels in their own [`Format`] (half the memory) and decodes
 //! them when read.
 //!
+//! [`Storage::Compressed`] keeps a block-compressed file's levels as its BC blocks (BC1: half
+//! a byte a texel) and decodes a block when a read first touches it, through a small cache
+//! per thread (`blocks.rs`).
+//!
 //! Each level is stored in 4×4 tiles by default: one tile of RGBA8 is 64 bytes, one cache
 //! line, so the 2×2 neighbourhood a bilinear tap reads usually sits in one line whatever the
 //! direction the footprint walks. [`Layout::RowMajor`] is kept so the gain can be measured
@@ -15,9 +19,14 @@
 
 use glam::Vec4;
 
-use super::format::{decode_table, with_codec, Codec, ColorSpace, Format};
+use super::compressed::BlockFormat;
+use super::format::{decode_table, with_codec, with_texture_codec, Codec, ColorSpace, Format};
 use super::mip;
 use crate::{Error, Result};
+
+mod blocks;
+
+use blocks::BlockRef;
 
 /// How the texels of a level are ordered in memory.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
@@ -36,6 +45,9 @@ pub struct Level {
     height: u32,
     tiles_x: u32,
     data: Vec<u8>,
+    /// For a level held as BC blocks (row-major blocks in `data`): its key in the block
+    /// caches, unique in the process.
+    block_id: Option<u64>,
 }
 
 impl Level {
@@ -58,8 +70,41 @@ pub enum Storage {
     /// once at load; other formats as given.
     #[default]
     Linear16,
-    /// Every format as given (an sRGB RGBA8 texel costs 4 bytes), decoded at each read.
+    /// Every format as given (an sRGB RGBA8 texel costs 4 bytes), decoded at each read; a
+    /// block-compressed file's texels as 8-bit RGBA (or float for BC6H and the signed
+    /// formats).
     Native,
+    /// A block-compressed file's levels kept as its blocks, each decoded when a read first
+    /// touches it through a small cache per thread; levels built from them, and images that
+    /// are not block-compressed, as [`Storage::Native`].
+    Compressed,
+}
+
+impl Storage {
+    /// The names the CLI and TOML take, each with its storage.
+    pub const NAMES: [(&'static str, Storage); 3] = [
+        ("decoded", Storage::Linear16),
+        ("native", Storage::Native),
+        ("compressed", Storage::Compressed),
+    ];
+
+    /// The storage called `name` (see [`Storage::NAMES`]).
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Storage> {
+        Self::NAMES
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|&(_, s)| s)
+    }
+
+    /// The name of this storage (see [`Storage::NAMES`]).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        Self::NAMES
+            .iter()
+            .find(|(_, s)| *s == self)
+            .map_or("decoded", |&(n, _)| n)
+    }
 }
 
 /// Options for building a texture from texels.
@@ -122,6 +167,16 @@ pub struct Texture2D {
     levels: Vec<Level>,
     lut: &'static [f32],
     sat: std::sync::OnceLock<super::filter::summed_area::SummedAreaTables>,
+    /// Set when the texture is held block-compressed ([`Storage::Compressed`]).
+    blocks: Option<BlockStore>,
+}
+
+/// What a block-compressed texture's blocks are.
+#[derive(Clone, Copy, Debug)]
+struct BlockStore {
+    format: BlockFormat,
+    /// Alpha read as 1 (glTF's OPAQUE base colour).
+    opaque: bool,
 }
 
 /// Size of a texel index within a level, and its memory offset.
@@ -208,6 +263,7 @@ impl Texture2D {
             levels: Vec::new(),
             lut: lut_of(stored),
             sat: std::sync::OnceLock::new(),
+            blocks: None,
         };
         let decode = |texels: &[u8]| -> Vec<Vec4> {
             let lut = lut_of(format);
@@ -328,6 +384,7 @@ impl Texture2D {
             height,
             tiles_x,
             data,
+            block_id: None,
         }
     }
 
@@ -335,7 +392,7 @@ impl Texture2D {
     #[must_use]
     pub fn decode_level(&self, i: usize) -> Vec<Vec4> {
         let view = self.level(i);
-        with_codec!(self.stored, C => {
+        with_texture_codec!(self, C => {
             let mut out = Vec::with_capacity((view.w * view.h) as usize);
             for y in 0..view.h {
                 for x in 0..view.w {
@@ -352,10 +409,19 @@ impl Texture2D {
         self.format
     }
     /// The format the texels are held in: [`Format::Rgba16Premultiplied`] for 8-bit colour
-    /// with [`Storage::Linear16`], else [`Self::format`].
+    /// with [`Storage::Linear16`], else [`Self::format`]. For a texture held
+    /// block-compressed, the format its blocks decode to (and its levels without blocks are
+    /// held in): see [`Self::block_format`].
     #[must_use]
     pub fn storage_format(&self) -> Format {
         self.stored
+    }
+
+    /// The block format the texture is held in, for [`Storage::Compressed`] textures made
+    /// from block-compressed files (`None` otherwise).
+    #[must_use]
+    pub fn block_format(&self) -> Option<BlockFormat> {
+        self.blocks.map(|b| b.format)
     }
     /// The colour space the stored values are in.
     #[must_use]
@@ -399,6 +465,10 @@ impl Texture2D {
             tiles_x: l.tiles_x,
             layout: self.layout,
             lut: self.lut,
+            blocks: match (self.blocks, l.block_id) {
+                (Some(b), Some(id)) => Some(BlockRef::new(b.format, id, l.width, b.opaque)),
+                _ => None,
+            },
         }
     }
 
@@ -406,7 +476,7 @@ impl Texture2D {
     #[must_use]
     pub fn texel(&self, level: usize, x: u32, y: u32) -> Vec4 {
         let view = self.level(level);
-        with_codec!(self.stored, C => view.texel::<C>(x as i32, y as i32))
+        with_texture_codec!(self, C => view.texel::<C>(x as i32, y as i32))
     }
 
     pub(crate) fn summed_area_tables(&self) -> &super::filter::summed_area::SummedAreaTables {
@@ -424,12 +494,20 @@ pub(crate) struct LevelRef<'a> {
     tiles_x: u32,
     layout: Layout,
     lut: &'a [f32],
+    /// Set for a level held as blocks: read through the block cache when the codec is
+    /// [`super::format::Blocks`].
+    blocks: Option<BlockRef>,
 }
 
 impl LevelRef<'_> {
     /// The 2×2 texels with top-left `(x, y)` (all in range): ((x,y), (x+1,y)), ((x,y+1), (x+1,y+1)).
     #[inline(always)]
     pub fn quad<C: Codec>(&self, x: i32, y: i32) -> ((Vec4, Vec4), (Vec4, Vec4)) {
+        if C::BLOCKS {
+            if let Some(b) = self.blocks {
+                return b.quad(self.data, self.lut, x as u32, y as u32);
+            }
+        }
         let (i00, i10, i01, i11) = match self.layout {
             Layout::RowMajor => {
                 let i = (y * self.w + x) as usize;
@@ -482,92 +560,15 @@ impl LevelRef<'_> {
     /// Linear, premultiplied texel at in-range `(x, y)`.
     #[inline(always)]
     pub fn texel<C: Codec>(&self, x: i32, y: i32) -> Vec4 {
+        if C::BLOCKS {
+            if let Some(b) = self.blocks {
+                return b.texel(self.data, self.lut, x as u32, y as u32);
+            }
+        }
         let i = texel_index(self.layout, self.tiles_x, self.w as u32, x as u32, y as u32) * C::BPP;
         C::decode_premultiplied(&self.data[i..i + C::BPP], self.lut)
     }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn linear16_storage_holds_the_native_texels_within_its_precision() {
-        let (w, h) = (13u32, 7u32);
-        let rgba: Vec<u8> = (0..w * h * 4).map(|i| (i * 7 % 251) as u8).collect();
-        let make = |storage, format: Format, bytes: &[u8]| {
-            let options = TextureOptions::default().with_storage(storage);
-            Texture2D::from_texels(w, h, format, ColorSpace::Srgb, bytes, options).unwrap()
-        };
-        let rgb: Vec<u8> = rgba
-            .chunks_exact(4)
-            .flat_map(|c| [c[0], c[1], c[2]])
-            .collect();
-        for (format, bytes) in [(Format::Rgba8, &rgba), (Format::Rgb8, &rgb)] {
-            let native = make(Storage::Native, format, bytes);
-            let fast = make(Storage::Linear16, format, bytes);
-            assert_eq!(native.storage_format(), format);
-            assert_eq!(fast.storage_format(), Format::Rgba16Premultiplied);
-            assert_eq!(
-                (fast.format(), fast.color_space()),
-                (format, ColorSpace::Srgb)
-            );
-            let texels = native.texel_bytes() / format.bytes_per_texel();
-            assert_eq!(fast.texel_bytes(), texels * 8);
-            // Level 0 holds the same values to 16-bit precision; the mip levels differ by the
-            // native format's 8-bit sRGB rounding of each level.
-            let (a, b) = (native.decode_level(0), fast.decode_level(0));
-            let err = a
-                .iter()
-                .zip(&b)
-                .map(|(x, y)| (*x - *y).abs().max_element())
-                .fold(0.0, f32::max);
-            assert!(err < 1e-5, "{format:?} level 0: {err}");
-            for l in 1..native.levels().len() {
-                let (a, b) = (native.decode_level(l), fast.decode_level(l));
-                let err = a
-                    .iter()
-                    .zip(&b)
-                    .map(|(x, y)| (*x - *y).abs().max_element())
-                    .fold(0.0, f32::max);
-                assert!(err < 0.02, "{format:?} level {l}: {err}");
-            }
-        }
-    }
-
-    #[test]
-    fn tiled_and_row_major_hold_the_same_texels() {
-        let (w, h) = (13u32, 7u32);
-        let rgba: Vec<u8> = (0..w * h * 4).map(|i| (i * 7 % 251) as u8).collect();
-        let opts = |layout| TextureOptions::default().with_layout(layout);
-        let a = Texture2D::from_texels(
-            w,
-            h,
-            Format::Rgba8,
-            ColorSpace::Srgb,
-            &rgba,
-            opts(Layout::Tiled4x4),
-        )
-        .unwrap();
-        let b = Texture2D::from_texels(
-            w,
-            h,
-            Format::Rgba8,
-            ColorSpace::Srgb,
-            &rgba,
-            opts(Layout::RowMajor),
-        )
-        .unwrap();
-        assert_eq!(a.levels().len(), b.levels().len());
-        for l in 0..a.levels().len() {
-            assert_eq!(a.decode_level(l), b.decode_level(l), "level {l}");
-        }
-    }
-
-    #[test]
-    fn wrong_byte_count_is_an_error() {
-        let r = Texture2D::from_rgba8(4, 4, ColorSpace::Srgb, &[0; 10]);
-        assert!(r.is_err());
-        assert!(Texture2D::from_rgba8(0, 4, ColorSpace::Srgb, &[]).is_err());
-    }
-}
+mod tests;
