@@ -26,6 +26,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_transmission",
     "KHR_materials_ior",
     "KHR_mesh_quantization",
+    "MSFT_texture_dds",
 ];
 
 /// Loads a `.gltf` or `.glb` file.

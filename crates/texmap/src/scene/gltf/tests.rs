@@ -125,3 +125,63 @@ fn punctual_light_intensities_are_divided_by_pi() {
     assert!(l.scene.materials[0].unlit);
     assert_eq!(l.scene.materials[0].model, ShadingModel::Phong);
 }
+
+/// A 4×4 BC1 DDS of one colour (RGB565 `c`, every index 0).
+fn bc1_dds(c: u16) -> Vec<u8> {
+    let mut hdr = [0u32; 31];
+    (hdr[0], hdr[1], hdr[2], hdr[3], hdr[6]) = (124, 0x1007, 4, 4, 1);
+    (hdr[18], hdr[19], hdr[20]) = (32, 0x4, u32::from_le_bytes(*b"DXT1"));
+    hdr[26] = 0x1000;
+    let mut f = b"DDS ".to_vec();
+    hdr.iter().for_each(|v| f.extend(v.to_le_bytes()));
+    f.extend(c.to_le_bytes());
+    f.extend(0u16.to_le_bytes());
+    f.extend([0u8; 4]);
+    f
+}
+
+/// MSFT_texture_dds: the texture reads the DDS its extension names, not its PNG fallback;
+/// without the extension (or with a `source` naming no image) the fallback is read.
+#[test]
+fn msft_texture_dds_reads_the_dds_image() {
+    let mut png = Vec::new();
+    image::RgbaImage::from_pixel(4, 4, image::Rgba([255, 0, 0, 255]))
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    crate::scene::test_file("gltf", "fallback.png", &png);
+    // Pure green in RGB565.
+    crate::scene::test_file("gltf", "green.dds", bc1_dds(0x07e0));
+    let doc = |ext: &str| {
+        format!(
+            r#"{{"asset": {{"version": "2.0"}}, "extensionsUsed": ["MSFT_texture_dds"],
+  "materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}}}}}}],
+  "textures": [{{"source": 0{ext}}}],
+  "images": [{{"uri": "fallback.png"}}, {{"uri": "green.dds"}}]}}"#
+        )
+    };
+    let base = |name: &str, ext: &str| {
+        let p = crate::scene::test_file("gltf", name, doc(ext));
+        let l = load(&p, &LoadOptions::default()).unwrap();
+        assert!(l.warnings.is_empty(), "{:?}", l.warnings);
+        let slot = l.scene.materials[0].base_color_texture.clone().unwrap();
+        slot.texture.texel(0, 1, 1)
+    };
+    let dds = base(
+        "dds.gltf",
+        r#", "extensions": {"MSFT_texture_dds": {"source": 1}}"#,
+    );
+    assert!(
+        (dds - Vec4::new(0.0, 1.0, 0.0, 1.0)).abs().max_element() < 1e-4,
+        "{dds}"
+    );
+    let png = base("png.gltf", "");
+    assert!(
+        (png - Vec4::new(1.0, 0.0, 0.0, 1.0)).abs().max_element() < 1e-4,
+        "{png}"
+    );
+    let missing = base(
+        "missing.gltf",
+        r#", "extensions": {"MSFT_texture_dds": {"source": 7}}"#,
+    );
+    assert_eq!(missing, png);
+}

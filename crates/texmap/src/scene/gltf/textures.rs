@@ -5,6 +5,7 @@
 //! as [`TextureTransform`] — on every texture, normal and occlusion ones included. KTX2 and
 //! DDS images load through the texture containers (KTX2 holding Basis Universal is a warning
 //! and the channel is left out); WebP images are a warning and left out, as in the peer.
+//! A texture with `MSFT_texture_dds` reads its DDS image, in place of the fallback `source`.
 
 use std::sync::Arc;
 
@@ -31,7 +32,8 @@ impl Loader<'_> {
         color_space: ColorSpace,
         alpha: AlphaChannel,
     ) -> Result<Option<TextureSlot>> {
-        let Some(texture) = self.image(&tex.source(), color_space, alpha)? else {
+        let image = dds_source(self.doc, tex).unwrap_or_else(|| tex.source());
+        let Some(texture) = self.image(&image, color_space, alpha)? else {
             return Ok(None);
         };
         let mut slot = TextureSlot::new(texture, sampler(&tex.sampler()));
@@ -112,6 +114,15 @@ impl Loader<'_> {
         ));
         Ok(None)
     }
+}
+
+pub(super) const DDS: &str = "MSFT_texture_dds";
+
+/// The DDS image a texture names in `MSFT_texture_dds` (`None` without the extension, or
+/// when its `source` names no image: the texture's own `source` is then read).
+fn dds_source<'a>(doc: &'a gltf::Document, tex: &gltf::Texture) -> Option<gltf::Image<'a>> {
+    let index = tex.extension_value(DDS)?.get("source")?.as_u64()?;
+    doc.images().nth(usize::try_from(index).ok()?)
 }
 
 /// glTF sampler → texmap sampler (undefined filters are trilinear, undefined wraps repeat).
