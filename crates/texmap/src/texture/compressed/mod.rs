@@ -96,6 +96,20 @@ pub enum BlockFormat {
 }
 
 impl BlockFormat {
+    /// Every block format.
+    pub const ALL: [BlockFormat; 10] = [
+        BlockFormat::Bc1,
+        BlockFormat::Bc2,
+        BlockFormat::Bc3,
+        BlockFormat::Bc4,
+        BlockFormat::Bc4Signed,
+        BlockFormat::Bc5,
+        BlockFormat::Bc5Signed,
+        BlockFormat::Bc6hUnsigned,
+        BlockFormat::Bc6hSigned,
+        BlockFormat::Bc7,
+    ];
+
     /// Bytes per 4×4 block.
     #[must_use]
     pub const fn block_bytes(self) -> usize {

@@ -6,18 +6,7 @@ use proptest::prelude::*;
 
 use super::*;
 
-const ALL: [BlockFormat; 10] = [
-    BlockFormat::Bc1,
-    BlockFormat::Bc2,
-    BlockFormat::Bc3,
-    BlockFormat::Bc4,
-    BlockFormat::Bc4Signed,
-    BlockFormat::Bc5,
-    BlockFormat::Bc5Signed,
-    BlockFormat::Bc6hUnsigned,
-    BlockFormat::Bc6hSigned,
-    BlockFormat::Bc7,
-];
+const ALL: [BlockFormat; 10] = BlockFormat::ALL;
 
 fn both(format: BlockFormat, block: &[u8]) -> ([[u8; 4]; 16], [[f32; 4]; 16]) {
     let mut rgba8 = [[0u8; 4]; 16];

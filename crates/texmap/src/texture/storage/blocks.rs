@@ -16,10 +16,10 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::Vec4;
 
-use super::{mip, BlockStore, Level, Storage, Texture2D, TextureOptions};
+use super::{check_chain, mip, BlockStore, Level, Storage, Texture2D, TextureOptions};
 use crate::texture::compressed::{decode_block_f32, decode_block_rgba8, BlockFormat};
 use crate::texture::format::{decode_table, ColorSpace, Format};
-use crate::{Error, Result};
+use crate::Result;
 
 /// Slots in a thread's cache (a power of two: 32 × 16 blocks).
 const SLOTS: usize = 512;
@@ -56,30 +56,11 @@ impl Texture2D {
         options: TextureOptions,
         opaque: bool,
     ) -> Result<Self> {
-        if width == 0 || height == 0 {
-            return Err(Error::parameter(format!(
-                "texture size {width}x{height} has a zero side"
-            )));
-        }
+        let given = check_chain(width, height, levels, options, |w, h| {
+            let bytes = usize::try_from(format.level_bytes(w, h)).unwrap_or(usize::MAX);
+            (bytes, format.name().to_string())
+        })?;
         let full = mip::level_count(width, height);
-        if levels.is_empty() || (levels.len() > 1 && levels.len() != full) {
-            return Err(Error::parameter(format!(
-                "texture {width}x{height} given {} levels; give 1 or the full chain of {full}",
-                levels.len()
-            )));
-        }
-        let given = if options.mipmaps { levels.len() } else { 1 };
-        for (i, bytes) in levels.iter().enumerate().take(given) {
-            let (w, h) = ((width >> i).max(1), (height >> i).max(1));
-            let expected = format.level_bytes(w, h);
-            if bytes.len() as u64 != expected {
-                return Err(Error::parameter(format!(
-                    "texture level {i} of {w}x{h} {} needs {expected} bytes, got {}",
-                    format.name(),
-                    bytes.len()
-                )));
-            }
-        }
         let stored = texel_format(format);
         let color_space = if stored == Format::Rgba8 {
             color_space
@@ -214,20 +195,19 @@ impl BlockRef {
     }
 }
 
-/// A thread's decoded blocks.
+/// A thread's decoded blocks: fixed arrays, so the thread-local needs no lazy set-up and no
+/// destructor (a read is a TLS offset, no heap pointer to follow).
 struct Cache {
     /// Each slot's (level id, block index); id 0 is empty.
-    tags: Vec<(u64, u64)>,
-    texels: Vec<[Vec4; 16]>,
+    tags: [(u64, u64); SLOTS],
+    texels: [[Vec4; 16]; SLOTS],
 }
 
 impl Cache {
-    fn new() -> Self {
-        Cache {
-            tags: vec![(0, 0); SLOTS],
-            texels: vec![[Vec4::ZERO; 16]; SLOTS],
-        }
-    }
+    const EMPTY: Cache = Cache {
+        tags: [(0, 0); SLOTS],
+        texels: [[Vec4::ZERO; 16]; SLOTS],
+    };
 
     /// The slot holding block `(bx, by)` of `level`, decoding it there first if needed.
     #[inline]
@@ -247,7 +227,7 @@ impl Cache {
 }
 
 thread_local! {
-    static CACHE: RefCell<Cache> = RefCell::new(Cache::new());
+    static CACHE: RefCell<Cache> = const { RefCell::new(Cache::EMPTY) };
 }
 
 #[cfg(test)]

@@ -179,6 +179,42 @@ struct BlockStore {
     opaque: bool,
 }
 
+/// Checks a chain given level by level (`levels[i]` the bytes of level `i`): sides not zero,
+/// one level or the full chain, each level `size(w, h).0` bytes (`.1` names the format in
+/// messages). Returns how many levels are used (one without mipmaps).
+fn check_chain(
+    width: u32,
+    height: u32,
+    levels: &[&[u8]],
+    options: TextureOptions,
+    size: impl Fn(u32, u32) -> (usize, String),
+) -> Result<usize> {
+    if width == 0 || height == 0 {
+        return Err(Error::parameter(format!(
+            "texture size {width}x{height} has a zero side"
+        )));
+    }
+    let full = mip::level_count(width, height);
+    if levels.is_empty() || (levels.len() > 1 && levels.len() != full) {
+        return Err(Error::parameter(format!(
+            "texture {width}x{height} given {} levels; give 1 or the full chain of {full}",
+            levels.len()
+        )));
+    }
+    let given = if options.mipmaps { levels.len() } else { 1 };
+    for (i, bytes) in levels.iter().enumerate().take(given) {
+        let (w, h) = ((width >> i).max(1), (height >> i).max(1));
+        let (expected, name) = size(w, h);
+        if bytes.len() != expected {
+            return Err(Error::parameter(format!(
+                "texture level {i} of {w}x{h} {name} needs {expected} bytes, got {}",
+                bytes.len()
+            )));
+        }
+    }
+    Ok(given)
+}
+
 /// Size of a texel index within a level, and its memory offset.
 #[inline(always)]
 fn texel_index(layout: Layout, tiles_x: u32, width: u32, x: u32, y: u32) -> usize {
@@ -222,29 +258,12 @@ impl Texture2D {
         levels: &[&[u8]],
         options: TextureOptions,
     ) -> Result<Self> {
-        if width == 0 || height == 0 {
-            return Err(Error::parameter(format!(
-                "texture size {width}x{height} has a zero side"
-            )));
-        }
-        let full = mip::level_count(width, height);
-        if levels.is_empty() || (levels.len() > 1 && levels.len() != full) {
-            return Err(Error::parameter(format!(
-                "texture {width}x{height} given {} levels; give 1 or the full chain of {full}",
-                levels.len()
-            )));
-        }
-        let given = if options.mipmaps { levels.len() } else { 1 };
-        for (i, texels) in levels.iter().enumerate().take(given) {
-            let (w, h) = ((width >> i).max(1), (height >> i).max(1));
-            let expected = w as usize * h as usize * format.bytes_per_texel();
-            if texels.len() != expected {
-                return Err(Error::parameter(format!(
-                    "texture level {i} of {w}x{h} {format:?} needs {expected} bytes, got {}",
-                    texels.len()
-                )));
-            }
-        }
+        let given = check_chain(width, height, levels, options, |w, h| {
+            (
+                w as usize * h as usize * format.bytes_per_texel(),
+                format!("{format:?}"),
+            )
+        })?;
         let color_space = if format.is_unorm() {
             color_space
         } else {
