@@ -35,7 +35,7 @@ struct Tally {
 
 /// Runs `texmap render`.
 pub fn run(mut args: RenderArgs) -> Result<ExitCode, Error> {
-    limits::frames_and_threads(args.frames, args.threads)?;
+    let threads = limits::frames_and_threads(args.frames, args.threads)?;
     if let Some(out) = &args.output {
         let mut inputs: Vec<&Path> = args.inputs.iter().map(Path::new).collect();
         inputs.extend(inputs_of(&args));
@@ -60,7 +60,7 @@ pub fn run(mut args: RenderArgs) -> Result<ExitCode, Error> {
         .flat_map(|(_, jobs)| jobs)
         .map(|j| u64::from(j.frames.end() - j.frames.start() + 1))
         .sum();
-    let common = Common::new(&args, format)?;
+    let common = Common::new(&args, format, threads)?;
     let image = ImageOut::new(&args, format);
     let batch = plan.inputs.len() > 1 || plan.shard != Shard::ALL || args.skip_existing;
     // A single frame keeps the default handlers: Ctrl-C ends it at once, leaving no file.

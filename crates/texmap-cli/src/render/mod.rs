@@ -177,7 +177,6 @@ pub(super) struct Common {
 
 /// The flags every input shares, checked, before anything is loaded.
 fn check_common(args: &RenderArgs) -> Result<(), Error> {
-    limits::frames_and_threads(args.frames, args.threads)?;
     if let Some(s) = args.uv_scale {
         if !(s.is_finite() && s != 0.0) {
             return Err(Error::parameter(format!(
@@ -189,9 +188,9 @@ fn check_common(args: &RenderArgs) -> Result<(), Error> {
 }
 
 impl Common {
-    /// The shared flags checked and the shared files read (`format` is the plan's).
-    fn new(args: &RenderArgs, format: OutputFormat) -> Result<Common, Error> {
-        let threads = limits::frames_and_threads(args.frames, args.threads)?;
+    /// The shared flags checked and the shared files read (`format` is the plan's,
+    /// `threads` from [`limits::frames_and_threads`]).
+    fn new(args: &RenderArgs, format: OutputFormat, threads: usize) -> Result<Common, Error> {
         let max_memory = args.max_memory.unwrap_or(texmap::files::DEFAULT_MAX_BYTES);
         let msaa = args.msaa.unwrap_or(1);
         if ![1, 2, 4, 8, 16].contains(&msaa) {
