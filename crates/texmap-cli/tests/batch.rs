@@ -220,6 +220,48 @@ fn shards_of_a_frame_list_make_the_single_render() {
     assert!(String::from_utf8_lossy(&r.stderr).contains("missing"));
 }
 
+#[test]
+fn shards_running_at_once_share_one_manifest() {
+    let d = dir("shared-manifest");
+    let manifest = d.join("m.jsonl");
+    let pattern = d.join("f_{frame}.png");
+    let children: Vec<_> = (1..=4)
+        .map(|i| {
+            texmap_cmd(&[
+                "render",
+                s(shapes()),
+                "--size",
+                SIZE,
+                "--frames",
+                "40",
+                "--quiet",
+                "--threads",
+                "1",
+                "--shard",
+                &format!("{i}/4"),
+                "--manifest",
+                s(&manifest),
+                "-o",
+                s(&pattern),
+            ])
+            .spawn()
+            .unwrap()
+        })
+        .collect();
+    for mut c in children {
+        assert!(c.wait().unwrap().success());
+    }
+    // Whole lines only (one append each), every frame once.
+    let text = std::fs::read_to_string(&manifest).unwrap();
+    assert_eq!(text.lines().count(), 40);
+    for line in text.lines() {
+        serde_json::from_str::<serde_json::Value>(line).expect("a whole JSON line");
+    }
+    let r = texmap(&["manifest", "verify", s(&manifest)]);
+    ok(&r);
+    assert!(String::from_utf8_lossy(&r.stdout).contains("verified 40 outputs"));
+}
+
 /// A folder of four small scenes.
 fn models(d: &Path) -> PathBuf {
     let m = d.join("models");
