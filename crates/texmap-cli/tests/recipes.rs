@@ -1,4 +1,4 @@
-//! The farm recipes of `docs/farm/` run here as their engine would run them: the Slurm array
+//! The farm recipes of `docs/cluster/` run here as their engine would run them: the Slurm array
 //! script once per task with Slurm's variables (the array read from its `#SBATCH --array`
 //! line), the Kubernetes Indexed Job's command once per completion index (its count and
 //! script read from the manifest), each with `texmap` on the PATH; then their verify steps.
@@ -50,7 +50,7 @@ fn check_outputs(out: &Path) {
 
 #[test]
 fn the_slurm_array_script_renders_and_verifies() {
-    let script = repo().join("docs/farm/slurm-render.sbatch");
+    let script = repo().join("docs/cluster/slurm-render.sbatch");
     let text = std::fs::read_to_string(&script).unwrap();
     // The array as Slurm reads it: `#SBATCH --array=MIN-MAX`.
     let array = text
@@ -86,7 +86,7 @@ fn the_slurm_array_script_renders_and_verifies() {
     }
     check_outputs(&out);
     let r = Command::new("bash")
-        .arg(repo().join("docs/farm/slurm-verify.sbatch"))
+        .arg(repo().join("docs/cluster/slurm-verify.sbatch"))
         .current_dir(&d)
         .env("PATH", &path)
         .env("OUT", &out)
@@ -126,7 +126,7 @@ fn value<'a>(doc: &'a str, key: &str) -> Option<&'a str> {
 
 #[test]
 fn the_kubernetes_indexed_job_renders_and_verifies() {
-    let text = std::fs::read_to_string(repo().join("docs/farm/k8s-render.yaml")).unwrap();
+    let text = std::fs::read_to_string(repo().join("docs/cluster/k8s-render.yaml")).unwrap();
     let docs: Vec<&str> = text.split("\n---\n").collect();
     let job = docs
         .iter()
