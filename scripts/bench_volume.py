@@ -16,7 +16,7 @@ Run from the repository root after `cargo build --release -p texmap-cli`:
     python3 scripts/bench_volume.py [--frames 5] [--rounds 2] [--out /tmp/volbench]
 Prints a Markdown table and writes the images and a JSON file to --out.
 """
-import argparse, json, os, statistics, subprocess, sys
+import argparse, json, os, shutil, statistics, subprocess, sys
 
 P = os.path.normpath(os.path.join(os.path.dirname(__file__), "..", "..", "shared", "peers"))
 PY = os.path.join(P, ".venv", "bin", "python")
@@ -26,11 +26,15 @@ CASES = [("vol256", os.path.join(P, "data", "vol256.nii.gz"), "synth"),
 
 
 def texmap(path, tf, shade, step, frames, out):
+    # Several frames are one file each; frame 1 is the requested view, kept as `out`.
+    pattern = out if frames == 1 else out[:-len(".png")] + "_{frame}.png"
     cmd = [TEXMAP, "render", path, "--tf", tf, "--step", str(step), "--size", "512x512",
-           "--threads", "2", "--frames", str(frames), "--stats", "-o", out]
+           "--threads", "2", "--frames", str(frames), "--stats", "-o", pattern]
     if shade:
         cmd.append("--shade")
     r = subprocess.run(cmd, capture_output=True, text=True, check=True)
+    if frames > 1:
+        shutil.copyfile(pattern.replace("{frame}", "0001"), out)
     return json.loads(r.stdout)
 
 

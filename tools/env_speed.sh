@@ -22,7 +22,7 @@ TEXMAP=target/release/texmap
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
 A=../shared/assets
-common=(--size 1920x1080 --threads 2 --frames "$FRAMES" --stats -o "$OUT/f.png")
+common=(--size 1920x1080 --threads 2 --frames "$FRAMES" --stats -o "$OUT/f_{frame}.png")
 field() { python3 -c 'import json,sys; d=json.load(sys.stdin); print(d["frame_ms"]["median"], d.get("env_prefilter_ms", 0))'; }
 
 rows=()

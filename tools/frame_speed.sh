@@ -21,7 +21,7 @@ run() { # scene filter texmap-args... -- gl-args...
     while [ $# -gt 0 ] && [ "$1" != "--" ]; do targs+=("$1"); shift; done
     [ $# -gt 0 ] && shift
     gargs=("$@")
-    ours=$("$TEXMAP" render "${targs[@]}" --size 1920x1080 --threads 2 --frames "$N" --stats -o "$OUT/t.png" | median)
+    ours=$("$TEXMAP" render "${targs[@]}" --size 1920x1080 --threads 2 --frames "$N" --stats -o "$OUT/t_{frame}.png" | median)
     if [ ${#gargs[@]} -gt 0 ]; then
         peer=$(LP_NUM_THREADS=2 "$PY" "$P/gl_render.py" "${gargs[@]}" --size 1920x1080 --threads 2 --frames "$N" --json -o "$OUT/g.png" | median)
         ratio=$("$PY" -c "print('%.2f' % ($ours / $peer))")

@@ -13,7 +13,7 @@ FRAMES=${2:-10}
 cargo build --release --quiet
 TEXMAP=target/release/texmap
 OUT=$(mktemp -d)
-common=(render scenes/reference/shadow.toml --size 1920x1080 --threads 2 --frames "$FRAMES" --stats -o "$OUT/f.png")
+common=(render scenes/reference/shadow.toml --size 1920x1080 --threads 2 --frames "$FRAMES" --stats -o "$OUT/f_{frame}.png")
 field() { python3 -c 'import json,sys; d=json.load(sys.stdin); print(d["frame_ms"]["median"], d["shadow_maps_ms"])'; }
 off=(); on=(); maps=()
 for _ in $(seq "$ROUNDS"); do

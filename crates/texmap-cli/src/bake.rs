@@ -11,7 +11,7 @@ use texmap::frame::Frame;
 use texmap::texture::procedural::Solid;
 use texmap::Error;
 
-use crate::formats::{OutputFormat, Picture, Png8};
+use crate::formats::{OutputFormat, Picture, Store};
 
 #[derive(Args)]
 pub struct BakeArgs {
@@ -89,6 +89,16 @@ pub fn run(args: BakeArgs) -> Result<(), Error> {
         ));
     }
     let format = OutputFormat::for_output(&args.output, "-o", args.format)?;
+    if !matches!(
+        format,
+        OutputFormat::Png | OutputFormat::Exr | OutputFormat::Hdr
+    ) {
+        return Err(Error::parameter(format!(
+            "-o {}: texmap bake writes .png, .exr or .hdr, not {}",
+            args.output.display(),
+            format.name()
+        )));
+    }
     let (w, h) = args.size;
     // PNG rows are encoded as they are made (3 bytes a texel); the float formats hold the
     // linear texels (16 bytes) and what their encoder holds.
@@ -162,7 +172,7 @@ pub fn run(args: BakeArgs) -> Result<(), Error> {
             color,
             ..Frame::default()
         };
-        crate::output::write_image(&args.output, format, &Picture::Linear(&frame, Png8::Srgb))?;
+        crate::output::write_image(&args.output, format, &Picture::Linear(&frame, Store::SRGB))?;
     }
     crate::output::stderr_line(&format!(
         "wrote {} ({w}x{h}, {})",

@@ -20,7 +20,7 @@ use texmap::Error;
 use glam::Vec4;
 use texmap::frame::Frame;
 
-use crate::formats::{OutputFormat, Picture, Png8};
+use crate::formats::{OutputFormat, Picture, Store};
 
 #[derive(Args)]
 pub struct ConvertArgs {
@@ -230,7 +230,7 @@ fn write_exr(path: &Path, width: u32, height: u32, color: Vec<Vec4>) -> Result<(
     crate::output::write_image(
         path,
         OutputFormat::Exr,
-        &Picture::Linear(&frame, Png8::Srgb),
+        &Picture::Linear(&frame, Store::SRGB),
     )
 }
 

@@ -32,16 +32,30 @@ use texmap::Error;
 /// An image format texmap writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum OutputFormat {
-    /// PNG, 8-bit sRGB (RGB, or RGBA with `--alpha`).
+    /// PNG, 8-bit sRGB (RGB, or RGBA with `--alpha`; 16-bit with `--bit-depth 16`).
     Png,
     /// OpenEXR, 32-bit float linear RGBA, premultiplied.
     Exr,
     /// Radiance RGBE, linear RGB, no alpha.
     Hdr,
+    /// JPEG, 8-bit sRGB RGB (`--quality`), no alpha.
+    #[value(alias = "jpg")]
+    Jpeg,
+    /// Animated GIF: every frame of an input in one file, 8-bit palette per frame.
+    Gif,
+    /// Animated PNG: every frame of an input in one file (8 or 16-bit, alpha with `--alpha`).
+    Apng,
 }
 
 impl OutputFormat {
-    const ALL: [OutputFormat; 3] = [OutputFormat::Png, OutputFormat::Exr, OutputFormat::Hdr];
+    const ALL: [OutputFormat; 6] = [
+        OutputFormat::Png,
+        OutputFormat::Exr,
+        OutputFormat::Hdr,
+        OutputFormat::Jpeg,
+        OutputFormat::Gif,
+        OutputFormat::Apng,
+    ];
 
     /// The file extension (lower case, no dot).
     #[must_use]
@@ -50,6 +64,17 @@ impl OutputFormat {
             OutputFormat::Png => "png",
             OutputFormat::Exr => "exr",
             OutputFormat::Hdr => "hdr",
+            OutputFormat::Jpeg => "jpg",
+            OutputFormat::Gif => "gif",
+            OutputFormat::Apng => "apng",
+        }
+    }
+
+    /// The format an extension (lower case) names.
+    fn for_extension(ext: &str) -> Option<OutputFormat> {
+        match ext {
+            "jpeg" => Some(OutputFormat::Jpeg),
+            e => Self::ALL.into_iter().find(|f| f.extension() == e),
         }
     }
 
@@ -60,7 +85,16 @@ impl OutputFormat {
             OutputFormat::Png => "PNG",
             OutputFormat::Exr => "OpenEXR",
             OutputFormat::Hdr => "Radiance HDR",
+            OutputFormat::Jpeg => "JPEG",
+            OutputFormat::Gif => "GIF",
+            OutputFormat::Apng => "APNG",
         }
+    }
+
+    /// True for the formats that hold every frame of an input in one file.
+    #[must_use]
+    pub fn is_animated(self) -> bool {
+        matches!(self, OutputFormat::Gif | OutputFormat::Apng)
     }
 
     /// The format of an output named `path` (`flag` names the option in messages), with
@@ -79,9 +113,7 @@ impl OutputFormat {
         } else {
             path.extension().map(|e| e.to_string_lossy().to_lowercase())
         };
-        let named = ext
-            .as_deref()
-            .map(|e| Self::ALL.into_iter().find(|f| f.extension() == e).ok_or(e));
+        let named = ext.as_deref().map(|e| Self::for_extension(e).ok_or(e));
         match (named, explicit) {
             (None, f) => Ok(f.unwrap_or(OutputFormat::Png)),
             (Some(Ok(n)), None) => Ok(n),
@@ -95,8 +127,8 @@ impl OutputFormat {
             ))),
             (Some(Err(_)), Some(f)) => Ok(f),
             (Some(Err(e)), None) => Err(Error::parameter(format!(
-                "{flag} {}: texmap does not write .{e} images (it writes .png, .exr and .hdr; \
-                 --format chooses for other names)",
+                "{flag} {}: texmap does not write .{e} images (it writes .png, .exr, .hdr, \
+                 .jpg, .gif and .apng; --format chooses for other names)",
                 path.display()
             ))),
         }
@@ -115,27 +147,87 @@ impl OutputFormat {
     #[must_use]
     pub fn buffer_bytes_per_pixel(self) -> u64 {
         match self {
-            OutputFormat::Png => 4,
+            OutputFormat::Png | OutputFormat::Apng => 8,
             OutputFormat::Exr => 17,
             OutputFormat::Hdr => 12,
+            OutputFormat::Jpeg | OutputFormat::Gif => 4,
         }
     }
 }
 
-/// How PNG stores a linear image.
+/// How the 8/16-bit formats (PNG, JPEG, GIF, APNG) store a linear image.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Png8 {
-    /// sRGB RGB, the colour composited over black ([`Frame::to_srgb8`]).
-    Srgb,
-    /// sRGB RGBA with straight alpha ([`Frame::to_srgba8`]).
-    SrgbAlpha,
+pub struct Store {
+    /// RGBA with straight alpha ([`Frame::to_srgba8`]); otherwise RGB, the colour
+    /// composited over black ([`Frame::to_srgb8`]).
+    pub alpha: bool,
+    /// 16 bits a channel (PNG, APNG), sRGB-encoded exactly rounded.
+    pub sixteen: bool,
+    /// JPEG quality, 1–100.
+    pub quality: u8,
+}
+
+impl Store {
+    /// 8-bit sRGB RGB.
+    pub const SRGB: Store = Store {
+        alpha: false,
+        sixteen: false,
+        quality: 90,
+    };
+
+    /// The bytes of `frame` as PNG rows: 8-bit, or 16-bit big-endian with `big_endian`
+    /// (else native-endian, as `image`'s PNG encoder takes them).
+    pub fn png_rows(self, frame: &Frame, big_endian: bool) -> Vec<u8> {
+        match (self.sixteen, self.alpha) {
+            (false, false) => frame.to_srgb8(),
+            (false, true) => frame.to_srgba8(),
+            (true, alpha) => {
+                let mut out = Vec::with_capacity(frame.color.len() * if alpha { 8 } else { 6 });
+                let mut push = |v: u16| {
+                    out.extend(if big_endian {
+                        v.to_be_bytes()
+                    } else {
+                        v.to_ne_bytes()
+                    })
+                };
+                for c in &frame.color {
+                    let (rgb, a) = if alpha {
+                        // Also NaN: nothing to divide by.
+                        if c.w > 0.0 {
+                            (c.truncate() / c.w.min(1.0), c.w)
+                        } else {
+                            (glam::Vec3::ZERO, 0.0)
+                        }
+                    } else {
+                        (c.truncate(), 1.0)
+                    };
+                    for v in rgb.to_array() {
+                        push(unorm16(texmap::color::linear_to_srgb(v)));
+                    }
+                    if alpha {
+                        push(unorm16(a));
+                    }
+                }
+                out
+            }
+        }
+    }
+}
+
+/// `v` in 0..1 as a 16-bit code, rounded to nearest (NaN is 0).
+fn unorm16(v: f32) -> u16 {
+    if v > 0.0 {
+        (v.min(1.0) * 65535.0 + 0.5) as u16
+    } else {
+        0
+    }
 }
 
 /// What an image file is made from.
 pub enum Picture<'a> {
-    /// Linear premultiplied RGBA (a render, a baked pattern): any format; `Png8` says how
-    /// PNG stores it.
-    Linear(&'a Frame, Png8),
+    /// Linear premultiplied RGBA (a render, a baked pattern): any format; `Store` says how
+    /// the 8/16-bit formats store it.
+    Linear(&'a Frame, Store),
     /// 8-bit RGB rows, already encoded (a false-colour difference image, a pattern baked to
     /// PNG): PNG only.
     Rgb8 {
@@ -180,11 +272,58 @@ pub fn encode_stream(
         (OutputFormat::Png, Picture::Rgba8 { rgba, .. }) => {
             png(&mut w, path, width, height, rgba, true)?
         }
-        (OutputFormat::Png, Picture::Linear(frame, Png8::Srgb)) => {
-            png(&mut w, path, width, height, &frame.to_srgb8(), false)?;
+        (OutputFormat::Png, Picture::Linear(frame, store)) => {
+            let rows = store.png_rows(frame, false);
+            let color = match (store.sixteen, store.alpha) {
+                (false, false) => image::ExtendedColorType::Rgb8,
+                (false, true) => image::ExtendedColorType::Rgba8,
+                (true, false) => image::ExtendedColorType::Rgb16,
+                (true, true) => image::ExtendedColorType::Rgba16,
+            };
+            image::codecs::png::PngEncoder::new(&mut w)
+                .write_image(&rows, width, height, color)
+                .map_err(|e| encode_error(path, e))?;
         }
-        (OutputFormat::Png, Picture::Linear(frame, Png8::SrgbAlpha)) => {
-            png(&mut w, path, width, height, &frame.to_srgba8(), true)?;
+        (OutputFormat::Jpeg, Picture::Linear(frame, store)) => {
+            image::codecs::jpeg::JpegEncoder::new_with_quality(&mut w, store.quality)
+                .write_image(
+                    &frame.to_srgb8(),
+                    width,
+                    height,
+                    image::ExtendedColorType::Rgb8,
+                )
+                .map_err(|e| encode_error(path, e))?;
+        }
+        (OutputFormat::Jpeg, Picture::Rgb8 { rgb, .. }) => {
+            image::codecs::jpeg::JpegEncoder::new_with_quality(&mut w, Store::SRGB.quality)
+                .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
+                .map_err(|e| encode_error(path, e))?;
+        }
+        (OutputFormat::Gif | OutputFormat::Apng, Picture::Linear(frame, store)) => {
+            let mut anim = crate::animation::Animation::new(
+                &mut w,
+                path,
+                format,
+                *store,
+                1,
+                1,
+                (width, height),
+            )?;
+            anim.push(frame)?;
+            anim.finish()?;
+        }
+        (OutputFormat::Gif | OutputFormat::Apng, _) => {
+            return Err(Error::parameter(format!(
+                "{}: texmap writes {} from a render only (write .png)",
+                path.display(),
+                format.name()
+            )))
+        }
+        (OutputFormat::Jpeg, Picture::Rgba8 { .. }) => {
+            return Err(Error::parameter(format!(
+                "{}: this image has alpha, which JPEG cannot hold (write .png)",
+                path.display()
+            )))
         }
         (OutputFormat::Hdr, Picture::Linear(frame, _)) => {
             let rgb: Vec<image::Rgb<f32>> = frame
@@ -334,11 +473,15 @@ mod tests {
 
     #[test]
     fn unknown_extensions_are_refused_and_format_must_agree_with_the_name() {
-        let e = format("a.jpg", None).unwrap_err();
+        let e = format("a.webp", None).unwrap_err();
         assert!(
-            e.contains("a.jpg") && e.contains(".jpg") && e.contains(".exr"),
+            e.contains("a.webp") && e.contains(".webp") && e.contains(".exr"),
             "{e}"
         );
+        assert_eq!(format("a.JPEG", None), Ok(OutputFormat::Jpeg));
+        assert_eq!(format("a.jpg", None), Ok(OutputFormat::Jpeg));
+        assert_eq!(format("t.gif", None), Ok(OutputFormat::Gif));
+        assert_eq!(format("t.apng", None), Ok(OutputFormat::Apng));
         assert!(format("a.TIFF", None).unwrap_err().contains(".tiff"));
         assert_eq!(
             format("a.out", Some(OutputFormat::Exr)),

@@ -1,13 +1,16 @@
 //! The `texmap` command line: it parses arguments and calls the library, nothing more.
 
+mod animation;
 mod bake;
 mod compare;
 mod convert;
 mod formats;
 mod info;
+mod manifest;
 mod output;
 mod progress;
 mod render;
+mod signals;
 mod volume;
 
 use std::process::ExitCode;
@@ -34,19 +37,28 @@ enum Command {
     Info(info::InfoArgs),
     /// Write one image of a texture (PNG, JPEG, TGA, BMP, HDR, EXR, DDS, KTX, KTX2) as PNG or EXR.
     Convert(convert::ConvertArgs),
+    /// Check a batch's manifests: every output's bytes and SHA-256, no frame missing or twice.
+    Manifest(manifest::verify::ManifestArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Render(args) => render::run(*args),
-        Command::Compare(args) => compare::run(args),
-        Command::Bake(args) => bake::run(args),
-        Command::Info(args) => info::run(args),
-        Command::Convert(args) => convert::run(args),
+        Command::Render(args) => render::run(*args).map(Some),
+        Command::Manifest(args) => manifest::verify::run(args).map(|ok| {
+            Some(if ok {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::FAILURE
+            })
+        }),
+        Command::Compare(args) => compare::run(args).map(|()| None),
+        Command::Bake(args) => bake::run(args).map(|()| None),
+        Command::Info(args) => info::run(args).map(|()| None),
+        Command::Convert(args) => convert::run(args).map(|()| None),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code.unwrap_or(ExitCode::SUCCESS),
         Err(e) => {
             crate::output::stderr_line(&format!("texmap: {e}"));
             ExitCode::FAILURE

@@ -55,45 +55,103 @@ fn target(path: &Path) -> Result<Target, Error> {
 /// device, to stdout for `-` (see the module docs). A format that seeks in its output
 /// (OpenEXR) is encoded in memory first when the target is a stream.
 pub fn write_image(path: &Path, format: OutputFormat, picture: &Picture) -> Result<(), Error> {
-    let path = match target(path)? {
-        Target::Stdout => return write_stream(std::io::stdout().lock(), path, format, picture),
-        Target::Stream(p) => {
-            let f = std::fs::OpenOptions::new()
-                .write(true)
-                .open(&p)
-                .map_err(|e| Error::io(&p, e))?;
-            return write_stream(f, &p, format, picture);
+    match Sink::open(path)? {
+        Sink::File(mut file) => {
+            let real = file.path.clone();
+            formats::encode_seekable(&mut file.file, &real, format, picture)?;
+            file.commit()
         }
-        Target::File(p) => p,
-    };
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .ok_or_else(|| Error::parameter(format!("{}: not a file name", path.display())))?;
-    let tmp = dir.join(format!(
-        ".{}.tmp-{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    // Created exclusively: never through a file or link planted at the temporary name.
-    let file = std::fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&tmp)
-        .map_err(|e| Error::io(&tmp, e))?;
-    let result = (|| {
-        let mut file = file;
-        formats::encode_seekable(&mut file, &path, format, picture)?;
-        file.sync_all().map_err(|e| Error::io(&path, e))?;
-        std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+        Sink::Stream(w, p) => write_stream(w, &p, format, picture),
     }
-    result
+}
+
+/// Where an output's bytes go: a temporary file renamed into place by
+/// [`AtomicFile::commit`], or a stream (stdout, a FIFO, a device) written through.
+pub enum Sink {
+    File(AtomicFile),
+    Stream(Box<dyn std::io::Write>, PathBuf),
+}
+
+impl Sink {
+    /// The sink for `path` (see the module docs).
+    ///
+    /// # Errors
+    /// [`Error::Io`] or [`Error::Parameter`] naming `path`: a directory, a dangling link, a
+    /// temporary file that cannot be created.
+    pub fn open(path: &Path) -> Result<Sink, Error> {
+        match target(path)? {
+            Target::Stdout => Ok(Sink::Stream(
+                Box::new(std::io::stdout().lock()),
+                path.to_path_buf(),
+            )),
+            Target::Stream(p) => {
+                let f = std::fs::OpenOptions::new()
+                    .write(true)
+                    .open(&p)
+                    .map_err(|e| Error::io(&p, e))?;
+                Ok(Sink::Stream(Box::new(f), p))
+            }
+            Target::File(p) => AtomicFile::create(&p).map(Sink::File),
+        }
+    }
+}
+
+/// A temporary file beside `path`, created exclusively (never through a file or link
+/// planted at its name); renamed over `path` by [`AtomicFile::commit`], removed if dropped
+/// before.
+pub struct AtomicFile {
+    pub file: std::fs::File,
+    /// The output's (resolved) path.
+    pub path: PathBuf,
+    tmp: PathBuf,
+    committed: bool,
+}
+
+impl AtomicFile {
+    fn create(path: &Path) -> Result<AtomicFile, Error> {
+        let dir = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        let name = path
+            .file_name()
+            .ok_or_else(|| Error::parameter(format!("{}: not a file name", path.display())))?;
+        let tmp = dir.join(format!(
+            ".{}.tmp-{}",
+            name.to_string_lossy(),
+            std::process::id()
+        ));
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+            .map_err(|e| Error::io(&tmp, e))?;
+        Ok(AtomicFile {
+            file,
+            path: path.to_path_buf(),
+            tmp,
+            committed: false,
+        })
+    }
+
+    /// Syncs the file and renames it over the output.
+    ///
+    /// # Errors
+    /// [`Error::Io`] naming the output (the temporary file is then removed).
+    pub fn commit(mut self) -> Result<(), Error> {
+        self.file.sync_all().map_err(|e| Error::io(&self.path, e))?;
+        std::fs::rename(&self.tmp, &self.path).map_err(|e| Error::io(&self.path, e))?;
+        self.committed = true;
+        Ok(())
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if !self.committed {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
 }
 
 /// `picture` into a stream that cannot seek.

@@ -58,10 +58,18 @@ impl Progress {
         }
     }
 
-    /// One frame done.
-    pub fn tick(&self) {
+    /// `n` frames done (rendered, or skipped as complete).
+    pub fn advance(&self, n: u64) {
         if let Some(b) = &self.bar {
-            b.inc(1);
+            b.inc(n);
+        }
+    }
+
+    /// Runs `f` (which prints a line) with the bar hidden.
+    pub fn suspend(&self, f: impl FnOnce()) {
+        match &self.bar {
+            Some(b) => b.suspend(f),
+            None => f(),
         }
     }
 

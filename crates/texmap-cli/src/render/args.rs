@@ -14,9 +14,19 @@ use crate::formats::OutputFormat;
 #[derive(Args)]
 pub struct RenderArgs {
     /// `builtin:demo` (default), `builtin:plane`, `builtin:sphere`, `builtin:marble`, a scene
-    /// file (`.gltf`, `.glb`, `.obj` or `.toml`), or a volume (`.nii`, `.nii.gz`, `.nrrd`,
-    /// `.nhdr`, `.raw`).
+    /// file (`.gltf`, `.glb`, `.obj` or `.toml`), a volume (`.nii`, `.nii.gz`, `.nrrd`,
+    /// `.nhdr`, `.raw`), or a folder (its .gltf, .glb, .obj and .toml files, sorted by
+    /// name). Several are a batch: each is rendered in turn, a failure reported and the rest
+    /// still rendered.
+    #[arg(value_name = "SCENE")]
+    pub(crate) inputs: Vec<String>,
+    /// The input being rendered (one of `inputs`, set by the batch).
+    #[arg(skip)]
     pub(crate) scene: Option<String>,
+    /// A file naming inputs, one path a line (relative paths from the current folder; blank
+    /// lines and lines starting with # are skipped), after the SCENE arguments.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) list: Option<PathBuf>,
     /// A missing or undecodable texture becomes a warning and a magenta placeholder.
     #[arg(long)]
     pub(crate) lenient: bool,
@@ -26,10 +36,12 @@ pub struct RenderArgs {
     /// Ignore the file's own camera: frame the bounding box as `gl_render.py` does.
     #[arg(long)]
     pub(crate) auto_camera: bool,
-    /// Output image, its format from the extension: `.png` (8-bit sRGB), `.exr` (OpenEXR,
-    /// 32-bit float linear RGBA, premultiplied) or `.hdr` (Radiance, linear RGB); `-` is
-    /// stdout (PNG unless --format); a `{frame}` in the name writes every turntable frame
-    /// [default: texmap-SCENE.png, or .exr/.hdr after --format].
+    /// Output image, its format from the extension: `.png` (8/16-bit sRGB), `.exr` (OpenEXR,
+    /// 32-bit float linear RGBA, premultiplied), `.hdr` (Radiance, linear RGB), `.jpg`,
+    /// `.gif` or `.apng` (animations: every frame in one file); `-` is stdout (PNG unless
+    /// --format). `{frame}` (`{frame:06}`: 6 digits) is the frame number, counted from 1,
+    /// `{scene}` the input's name [default: texmap-{scene}.png, texmap-{scene}-{frame}.png
+    /// for several frames; the extension of --format].
     #[arg(short = 'o', long = "output")]
     pub(crate) output: Option<PathBuf>,
     /// The output's format where its name does not say (`-`, a device, no extension); a name
@@ -41,6 +53,15 @@ pub struct RenderArgs {
     /// written RGBA with straight alpha. OpenEXR always carries alpha; Radiance HDR has none.
     #[arg(long)]
     pub(crate) alpha: bool,
+    /// Bits a channel of PNG and APNG: 8 or 16 (sRGB-encoded either way).
+    #[arg(long, value_name = "8|16", default_value_t = 8)]
+    pub(crate) bit_depth: u8,
+    /// JPEG quality, 1–100 [default: 90].
+    #[arg(long, value_name = "Q")]
+    pub(crate) quality: Option<u8>,
+    /// Frames a second of an animation (.gif, .apng), 1–100 [default: 25].
+    #[arg(long, value_name = "N")]
+    pub(crate) fps: Option<u16>,
     /// Image size, WxH.
     #[arg(long, default_value = "640x360", value_parser = parse_size)]
     pub(crate) size: (u32, u32),
@@ -190,9 +211,31 @@ pub struct RenderArgs {
     /// 4G): a larger request is refused before anything is allocated.
     #[arg(long, value_parser = limits::parse_bytes)]
     pub(crate) max_memory: Option<u64>,
-    /// Turntable frames: the camera orbits the target by 360/N degrees per frame.
+    /// Turntable frames: frame k is the camera turned about its target by 360·(k−1)/N
+    /// degrees (frame 1 is the requested view).
     #[arg(long, default_value_t = 1)]
     pub(crate) frames: u32,
+    /// The frames rendered, A..B: inclusive, counted from 1, within --frames
+    /// [default: 1..N].
+    #[arg(long, value_name = "A..B")]
+    pub(crate) frame_range: Option<String>,
+    /// Render the I-th of N contiguous slices of the outputs (inputs × frames, in order),
+    /// I counted from 1; `auto` takes the index from Slurm (SLURM_ARRAY_TASK_ID, _MIN,
+    /// _COUNT) or Kubernetes (JOB_COMPLETION_INDEX, with --shard-count).
+    #[arg(long, value_name = "I/N|auto")]
+    pub(crate) shard: Option<String>,
+    /// With --shard auto under a Kubernetes Indexed Job: the number of shards (its
+    /// completions).
+    #[arg(long, value_name = "N")]
+    pub(crate) shard_count: Option<u64>,
+    /// Skip an output that already exists and is complete: it decodes whole, at --size, with
+    /// every frame of an animation.
+    #[arg(long)]
+    pub(crate) skip_existing: bool,
+    /// Append one JSON line per output written (input, frame, settings, bytes, SHA-256, ms)
+    /// to FILE, each line in one write; `texmap manifest verify FILE` checks them.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) manifest: Option<PathBuf>,
     /// Triangle count of builtin:sphere [default: 199200].
     #[arg(long)]
     pub(crate) tris: Option<usize>,

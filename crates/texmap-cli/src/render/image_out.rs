@@ -10,7 +10,7 @@
 //! black (RGB). OpenEXR always holds the frame's RGBA, premultiplied; Radiance HDR holds the
 //! colour over black and refuses `--alpha`.
 
-use std::path::PathBuf;
+use std::path::Path;
 
 use glam::Vec4;
 use texmap::render::Frame;
@@ -19,7 +19,7 @@ use texmap::shading::ibl::Background;
 use texmap::Error;
 
 use super::args::{BackgroundArg, RenderArgs};
-use crate::formats::{OutputFormat, Picture, Png8};
+use crate::formats::{OutputFormat, Picture, Store};
 
 /// The format of `args`' output (`-o`, else the default name's `.png`, or `--format`), and
 /// `--alpha` checked against it.
@@ -32,6 +32,56 @@ pub(super) fn output_format(args: &RenderArgs) -> Result<OutputFormat, Error> {
         Some(path) => OutputFormat::for_output(path, "-o", args.format)?,
         None => args.format.unwrap_or(OutputFormat::Png),
     };
+    let name = || match &args.output {
+        Some(p) => format!("{} ({})", format.name(), p.display()),
+        None => format.name().to_string(),
+    };
+    if args.alpha && matches!(format, OutputFormat::Jpeg | OutputFormat::Gif) {
+        return Err(Error::parameter(format!(
+            "--alpha: {} keeps no alpha channel (write .png, .apng or .exr)",
+            name()
+        )));
+    }
+    match args.bit_depth {
+        8 => {}
+        16 if matches!(format, OutputFormat::Png | OutputFormat::Apng) => {}
+        16 => {
+            return Err(Error::parameter(format!(
+                "--bit-depth 16: {} has 8 bits a channel (16 is for .png and .apng; .exr is \
+                 float)",
+                name()
+            )))
+        }
+        n => {
+            return Err(Error::parameter(format!(
+                "--bit-depth {n}: expected 8 or 16"
+            )))
+        }
+    }
+    if let Some(q) = args.quality {
+        if format != OutputFormat::Jpeg {
+            return Err(Error::parameter(format!(
+                "--quality: only JPEG has a quality, not {}",
+                name()
+            )));
+        }
+        if !(1..=100).contains(&q) {
+            return Err(Error::parameter(format!(
+                "--quality {q} is outside 1..=100"
+            )));
+        }
+    }
+    if let Some(fps) = args.fps {
+        if !format.is_animated() {
+            return Err(Error::parameter(format!(
+                "--fps: {} is not an animation (write .gif or .apng)",
+                name()
+            )));
+        }
+        if !(1..=100).contains(&fps) {
+            return Err(Error::parameter(format!("--fps {fps} is outside 1..=100")));
+        }
+    }
     if args.alpha && format == OutputFormat::Hdr {
         return Err(Error::parameter(format!(
             "--alpha: {} has no alpha channel (write .exr or .png)",
@@ -44,47 +94,31 @@ pub(super) fn output_format(args: &RenderArgs) -> Result<OutputFormat, Error> {
     Ok(format)
 }
 
-/// Where and how every frame of a render is written.
+/// How every output of a render is written.
 pub(super) struct ImageOut {
-    /// `-o`, or `texmap-SCENE.EXT`; `{frame}` in it is the frame number.
-    pub path: PathBuf,
     pub format: OutputFormat,
-    png: Png8,
+    pub store: Store,
 }
 
 impl ImageOut {
-    /// The output of `args` in `format` (from [`output_format`]); `short` is the default
-    /// name's stem.
-    pub fn new(args: &RenderArgs, format: OutputFormat, short: &str) -> Self {
-        let path = args
-            .output
-            .clone()
-            .unwrap_or_else(|| PathBuf::from(format!("texmap-{short}.{}", format.extension())));
-        let png = if args.alpha {
-            Png8::SrgbAlpha
-        } else {
-            Png8::Srgb
+    /// The outputs of `args` in `format` (from [`output_format`]).
+    pub fn new(args: &RenderArgs, format: OutputFormat) -> Self {
+        let store = Store {
+            alpha: args.alpha,
+            sixteen: args.bit_depth == 16,
+            quality: args.quality.unwrap_or(Store::SRGB.quality),
         };
-        ImageOut { path, format, png }
+        ImageOut { format, store }
     }
 
-    /// True when the name writes every frame (`{frame}`).
-    pub fn per_frame(&self) -> bool {
-        self.path.to_string_lossy().contains("{frame}")
+    /// `frame` as the picture the format stores.
+    pub fn picture<'a>(&self, frame: &'a Frame) -> Picture<'a> {
+        Picture::Linear(frame, self.store)
     }
 
-    /// Writes `frame`, number `k` where the name has `{frame}`.
-    pub fn write(&self, frame: &Frame, k: u32) -> Result<(), Error> {
-        let path = if self.per_frame() {
-            PathBuf::from(
-                self.path
-                    .to_string_lossy()
-                    .replace("{frame}", &format!("{k:04}")),
-            )
-        } else {
-            self.path.clone()
-        };
-        crate::output::write_image(&path, self.format, &Picture::Linear(frame, self.png))
+    /// Writes `frame` at `path` (atomically: see `output.rs`).
+    pub fn write(&self, path: &Path, frame: &Frame) -> Result<(), Error> {
+        crate::output::write_image(path, self.format, &self.picture(frame))
     }
 }
 

@@ -128,6 +128,14 @@ pub fn check_output(output: &Path, inputs: &[&Path]) -> Result<(), Error> {
     Ok(())
 }
 
+/// The process's peak resident memory so far in KiB (`VmHWM` of `/proc/self/status`), where
+/// the system reports it (Linux).
+pub fn peak_rss_kib() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

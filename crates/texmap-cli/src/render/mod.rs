@@ -6,15 +6,20 @@
 //! background), `image_out.rs`.
 
 mod args;
+mod batch;
 mod checks;
+mod complete;
 mod image_out;
 mod limits;
+mod naming;
+mod plan;
+mod shard;
 
 pub(crate) use args::parse_storage;
 pub use args::{parse_size, RenderArgs};
 use args::{ColorSpaceArg, CullArg, InterpArg, ShadingArg, Switch, VisibilityArg};
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -34,12 +39,12 @@ use texmap::texture::{
 use texmap::volume::SceneVolume;
 use texmap::Error;
 
+use crate::formats::OutputFormat;
+
 /// What `render` draws.
 struct Built {
     scene: Scene,
     volumes: Vec<SceneVolume>,
-    /// The default output name's stem.
-    short: String,
     /// A built-in scene (not read from a file).
     builtin: Option<Builtin>,
 }
@@ -69,7 +74,6 @@ fn build(args: &RenderArgs, texture: Option<Arc<Texture2D>>) -> Result<Built, Er
             Built {
                 scene,
                 volumes: vec![sv],
-                short: crate::volume::short_name(path),
                 builtin: None,
             }
         }
@@ -133,7 +137,6 @@ fn build_scene(
         return Ok(Built {
             scene,
             volumes: Vec::new(),
-            short: name.trim_start_matches("builtin:").to_string(),
             builtin: Some(builtin),
         });
     }
@@ -149,38 +152,35 @@ fn build_scene(
             crate::output::stderr_line(&format!("texmap: warning: {w}"));
         }
     }
-    let short = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "scene".into());
     Ok(Built {
         scene: loaded.scene,
         volumes: loaded.volumes,
-        short,
         builtin: None,
     })
 }
 
-pub fn run(args: RenderArgs) -> Result<(), Error> {
-    let setup_start = Instant::now();
-    let threads = limits::frames_and_threads(args.frames, args.threads)?;
-    let max_memory = args.max_memory.unwrap_or(texmap::files::DEFAULT_MAX_BYTES);
-    let msaa = args.msaa.unwrap_or(1);
-    if ![1, 2, 4, 8, 16].contains(&msaa) {
-        return Err(Error::parameter(format!(
-            "--msaa {msaa} is not one of 1, 2, 4, 8, 16"
-        )));
-    }
-    let ssaa = args.ssaa.unwrap_or(1);
-    if !(1..=8).contains(&ssaa) {
-        return Err(Error::parameter(format!("--ssaa {ssaa} is outside 1..8")));
-    }
-    let shadows = checks::shadow_overrides(&args)?;
-    let textures = checks::texture_overrides(&args);
-    textures.validate().map_err(|e| match e {
-        Error::Parameter(m) => Error::parameter(format!("texture flags: {m}")),
-        other => other,
-    })?;
+/// `texmap render`: the plan, then every input of this shard (see `batch.rs`).
+pub fn run(args: RenderArgs) -> Result<std::process::ExitCode, Error> {
+    batch::run(args)
+}
+
+/// What every input of a batch shares: checked flags, the thread pool, `--texture` and
+/// `--env`, read once.
+pub(super) struct Common {
+    pub pool: rayon::ThreadPool,
+    pub format: OutputFormat,
+    msaa: u32,
+    ssaa: u32,
+    max_memory: u64,
+    frame_buffers: limits::FrameBuffers,
+    shadows: texmap::render::ShadowOverrides,
+    textures: texmap::render::TextureOverrides,
+    texture: Option<Arc<Texture2D>>,
+    env_map: Option<EnvironmentMap>,
+}
+
+/// The flags every input shares, checked, before anything is loaded.
+fn check_common(args: &RenderArgs) -> Result<(), Error> {
     if let Some(s) = args.uv_scale {
         if !(s.is_finite() && s != 0.0) {
             return Err(Error::parameter(format!(
@@ -188,70 +188,115 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             )));
         }
     }
-    if let Some(out) = &args.output {
-        let mut inputs: Vec<&Path> = args.scene.iter().map(Path::new).collect();
-        inputs.extend(args.texture.as_deref());
-        inputs.extend(args.volume.meshes.iter().map(PathBuf::as_path));
-        limits::check_output(out, &inputs)?;
+    Ok(())
+}
+
+impl Common {
+    /// The shared flags checked and the shared files read (`format` is the plan's,
+    /// `threads` from [`limits::frames_and_threads`]).
+    fn new(args: &RenderArgs, format: OutputFormat, threads: usize) -> Result<Common, Error> {
+        let max_memory = args.max_memory.unwrap_or(texmap::files::DEFAULT_MAX_BYTES);
+        let msaa = args.msaa.unwrap_or(1);
+        if ![1, 2, 4, 8, 16].contains(&msaa) {
+            return Err(Error::parameter(format!(
+                "--msaa {msaa} is not one of 1, 2, 4, 8, 16"
+            )));
+        }
+        let ssaa = args.ssaa.unwrap_or(1);
+        if !(1..=8).contains(&ssaa) {
+            return Err(Error::parameter(format!("--ssaa {ssaa} is outside 1..8")));
+        }
+        let shadows = checks::shadow_overrides(args)?;
+        let textures = checks::texture_overrides(args);
+        textures.validate().map_err(|e| match e {
+            Error::Parameter(m) => Error::parameter(format!("texture flags: {m}")),
+            other => other,
+        })?;
+        check_common(args)?;
+        let frame_buffers = limits::FrameBuffers {
+            width: args.size.0,
+            height: args.size.1,
+            ssaa,
+            output_bytes_per_pixel: format.buffer_bytes_per_pixel(),
+        };
+        limits::check_frame(&frame_buffers, max_memory)?;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| Error::parameter(format!("--threads: {e}")))?;
+        // --texture is read first: the built-in plane and sphere are made with it (their
+        // checker is then never built), every other scene takes it below.
+        let texture = match &args.texture {
+            Some(p) => {
+                let cs = match args.color_space.unwrap_or(ColorSpaceArg::Srgb) {
+                    ColorSpaceArg::Srgb => ColorSpace::Srgb,
+                    ColorSpaceArg::Linear => ColorSpace::Linear,
+                };
+                let options = TextureOptions::default()
+                    .with_storage(args.texture_storage.unwrap_or_default());
+                Some(Arc::new(load_texture_with(
+                    p,
+                    cs,
+                    &Limits::default(),
+                    options,
+                )?))
+            }
+            None => None,
+        };
+        // --env is read before the scene, so a bad file fails fast.
+        let env_map = match &args.env {
+            Some(p) => {
+                let limits = match args.max_memory {
+                    Some(bytes) => Limits::default().with_max_bytes(bytes),
+                    None => Limits::default(),
+                };
+                Some(load_environment(p, None, &limits)?)
+            }
+            None => None,
+        };
+        Ok(Common {
+            pool,
+            format,
+            msaa,
+            ssaa,
+            max_memory,
+            frame_buffers,
+            shadows,
+            textures,
+            texture,
+            env_map,
+        })
     }
-    let format = image_out::output_format(&args)?;
-    let frame_buffers = limits::FrameBuffers {
-        width: args.size.0,
-        height: args.size.1,
-        ssaa,
-        output_bytes_per_pixel: format.buffer_bytes_per_pixel(),
-    };
-    limits::check_frame(&frame_buffers, max_memory)?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Error::parameter(format!("--threads: {e}")))?;
-    let progress = crate::progress::Progress::new(args.frames, args.quiet);
-    progress.message("loading");
-    // --texture is read first: the built-in plane and sphere are made with it (their checker
-    // is then never built), every other scene takes it below.
-    let texture = match &args.texture {
-        Some(p) => {
-            let cs = match args.color_space.unwrap_or(ColorSpaceArg::Srgb) {
-                ColorSpaceArg::Srgb => ColorSpace::Srgb,
-                ColorSpaceArg::Linear => ColorSpace::Linear,
-            };
-            let options =
-                TextureOptions::default().with_storage(args.texture_storage.unwrap_or_default());
-            Some(Arc::new(load_texture_with(
-                p,
-                cs,
-                &Limits::default(),
-                options,
-            )?))
-        }
-        None => None,
-    };
-    // --env is read before the scene, so a bad file fails fast.
-    let env_map = match &args.env {
-        Some(p) => {
-            let limits = match args.max_memory {
-                Some(bytes) => Limits::default().with_max_bytes(bytes),
-                None => Limits::default(),
-            };
-            Some(load_environment(p, None, &limits)?)
-        }
-        None => None,
-    };
+}
+
+/// One input made ready to render: its scene, camera, settings, shadow maps and the
+/// environment's prefiltering, which every frame shares.
+pub(super) struct Prepared {
+    scene: Scene,
+    volumes: Vec<SceneVolume>,
+    camera: texmap::camera::Camera,
+    settings: Settings,
+    shadow_maps: texmap::shading::shadow::ShadowMaps,
+    shadow_ms: f64,
+    prefilter_ms: Option<f64>,
+    pub setup_ms: f64,
+}
+
+/// Loads `args.scene` and makes everything its frames share.
+pub(super) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Error> {
+    let setup_start = Instant::now();
+    let pool = &common.pool;
     let Built {
-        mut scene,
-        volumes,
-        short,
-        ..
+        mut scene, volumes, ..
     } = pool.install(|| {
-        let mut built = build(&args, texture.clone())?;
-        apply_environment(&args, &mut built.scene, env_map)?;
-        image_out::apply_background(&args, &mut built.scene, !built.volumes.is_empty())?;
-        checks::check_flags(&args, &built)?;
+        let mut built = build(args, common.texture.clone())?;
+        apply_environment(args, &mut built.scene, common.env_map.clone())?;
+        image_out::apply_background(args, &mut built.scene, !built.volumes.is_empty())?;
+        checks::check_flags(args, &built)?;
         Ok::<_, Error>(built)
     })?;
-    if let Some(texture) = texture {
-        if scene.set_base_color_texture(texture) == 0 {
+    if let Some(texture) = &common.texture {
+        if scene.set_base_color_texture(texture.clone()) == 0 {
             let name = args.scene.as_deref().unwrap_or("builtin:demo");
             return Err(Error::parameter(format!(
                 "--texture: no material of {name} takes an image (their colours are procedural)"
@@ -273,7 +318,7 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
     request.eye = args.eye;
     request.target = args.target;
     request.up = args.up;
-    let camera = choose_camera(&scene, &volumes, &request).map_err(|e| camera_error(&args, e))?;
+    let camera = choose_camera(&scene, &volumes, &request).map_err(|e| camera_error(args, e))?;
     // Per-volume structures (VTK builds its own in its first frame): outside the frame times.
     pool.install(|| {
         for v in &volumes {
@@ -305,11 +350,11 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
             CullArg::Back => CullMode::Back,
             CullArg::Front => CullMode::Front,
         })
-        .with_msaa(msaa)
-        .with_ssaa(ssaa)
+        .with_msaa(common.msaa)
+        .with_ssaa(common.ssaa)
         .with_unlit(args.unlit)
-        .with_textures(textures)
-        .with_shadows(shadows);
+        .with_textures(common.textures)
+        .with_shadows(common.shadows);
     settings.validate()?;
     limits::check_shadow_maps(
         shadow_map_bytes(&scene, &settings),
@@ -321,8 +366,8 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
                 scene.shadows.params.map_size
             ),
         },
-        &frame_buffers,
-        max_memory,
+        &common.frame_buffers,
+        common.max_memory,
     )?;
     // The shadow maps do not depend on the camera: drawn once for the whole turntable (the
     // stats report their time apart from the frames').
@@ -333,75 +378,88 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
     let prefilter_start = Instant::now();
     let prefiltered = pool.install(|| prefilter_environment(&scene, &settings));
     let prefilter_ms = prefilter_start.elapsed().as_secs_f64() * 1e3;
-    let output = image_out::ImageOut::new(&args, format, &short);
-    let per_frame = output.per_frame();
-    let setup_ms = setup_start.elapsed().as_secs_f64() * 1e3;
+    Ok(Prepared {
+        scene,
+        volumes,
+        camera,
+        settings,
+        shadow_maps,
+        shadow_ms,
+        prefilter_ms: prefiltered.then_some(prefilter_ms),
+        setup_ms: setup_start.elapsed().as_secs_f64() * 1e3,
+    })
+}
 
-    let mut times = Vec::with_capacity(args.frames as usize);
-    // One frame buffer for the whole sequence.
-    let mut frame = Frame::default();
-    progress.message("rendering");
-    for k in 1..=args.frames {
-        let angle = std::f32::consts::TAU * k as f32 / args.frames as f32;
-        let cam = if k == args.frames {
-            camera
+impl Prepared {
+    /// Renders turntable frame `k` (1-based) of `n` into `frame`: the camera turned about
+    /// its target by 360·(k−1)/n degrees, so frame 1 is the requested view.
+    pub fn render(
+        &self,
+        pool: &rayon::ThreadPool,
+        k: u32,
+        n: u32,
+        frame: &mut Frame,
+    ) -> Result<(), Error> {
+        let cam = if k <= 1 {
+            self.camera
         } else {
-            camera.orbit(angle)
+            self.camera
+                .orbit(std::f32::consts::TAU * (k - 1) as f32 / n as f32)
         };
-        let start = Instant::now();
         pool.install(|| {
-            if volumes.is_empty() {
-                render_into_with_shadows(&scene, &cam, &settings, &shadow_maps, &mut frame)
+            if self.volumes.is_empty() {
+                render_into_with_shadows(
+                    &self.scene,
+                    &cam,
+                    &self.settings,
+                    &self.shadow_maps,
+                    frame,
+                )
             } else {
-                frame = render_with_volumes(&scene, &volumes, &cam, &settings)?;
+                *frame = render_with_volumes(&self.scene, &self.volumes, &cam, &self.settings)?;
                 Ok(())
             }
-        })?;
-        times.push(start.elapsed().as_secs_f64() * 1e3);
-        if per_frame {
-            output.write(&frame, k)?;
-        }
-        progress.tick();
+        })
     }
-    progress.finish();
-    if times.is_empty() {
-        return Err(Error::parameter("no frame rendered"));
-    }
-    if !per_frame {
-        output.write(&frame, args.frames)?;
-    }
-    let mut sorted = times.clone();
-    sorted.sort_by(f64::total_cmp);
-    let median = if sorted.len() % 2 == 1 {
-        sorted[sorted.len() / 2]
-    } else {
-        0.5 * (sorted[sorted.len() / 2 - 1] + sorted[sorted.len() / 2])
-    };
-    if args.stats {
+
+    /// `--stats`' JSON for this input: `times` are its frames' ms, `frame` the last.
+    pub fn stats(
+        &self,
+        args: &RenderArgs,
+        common: &Common,
+        times: &[f64],
+        frame: &Frame,
+        output: &Path,
+    ) -> serde_json::Value {
+        let (min, median, max) = spread(times);
         let s = &frame.stats;
         let mut json = serde_json::json!({
             "scene": args.scene.as_deref().unwrap_or("builtin:demo"),
             "size": [frame.width, frame.height],
-            "threads": pool.current_num_threads(),
+            "threads": common.pool.current_num_threads(),
             "filter": args.filter.map(Filter::name),
-            "frames": args.frames,
-            "setup_ms": round2(setup_ms),
-            "shadow_maps_ms": round2(shadow_ms),
-            "shadow_maps": shadow_maps.lights.iter().flatten().count(),
-            "frame_ms": {"min": round2(sorted[0]), "median": round2(median), "max": round2(sorted[sorted.len() - 1])},
+            "frames": times.len(),
+            "setup_ms": round2(self.setup_ms),
+            "shadow_maps_ms": round2(self.shadow_ms),
+            "shadow_maps": self.shadow_maps.lights.iter().flatten().count(),
+            "frame_ms": {"min": round2(min), "median": round2(median), "max": round2(max)},
             "frame_ms_all": times.iter().map(|&t| round2(t)).collect::<Vec<_>>(),
             "triangles_submitted": s.triangles_submitted,
             "triangles_after_clip": s.triangles_after_clip,
             "pixels_shaded": s.pixels_shaded,
             "texture_samples": s.texture_samples,
-            "output": output.path,
-            "format": output.format.extension(),
+            "output": output,
+            "format": common.format.extension(),
         });
-        if prefiltered {
-            json["env_prefilter_ms"] = serde_json::json!(round2(prefilter_ms));
+        if let Some(ms) = self.prefilter_ms {
+            json["env_prefilter_ms"] = serde_json::json!(round2(ms));
         }
-        if !volumes.is_empty() {
-            json["volumes"] = crate::volume::stats_json(&volumes);
+        if let Some(kb) = limits::peak_rss_kib() {
+            json["peak_rss_kib"] = serde_json::json!(kb);
+        }
+        if !self.volumes.is_empty() {
+            let camera = self.camera;
+            json["volumes"] = crate::volume::stats_json(&self.volumes);
             json["camera"] = serde_json::json!({
                 "eye": camera.eye.to_array(), "target": camera.target.to_array(),
                 "up": camera.up.to_array(), "fov_y_deg": camera.projection.fov_y_deg(),
@@ -411,19 +469,24 @@ pub fn run(args: RenderArgs) -> Result<(), Error> {
                 },
             });
         }
-        crate::output::stdout(&format!("{json}\n"))?;
-    } else if !args.quiet {
-        crate::output::stderr_line(&format!(
-            "wrote {} ({}x{}, {} frame{}, median {:.1} ms/frame)",
-            output.path.display(),
-            frame.width,
-            frame.height,
-            args.frames,
-            if args.frames == 1 { "" } else { "s" },
-            median
-        ));
+        json
     }
-    Ok(())
+}
+
+/// Min, median and max of `times` (zeros when empty).
+pub(super) fn spread(times: &[f64]) -> (f64, f64, f64) {
+    if times.is_empty() {
+        return (0.0, 0.0, 0.0);
+    }
+    let mut sorted = times.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let n = sorted.len();
+    let median = if n % 2 == 1 {
+        sorted[n / 2]
+    } else {
+        0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
+    };
+    (sorted[0], median, sorted[n - 1])
 }
 
 /// Lays `--env` (the map, replacing the scene's) and the environment flags over the scene's
