@@ -8,6 +8,7 @@ mod info;
 mod output;
 mod progress;
 mod render;
+mod sdf;
 mod volume;
 
 use std::process::ExitCode;
@@ -34,6 +35,9 @@ enum Command {
     Info(info::InfoArgs),
     /// Write one image of a texture (PNG, JPEG, TGA, BMP, HDR, EXR, DDS, KTX, KTX2) as PNG or EXR.
     Convert(convert::ConvertArgs),
+    /// Build a signed distance field (negative inside) from a mesh or a thresholded scan, as
+    /// NIfTI or NRRD.
+    Sdf(sdf::SdfArgs),
 }
 
 fn main() -> ExitCode {
@@ -44,6 +48,7 @@ fn main() -> ExitCode {
         Command::Bake(args) => bake::run(args),
         Command::Info(args) => info::run(args),
         Command::Convert(args) => convert::run(args),
+        Command::Sdf(args) => sdf::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,4 +1,4 @@
-//! Writing what the command line produces: images atomically (a temporary file beside the
+//! Writing what the command line produces: images and distance fields atomically (a temporary file beside the
 //! target, created exclusively, then a rename, so a failed or interrupted write never leaves
 //! a partial file or clobbers the old one), and text to stdout and stderr without panicking.
 //!
@@ -66,6 +66,42 @@ pub fn write_image(path: &Path, format: OutputFormat, picture: &Picture) -> Resu
         }
         Target::File(p) => p,
     };
+    replace_atomically(&path, |file| {
+        formats::encode_seekable(file, &path, format, picture)
+    })
+}
+
+/// Writes `bytes` at `path` (a distance field's file): atomically for a file, through for a
+/// FIFO or a device, to stdout for `-` (see the module docs).
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    let path = match target(path)? {
+        Target::Stdout => {
+            let mut out = std::io::stdout().lock();
+            return out
+                .write_all(bytes)
+                .and_then(|()| out.flush())
+                .map_err(|e| Error::io("stdout", e));
+        }
+        Target::Stream(p) => {
+            return std::fs::OpenOptions::new()
+                .write(true)
+                .open(&p)
+                .and_then(|mut f| f.write_all(bytes))
+                .map_err(|e| Error::io(&p, e));
+        }
+        Target::File(p) => p,
+    };
+    replace_atomically(&path, |file| {
+        file.write_all(bytes).map_err(|e| Error::io(&path, e))
+    })
+}
+
+/// Writes a temporary file beside `path` with `write`, then renames it over `path`; on any
+/// failure the temporary file is removed and `path` is left as it was.
+fn replace_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut std::fs::File) -> Result<(), Error>,
+) -> Result<(), Error> {
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
@@ -86,9 +122,9 @@ pub fn write_image(path: &Path, format: OutputFormat, picture: &Picture) -> Resu
         .map_err(|e| Error::io(&tmp, e))?;
     let result = (|| {
         let mut file = file;
-        formats::encode_seekable(&mut file, &path, format, picture)?;
-        file.sync_all().map_err(|e| Error::io(&path, e))?;
-        std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))
+        write(&mut file)?;
+        file.sync_all().map_err(|e| Error::io(path, e))?;
+        std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);

@@ -8,7 +8,7 @@
 mod args;
 mod checks;
 mod image_out;
-mod limits;
+pub(crate) mod limits;
 
 pub use args::{parse_size, RenderArgs};
 use args::{ColorSpaceArg, CullArg, InterpArg, ShadingArg, Switch, VisibilityArg};

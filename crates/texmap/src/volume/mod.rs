@@ -49,7 +49,9 @@ pub use bricks::{Bricks, BRICK};
 pub use framing::vtk_camera_for_bounds;
 pub use grid::Volume;
 pub use iso::iso_hit;
-pub use load::{load_scalars_with, load_volume, load_volume_with, RawDesc, ScalarGrid, VolumeOptions};
+pub use load::{
+    load_scalars_with, load_volume, load_volume_with, RawDesc, ScalarGrid, VolumeOptions,
+};
 pub use params::{Classification, MarchParams, Mode, MAX_SAMPLES_PER_RAY};
 pub use raymarch::raymarch;
 pub use rays::{camera_ray, ray_distances_from_depth};

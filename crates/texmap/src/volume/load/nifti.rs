@@ -6,7 +6,10 @@ use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 
 use super::super::grid::Volume;
 use super::super::scalar_type::ScalarType;
-use super::{check_budget, check_dims, decode_voxels, gunzip, checked_grid, make_volume, ScalarGrid, VolumeOptions};
+use super::{
+    check_budget, check_dims, checked_grid, decode_voxels, gunzip, make_volume, ScalarGrid,
+    VolumeOptions,
+};
 use crate::{Error, Result};
 
 /// Reads a NIfTI-1 single file (`.nii`, optionally gzipped): `scl_slope`/`scl_inter` applied

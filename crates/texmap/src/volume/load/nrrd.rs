@@ -6,7 +6,10 @@ use glam::{Mat4, Vec3, Vec4};
 
 use super::super::grid::Volume;
 use super::super::scalar_type::ScalarType;
-use super::{check_budget, check_dims, decode_voxels, gunzip, checked_grid, make_volume, ScalarGrid, VolumeOptions};
+use super::{
+    check_budget, check_dims, checked_grid, decode_voxels, gunzip, make_volume, ScalarGrid,
+    VolumeOptions,
+};
 use crate::{Error, Result};
 
 /// Reads a NRRD file with an attached (`.nrrd`) or detached (`.nhdr` + `data file:`) header;

@@ -6,7 +6,8 @@ use glam::Mat4;
 
 use super::super::grid::Volume;
 use super::{
-    check_budget, check_dims, decode_voxels, checked_grid, make_volume, ScalarGrid, read_maybe_gzip, RawDesc, VolumeOptions,
+    check_budget, check_dims, checked_grid, decode_voxels, make_volume, read_maybe_gzip, RawDesc,
+    ScalarGrid, VolumeOptions,
 };
 use crate::{Error, Result};
 

@@ -97,12 +97,15 @@ impl Shape {
 pub fn shape_field(shape: &Shape, grid: &FieldGrid) -> Field {
     let [nx, ny, _] = grid.dims.map(|d| d as usize);
     let mut values = vec![0.0f32; grid.voxel_count() as usize];
-    values.par_chunks_mut(nx).enumerate().for_each(|(row, out)| {
-        let (j, k) = ((row % ny) as u32, (row / ny) as u32);
-        for (i, v) in out.iter_mut().enumerate() {
-            *v = shape.distance(grid.point(i as u32, j, k)) as f32;
-        }
-    });
+    values
+        .par_chunks_mut(nx)
+        .enumerate()
+        .for_each(|(row, out)| {
+            let (j, k) = ((row % ny) as u32, (row / ny) as u32);
+            for (i, v) in out.iter_mut().enumerate() {
+                *v = shape.distance(grid.point(i as u32, j, k)) as f32;
+            }
+        });
     Field {
         grid: *grid,
         values,

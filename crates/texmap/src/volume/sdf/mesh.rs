@@ -149,13 +149,7 @@ pub fn mesh_field(tris: &Triangles, grid: &FieldGrid) -> Result<(Field, MeshFiel
 }
 
 /// One row of voxels from `start` in steps of `step`; returns the winding numbers evaluated.
-fn fill_row(
-    bvh: &Bvh,
-    winding: &Winding,
-    start: glam::DVec3,
-    step: Vec3,
-    out: &mut [f32],
-) -> u64 {
+fn fill_row(bvh: &Bvh, winding: &Winding, start: glam::DVec3, step: Vec3, out: &mut [f32]) -> u64 {
     let mut guess = (f32::INFINITY, 0u32);
     // The last voxel whose sign was evaluated: its point, squared distance, and inside.
     let mut signed: Option<(Vec3A, f32, bool)> = None;

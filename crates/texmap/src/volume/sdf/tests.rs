@@ -8,7 +8,14 @@ use crate::volume::{load_scalars_with, load_volume, ScalarType, VolumeOptions};
 
 /// An octahedron subdivided `levels` times and pushed onto the sphere of radius `r`.
 fn sphere_mesh(r: f32, levels: u32) -> Vec<[Vec3; 3]> {
-    let v = [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z];
+    let v = [
+        Vec3::X,
+        Vec3::NEG_X,
+        Vec3::Y,
+        Vec3::NEG_Y,
+        Vec3::Z,
+        Vec3::NEG_Z,
+    ];
     let mut tris: Vec<[Vec3; 3]> = [
         (0, 2, 4),
         (2, 1, 4),
@@ -329,17 +336,32 @@ fn fields_read_back_through_the_volume_loader() {
     std::fs::create_dir_all(&dir).unwrap();
     for name in ["f.nii", "f.nii.gz", "f.nrrd"] {
         let path = dir.join(name);
-        let bytes = FieldFormat::for_path(&path).unwrap().encode(&field).unwrap();
+        let bytes = FieldFormat::for_path(&path)
+            .unwrap()
+            .encode(&field)
+            .unwrap();
         std::fs::write(&path, bytes).unwrap();
         let v = load_volume(&path, None).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(v.dims(), grid.dims, "{name}");
         assert_eq!(v.scalar_type(), Some(ScalarType::F32), "{name}");
-        assert!(v.world_from_voxel().abs_diff_eq(grid.world_from_voxel_f32(), 1e-6), "{name}");
-        assert!((v.spacing() - Vec3::new(0.5, 0.75, 1.25)).abs().max_element() < 1e-6);
+        assert!(
+            v.world_from_voxel()
+                .abs_diff_eq(grid.world_from_voxel_f32(), 1e-6),
+            "{name}"
+        );
+        assert!(
+            (v.spacing() - Vec3::new(0.5, 0.75, 1.25))
+                .abs()
+                .max_element()
+                < 1e-6
+        );
         for (k, &want) in field.values.iter().enumerate() {
             let (i, j, l) = (k % 7, (k / 7) % 5, k / 35);
             let got = v.voxel(i as u32, j as u32, l as u32);
-            assert!((got - want).abs() <= v.value_step(), "{name} {k}: {got} vs {want}");
+            assert!(
+                (got - want).abs() <= v.value_step(),
+                "{name} {k}: {got} vs {want}"
+            );
         }
         // The values themselves, exactly.
         let s = load_scalars_with(&path, None, &VolumeOptions::default()).unwrap();

@@ -169,10 +169,26 @@ mod tests {
                     let bc = ((t.b + t.c) * 0.5).normalize();
                     let ca = ((t.c + t.a) * 0.5).normalize();
                     [
-                        Tri { a: t.a, b: ab, c: ca },
-                        Tri { a: ab, b: t.b, c: bc },
-                        Tri { a: ca, b: bc, c: t.c },
-                        Tri { a: ab, b: bc, c: ca },
+                        Tri {
+                            a: t.a,
+                            b: ab,
+                            c: ca,
+                        },
+                        Tri {
+                            a: ab,
+                            b: t.b,
+                            c: bc,
+                        },
+                        Tri {
+                            a: ca,
+                            b: bc,
+                            c: t.c,
+                        },
+                        Tri {
+                            a: ab,
+                            b: bc,
+                            c: ca,
+                        },
                     ]
                 })
                 .collect();
@@ -193,8 +209,8 @@ mod tests {
         let mut worst = 0.0f32;
         for _ in 0..400 {
             let q = Vec3A::new(rnd(), rnd(), rnd());
-            let exact: f32 = tris.iter().map(|t| solid_angle(t, q)).sum::<f32>()
-                / (4.0 * std::f32::consts::PI);
+            let exact: f32 =
+                tris.iter().map(|t| solid_angle(t, q)).sum::<f32>() / (4.0 * std::f32::consts::PI);
             let fast = w.at(&bvh, q);
             worst = worst.max((fast - exact).abs());
             // The tessellated sphere's inside, away from the facets' chords.
@@ -219,10 +235,18 @@ mod tests {
         }
         let bvh = Bvh::build(&tris);
         let w = Winding::new(&bvh);
-        for q in [Vec3A::ZERO, Vec3A::new(0.3, -0.2, 0.5), Vec3A::new(0.0, 0.0, -0.8)] {
+        for q in [
+            Vec3A::ZERO,
+            Vec3A::new(0.3, -0.2, 0.5),
+            Vec3A::new(0.0, 0.0, -0.8),
+        ] {
             assert!(w.at(&bvh, q) > 0.5, "{q}");
         }
-        for q in [Vec3A::new(0.0, 0.0, 1.5), Vec3A::new(1.3, 0.4, 0.0), Vec3A::splat(3.0)] {
+        for q in [
+            Vec3A::new(0.0, 0.0, 1.5),
+            Vec3A::new(1.3, 0.4, 0.0),
+            Vec3A::splat(3.0),
+        ] {
             assert!(w.at(&bvh, q) < 0.5, "{q}");
         }
     }
