@@ -23,6 +23,8 @@
 //!   mode (`composite`, `intensity`, `iso`) and the frame loop (`raymarch`);
 //! - the other method, view-aligned slices ([`slice`](mod@slice)), and a volume as a scene
 //!   holds it ([`scene_volume`]).
+//! - signed distance fields ([`sdf`]): built from meshes, scans and analytic shapes, written
+//!   as files the loaders read back; a field becomes a [`Volume`] to be rendered.
 
 mod bricks;
 mod cell;
