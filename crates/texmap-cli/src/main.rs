@@ -10,6 +10,7 @@ mod manifest;
 mod output;
 mod progress;
 mod render;
+mod sdf;
 mod signals;
 mod volume;
 
@@ -39,6 +40,9 @@ enum Command {
     Convert(convert::ConvertArgs),
     /// Check a batch's manifests: every output's bytes and SHA-256, no frame missing or twice.
     Manifest(manifest::verify::ManifestArgs),
+    /// Build a signed distance field (negative inside) from a mesh or a thresholded scan, as
+    /// NIfTI or NRRD.
+    Sdf(sdf::SdfArgs),
 }
 
 fn main() -> ExitCode {
@@ -56,6 +60,7 @@ fn main() -> ExitCode {
         Command::Bake(args) => bake::run(args).map(|()| None),
         Command::Info(args) => info::run(args).map(|()| None),
         Command::Convert(args) => convert::run(args).map(|()| None),
+        Command::Sdf(args) => sdf::run(args).map(|()| None),
     };
     match result {
         Ok(code) => code.unwrap_or(ExitCode::SUCCESS),

@@ -65,6 +65,24 @@ pub fn write_image(path: &Path, format: OutputFormat, picture: &Picture) -> Resu
     }
 }
 
+/// Writes `bytes` at `path` (a distance field's file): atomically for a file, through for a
+/// FIFO or a device, to stdout for `-` (see the module docs).
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    use std::io::Write as _;
+    match Sink::open(path)? {
+        Sink::File(mut file) => {
+            file.file
+                .write_all(bytes)
+                .map_err(|e| Error::io(&file.path, e))?;
+            file.commit()
+        }
+        Sink::Stream(mut w, p) => w
+            .write_all(bytes)
+            .and_then(|()| w.flush())
+            .map_err(|e| Error::io(&p, e)),
+    }
+}
+
 /// Where an output's bytes go: a temporary file renamed into place by
 /// [`AtomicFile::commit`], or a stream (stdout, a FIFO, a device) written through.
 pub enum Sink {

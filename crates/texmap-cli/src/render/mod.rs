@@ -10,7 +10,7 @@ mod batch;
 mod checks;
 mod complete;
 mod image_out;
-mod limits;
+pub(crate) mod limits;
 mod naming;
 mod plan;
 mod shard;

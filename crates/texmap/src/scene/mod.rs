@@ -139,6 +139,29 @@ impl Default for Scene {
 }
 
 impl Scene {
+    /// Every triangle of every mesh in world space (each mesh's `world_from_object`
+    /// applied), in mesh and index order: the input of a mesh distance field
+    /// ([`crate::volume::sdf::mesh_field`]). Triangles with an index out of range or a
+    /// non-finite corner are left out.
+    #[must_use]
+    pub fn world_triangles(&self) -> crate::volume::sdf::Triangles {
+        let mut out = crate::volume::sdf::Triangles::new();
+        for mesh in &self.meshes {
+            let m = mesh.world_from_object;
+            for t in mesh.indices.chunks_exact(3) {
+                let corner = |i: u32| {
+                    mesh.positions
+                        .get(i as usize)
+                        .map(|&p| m.transform_point3(p))
+                };
+                if let (Some(a), Some(b), Some(c)) = (corner(t[0]), corner(t[1]), corner(t[2])) {
+                    out.push([a, b, c]);
+                }
+            }
+        }
+        out
+    }
+
     /// World-space bounding box of every vertex (min, max); `(0, 0)` for an empty scene.
     #[must_use]
     pub fn bounds(&self) -> (Vec3, Vec3) {

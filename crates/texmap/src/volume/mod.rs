@@ -23,6 +23,8 @@
 //!   mode (`composite`, `intensity`, `iso`) and the frame loop (`raymarch`);
 //! - the other method, view-aligned slices ([`slice`](mod@slice)), and a volume as a scene
 //!   holds it ([`scene_volume`]).
+//! - signed distance fields ([`sdf`]): built from meshes, scans and analytic shapes, written
+//!   as files the loaders read back; a field becomes a [`Volume`] to be rendered.
 
 mod bricks;
 mod cell;
@@ -40,6 +42,7 @@ mod raymarch;
 mod rays;
 mod scalar_type;
 pub mod scene_volume;
+pub mod sdf;
 mod shade;
 pub mod slice;
 pub mod transfer;
@@ -48,7 +51,9 @@ pub use bricks::{Bricks, BRICK};
 pub use framing::vtk_camera_for_bounds;
 pub use grid::Volume;
 pub use iso::iso_hit;
-pub use load::{load_volume, load_volume_with, RawDesc, VolumeOptions};
+pub use load::{
+    load_scalars_with, load_volume, load_volume_with, RawDesc, ScalarGrid, VolumeOptions,
+};
 pub use params::{Classification, MarchParams, Mode, MAX_SAMPLES_PER_RAY};
 pub use raymarch::raymarch;
 pub use rays::{camera_ray, ray_distances_from_depth};

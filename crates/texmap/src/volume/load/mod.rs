@@ -112,20 +112,7 @@ pub fn load_volume_with(
     raw: Option<&RawDesc>,
     options: &VolumeOptions,
 ) -> Result<Volume> {
-    let name = path.to_string_lossy().to_ascii_lowercase();
-    if name.ends_with(".nii") || name.ends_with(".nii.gz") {
-        load_nifti_with(path, options)
-    } else if name.ends_with(".nrrd") || name.ends_with(".nhdr") {
-        load_nrrd_with(path, options)
-    } else {
-        let desc = raw.ok_or_else(|| {
-            Error::decode(
-                path,
-                "a raw volume needs its grid: --dims X,Y,Z --dtype TYPE [--spacing x,y,z]",
-            )
-        })?;
-        load_raw_with(path, desc, options)
-    }
+    make_volume(path, load_scalars_with(path, raw, options)?)
 }
 
 /// Reads a whole file of at most `max_bytes`, gunzipping it to at most `max_inflated` when
@@ -223,18 +210,78 @@ fn decode_voxels(
     Ok(v)
 }
 
-fn make_volume(
+/// A grid as a file holds it: its size, placement and values (after the file's scale and
+/// offset), exactly as read, before the 16-bit levels a [`Volume`] keeps. What needs the
+/// values themselves (a threshold, a distance transform) reads this.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct ScalarGrid {
+    /// Voxels per axis.
+    pub dims: [u32; 3],
+    /// Voxel `(i, j, k)`'s centre is `world_from_voxel · (i, j, k, 1)`.
+    pub world_from_voxel: Mat4,
+    /// `dims[0]·dims[1]·dims[2]` finite values, x fastest.
+    pub values: Vec<f32>,
+    /// The file's voxel type.
+    pub scalar_type: ScalarType,
+}
+
+impl ScalarGrid {
+    /// The voxel spacing: the lengths of the transform's first three columns.
+    #[must_use]
+    pub fn spacing(&self) -> Vec3 {
+        let m = &self.world_from_voxel;
+        Vec3::new(
+            m.x_axis.truncate().length(),
+            m.y_axis.truncate().length(),
+            m.z_axis.truncate().length(),
+        )
+    }
+}
+
+/// Loads a volume file's values as read, choosing the reader as [`load_volume_with`] does.
+///
+/// # Errors
+/// As [`load_volume`].
+pub fn load_scalars_with(
+    path: &Path,
+    raw: Option<&RawDesc>,
+    options: &VolumeOptions,
+) -> Result<ScalarGrid> {
+    let name = path.to_string_lossy().to_ascii_lowercase();
+    if name.ends_with(".nii") || name.ends_with(".nii.gz") {
+        nifti::read_nifti(path, options)
+    } else if name.ends_with(".nrrd") || name.ends_with(".nhdr") {
+        nrrd::read_nrrd(path, options)
+    } else {
+        let desc = raw.ok_or_else(|| {
+            Error::decode(
+                path,
+                "a raw volume needs its grid: --dims X,Y,Z --dtype TYPE [--spacing x,y,z]",
+            )
+        })?;
+        raw::read_raw(path, desc, options)
+    }
+}
+
+/// A grid whose placement keeps every voxel within [`MAX_WORLD_REACH`] of the origin.
+fn checked_grid(
     path: &Path,
     dims: [u32; 3],
     m: Mat4,
     values: Vec<f32>,
     ty: ScalarType,
-) -> Result<Volume> {
-    let mut v =
-        Volume::from_scalars(dims, m, values).map_err(|e| Error::decode(path, e.to_string()))?;
-    v.set_scalar_type(ty);
-    let (lo, hi) = v.world_bounds();
-    let reach = lo.abs().max(hi.abs()).max_element();
+) -> Result<ScalarGrid> {
+    let n = dims.map(|d| d.saturating_sub(1) as f32);
+    let mut reach = 0.0f32;
+    for c in 0..8 {
+        let v = Vec3::new(
+            if c & 1 == 0 { 0.0 } else { n[0] },
+            if c & 2 == 0 { 0.0 } else { n[1] },
+            if c & 4 == 0 { 0.0 } else { n[2] },
+        );
+        reach = reach.max(m.transform_point3(v).abs().max_element());
+    }
     if !(reach <= MAX_WORLD_REACH) {
         return Err(Error::decode(
             path,
@@ -244,6 +291,18 @@ fn make_volume(
             ),
         ));
     }
+    Ok(ScalarGrid {
+        dims,
+        world_from_voxel: m,
+        values,
+        scalar_type: ty,
+    })
+}
+
+fn make_volume(path: &Path, grid: ScalarGrid) -> Result<Volume> {
+    let mut v = Volume::from_scalars(grid.dims, grid.world_from_voxel, grid.values)
+        .map_err(|e| Error::decode(path, e.to_string()))?;
+    v.set_scalar_type(grid.scalar_type);
     Ok(v)
 }
 

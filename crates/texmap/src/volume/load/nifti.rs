@@ -6,7 +6,10 @@ use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 
 use super::super::grid::Volume;
 use super::super::scalar_type::ScalarType;
-use super::{check_budget, check_dims, decode_voxels, gunzip, make_volume, VolumeOptions};
+use super::{
+    check_budget, check_dims, checked_grid, decode_voxels, gunzip, make_volume, ScalarGrid,
+    VolumeOptions,
+};
 use crate::{Error, Result};
 
 /// Reads a NIfTI-1 single file (`.nii`, optionally gzipped): `scl_slope`/`scl_inter` applied
@@ -24,6 +27,11 @@ pub fn load_nifti(path: &Path) -> Result<Volume> {
 /// # Errors
 /// See [`load_volume`](super::load_volume).
 pub fn load_nifti_with(path: &Path, options: &VolumeOptions) -> Result<Volume> {
+    make_volume(path, read_nifti(path, options)?)
+}
+
+/// The file's grid with its values as read (see [`ScalarGrid`](super::ScalarGrid)).
+pub(super) fn read_nifti(path: &Path, options: &VolumeOptions) -> Result<ScalarGrid> {
     let file = crate::files::read_bounded(path, options.max_bytes)?;
     let bytes = if file.starts_with(&[0x1f, 0x8b]) {
         // Size the data from the header before inflating it: a small file of zeros must not
@@ -167,7 +175,7 @@ pub fn load_nifti_with(path: &Path, options: &VolumeOptions) -> Result<Volume> {
         options.max_bytes,
     )?;
     let values = decode_voxels(path, &bytes[off..], ty, big, count, slope, inter)?;
-    make_volume(path, dims, m, values, ty)
+    checked_grid(path, dims, m, values, ty)
 }
 
 /// From a NIfTI-1 header alone: the voxel count, type, and where the first volume's data

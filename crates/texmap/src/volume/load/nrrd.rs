@@ -6,7 +6,10 @@ use glam::{Mat4, Vec3, Vec4};
 
 use super::super::grid::Volume;
 use super::super::scalar_type::ScalarType;
-use super::{check_budget, check_dims, decode_voxels, gunzip, make_volume, VolumeOptions};
+use super::{
+    check_budget, check_dims, checked_grid, decode_voxels, gunzip, make_volume, ScalarGrid,
+    VolumeOptions,
+};
 use crate::{Error, Result};
 
 /// Reads a NRRD file with an attached (`.nrrd`) or detached (`.nhdr` + `data file:`) header;
@@ -24,6 +27,11 @@ pub fn load_nrrd(path: &Path) -> Result<Volume> {
 /// # Errors
 /// See [`load_volume`](super::load_volume).
 pub fn load_nrrd_with(path: &Path, options: &VolumeOptions) -> Result<Volume> {
+    make_volume(path, read_nrrd(path, options)?)
+}
+
+/// The file's grid with its values as read (see [`ScalarGrid`](super::ScalarGrid)).
+pub(super) fn read_nrrd(path: &Path, options: &VolumeOptions) -> Result<ScalarGrid> {
     let bytes = crate::files::read_bounded(path, options.max_bytes)?;
     if !bytes.starts_with(b"NRRD000") {
         return Err(Error::decode(path, "not a NRRD file (no NRRD000x magic)"));
@@ -227,5 +235,5 @@ pub fn load_nrrd_with(path: &Path, options: &VolumeOptions) -> Result<Volume> {
         ));
     }
     let values = decode_voxels(&data_path, data, ty, big, count, 1.0, 0.0)?;
-    make_volume(path, dims, m, values, ty)
+    checked_grid(path, dims, m, values, ty)
 }

@@ -6,7 +6,8 @@ use glam::Mat4;
 
 use super::super::grid::Volume;
 use super::{
-    check_budget, check_dims, decode_voxels, make_volume, read_maybe_gzip, RawDesc, VolumeOptions,
+    check_budget, check_dims, checked_grid, decode_voxels, make_volume, read_maybe_gzip, RawDesc,
+    ScalarGrid, VolumeOptions,
 };
 use crate::{Error, Result};
 
@@ -24,6 +25,11 @@ pub fn load_raw(path: &Path, desc: &RawDesc) -> Result<Volume> {
 /// # Errors
 /// See [`load_volume`](super::load_volume).
 pub fn load_raw_with(path: &Path, desc: &RawDesc, options: &VolumeOptions) -> Result<Volume> {
+    make_volume(path, read_raw(path, desc, options)?)
+}
+
+/// The file's grid with its values as read (see [`ScalarGrid`](super::ScalarGrid)).
+pub(super) fn read_raw(path: &Path, desc: &RawDesc, options: &VolumeOptions) -> Result<ScalarGrid> {
     let dims = check_dims(path, &desc.dims.map(i64::from))?;
     let count: usize = dims.iter().map(|&d| d as usize).product();
     check_budget(path, count as u64, desc.scalar, 0, options.max_bytes)?;
@@ -69,5 +75,5 @@ pub fn load_raw_with(path: &Path, desc: &RawDesc, options: &VolumeOptions) -> Re
         return Err(Error::parameter(format!("--spacing {s} must be positive")));
     }
     let values = decode_voxels(path, data, desc.scalar, desc.big_endian, count, 1.0, 0.0)?;
-    make_volume(path, dims, Mat4::from_scale(s), values, desc.scalar)
+    checked_grid(path, dims, Mat4::from_scale(s), values, desc.scalar)
 }
