@@ -45,7 +45,7 @@ impl Texture2D {
     /// every texel's alpha reads 1.
     ///
     /// # Errors
-    /// [`Error::Parameter`] for a zero side, a level of the wrong byte count, or a chain
+    /// [`crate::Error::Parameter`] for a zero side, a level of the wrong byte count, or a chain
     /// neither one level nor complete.
     pub fn from_blocks(
         width: u32,
