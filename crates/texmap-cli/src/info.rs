@@ -119,7 +119,14 @@ fn describe_texture_file(f: &TextureFile) -> String {
     } else {
         "8-bit, colour space unstated"
     };
-    outln!(out, "  format {} ({space})", f.format().name());
+    match f.transcoded_from() {
+        Some(codec) => outln!(
+            out,
+            "  Basis Universal {codec}, transcoded to {} ({space})",
+            f.format().name()
+        ),
+        None => outln!(out, "  format {} ({space})", f.format().name()),
+    }
     outln!(
         out,
         "  {}x{}, depth {}, {}{}, {}, {}",

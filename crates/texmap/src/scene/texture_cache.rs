@@ -5,8 +5,9 @@
 //!
 //! Rules: image limits (size, decoded bytes) are never relaxed by `--lenient`: an image over
 //! them is an error. DDS, KTX and KTX2 files (told by their magic bytes) load through
-//! [`crate::texture::container`]. Formats texmap cannot decode (WebP, `.basis`, KTX2 holding
-//! Basis Universal) are a warning and the channel is left out, not an error, as in the peer.
+//! [`crate::texture::container`] (KTX2 holding Basis Universal is transcoded there). Formats
+//! texmap cannot decode (WebP, `.basis` files, a container format it does not support) are a
+//! warning and the channel is left out, not an error, as in the peer.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -87,7 +88,7 @@ impl TextureCache {
 
     /// The texture `key` names (a file path, or an index inside the asset), decoded from
     /// `source` in `color_space`; `None` when the image format is one texmap cannot decode
-    /// (WebP, Basis Universal KTX2: a warning, the channel reads as absent), or an error for a
+    /// (WebP, `.basis`: a warning, the channel reads as absent), or an error for a
     /// missing/corrupt image unless lenient (then a magenta placeholder).
     pub fn get(
         &mut self,
@@ -143,7 +144,7 @@ impl TextureCache {
         let (tex, placeholder) = match result {
             Ok(t) => (Arc::new(t), false),
             Err(Error::Unsupported(e)) => {
-                // Basis Universal: left out, as an image format texmap cannot decode.
+                // A format texmap does not decode: left out, as the peer leaves it.
                 self.warnings.push(format!("{e}; the texture is left out"));
                 self.cache.insert(key, None);
                 return Ok(None);

@@ -27,6 +27,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_ior",
     "KHR_mesh_quantization",
     "MSFT_texture_dds",
+    "KHR_texture_basisu",
 ];
 
 /// Loads a `.gltf` or `.glb` file.

@@ -3,9 +3,10 @@
 //! space and alpha handling), the sampler mapped straight onto texmap's OpenGL filters and wraps (undefined
 //! filters are trilinear, undefined wraps repeat), the uv set, and `KHR_texture_transform`
 //! as [`TextureTransform`] — on every texture, normal and occlusion ones included. KTX2 and
-//! DDS images load through the texture containers (KTX2 holding Basis Universal is a warning
-//! and the channel is left out); WebP images are a warning and left out, as in the peer.
-//! A texture with `MSFT_texture_dds` reads its DDS image, in place of the fallback `source`.
+//! DDS images load through the texture containers (KTX2 holding Basis Universal is
+//! transcoded); WebP images are a warning and left out, as in the peer.
+//! A texture with `MSFT_texture_dds` or `KHR_texture_basisu` reads the DDS or KTX2 image its
+//! extension names, in place of the fallback `source`.
 
 use std::sync::Arc;
 
@@ -32,7 +33,10 @@ impl Loader<'_> {
         color_space: ColorSpace,
         alpha: AlphaChannel,
     ) -> Result<Option<TextureSlot>> {
-        let image = dds_source(self.doc, tex).unwrap_or_else(|| tex.source());
+        let image = [DDS, BASISU]
+            .into_iter()
+            .find_map(|ext| extension_source(self.doc, tex, ext))
+            .unwrap_or_else(|| tex.source());
         let Some(texture) = self.image(&image, color_space, alpha)? else {
             return Ok(None);
         };
@@ -116,12 +120,18 @@ impl Loader<'_> {
     }
 }
 
-pub(super) const DDS: &str = "MSFT_texture_dds";
+const DDS: &str = "MSFT_texture_dds";
+const BASISU: &str = "KHR_texture_basisu";
 
-/// The DDS image a texture names in `MSFT_texture_dds` (`None` without the extension, or
-/// when its `source` names no image: the texture's own `source` is then read).
-fn dds_source<'a>(doc: &'a gltf::Document, tex: &gltf::Texture) -> Option<gltf::Image<'a>> {
-    let index = tex.extension_value(DDS)?.get("source")?.as_u64()?;
+/// The image a texture names in the image extension `ext` (`MSFT_texture_dds`,
+/// `KHR_texture_basisu`); `None` without the extension, or when its `source` names no image:
+/// the texture's own `source` is then read.
+fn extension_source<'a>(
+    doc: &'a gltf::Document,
+    tex: &gltf::Texture,
+    ext: &str,
+) -> Option<gltf::Image<'a>> {
+    let index = tex.extension_value(ext)?.get("source")?.as_u64()?;
     doc.images().nth(usize::try_from(index).ok()?)
 }
 

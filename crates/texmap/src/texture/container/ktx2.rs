@@ -8,8 +8,8 @@
 //! file can hold. The key/value data is not read. Inside a level: layers, each with its faces,
 //! each with its depth slices, rows packed. Supercompressed levels are inflated at most to the
 //! size the header's shape gives them (checked against the index's `uncompressedByteLength`
-//! and the limits first). Basis Universal (ETC1S through BasisLZ, UASTC) is refused: no
-//! transcoder is built in.
+//! and the limits first). Basis Universal (ETC1S through BasisLZ, UASTC) is transcoded to
+//! RGBA8 when read (`basis.rs`).
 
 use std::io::Read as _;
 use std::ops::Range;
@@ -71,13 +71,19 @@ const UASTC: u8 = 166;
 /// The colour model of the first descriptor block, when it is a basic block inside the file:
 /// the byte after the descriptor's length (4 bytes) and the block header (8 bytes).
 fn dfd_color_model(bytes: &[u8], index: &ktx2::Index) -> Option<u8> {
+    dfd_byte(bytes, index, 12)
+}
+
+/// Byte `at` of the descriptor (12: colour model, 14: transfer function — 2 is sRGB) when
+/// its first block is a basic block inside the file.
+fn dfd_byte(bytes: &[u8], index: &ktx2::Index, at: usize) -> Option<u8> {
     let start = index.dfd_byte_offset as usize;
     let end = start.checked_add(index.dfd_byte_length as usize)?;
     let dfd = bytes.get(start..end.min(bytes.len()))?;
     let block_header = super::le32(dfd.get(..8)?, 4);
     // Vendor 0 (Khronos), descriptor type 0 (basic).
     (block_header == 0).then_some(())?;
-    dfd.get(12).copied()
+    dfd.get(at).copied()
 }
 
 /// Parses a KTX2 file (`bytes` start with its magic).
@@ -138,10 +144,11 @@ pub(super) fn parse(bytes: Vec<u8>, path: &Path, limits: &Limits) -> Result<Text
                  cannot tell its texels",
             ));
         };
-        return Err(Error::Unsupported(format!(
-            "{}: KTX2 Basis Universal ({kind}) transcoding is not supported",
-            path.display()
-        )));
+        let color_space = match dfd_byte(&bytes, &header.index, 14) {
+            Some(2) => ColorSpace::Srgb,
+            _ => ColorSpace::Linear,
+        };
+        return super::basis::transcode(&bytes, path, limits, &header, color_space, kind);
     };
     let Some((format, color_space, opaque)) = vk_format(vk) else {
         return Err(Error::decode(

@@ -20,6 +20,7 @@
 //! formats; `texture.rs` turns a file into a [`super::Texture2D`] or [`super::TextureCube`];
 //! block formats decode through [`super::compressed`].
 
+mod basis;
 mod dds;
 mod ktx;
 mod ktx2;
@@ -284,6 +285,9 @@ pub struct TextureFile {
     data: Vec<u8>,
     /// Byte ranges into `data`, at `(layer · faces + face) · levels + level`.
     images: Vec<Range<usize>>,
+    /// For a Basis Universal file, its codec ("ETC1S", "UASTC"): `data` is then the
+    /// transcoded texels.
+    transcoded_from: Option<&'static str>,
 }
 
 /// Reads and parses the texture container at `path` (DDS, KTX or KTX2, told by its magic
@@ -332,7 +336,15 @@ impl TextureFile {
             file_bytes,
             data,
             images,
+            transcoded_from: None,
         }
+    }
+
+    /// For a Basis Universal KTX2 file, its codec ("ETC1S" or "UASTC"), which was transcoded
+    /// to the RGBA8 texels this file holds; `None` for every other file.
+    #[must_use]
+    pub fn transcoded_from(&self) -> Option<&'static str> {
+        self.transcoded_from
     }
 
     /// The file's path (or the name given to [`TextureFile::from_bytes`]).
