@@ -585,18 +585,19 @@ fn ktx2_bad_input_and_basis_are_named() {
         "corrupt",
     );
     refused(ktx2(4, 2, 2, 0, 1, 0, 1, &[(ramp(8, 0), 8)]), "VkFormat 4");
-    // Basis Universal: ETC1S (BasisLZ) and UASTC (its colour model).
+    // Basis Universal, told as ETC1S (BasisLZ) and UASTC (its colour model), with no real
+    // Basis data: the transcoder refuses it, one line naming the codec.
     let e = refused(ktx2(0, 4, 4, 0, 1, 1, 163, &[(vec![0; 16], 0)]), "Basis");
     assert!(e
         .to_string()
-        .contains("KTX2 Basis Universal (ETC1S) transcoding is not supported"));
+        .contains("KTX2 Basis Universal (ETC1S) data is invalid"));
     let e = refused(
         ktx2(0, 4, 4, 0, 1, 2, 166, &[(zstd_raw(&[0; 16]), 16)]),
         "Basis",
     );
     assert!(e
         .to_string()
-        .contains("KTX2 Basis Universal (UASTC) transcoding is not supported"));
+        .contains("KTX2 Basis Universal (UASTC) data is invalid"));
     // A descriptor block dimension of 255 (which the crate's parser panics on) is harmless.
     let mut dims = ktx2(37, 2, 2, 0, 1, 0, 1, &[(l0, 16)]);
     let model_at = 80 + 24 + 12;
