@@ -65,6 +65,20 @@ impl CubeFace {
         }
     }
 
+    /// A vector's `(s, t, m)` on face `face`'s axes (the ones [`CubeFace::select`] uses for
+    /// that face, `m` signed): for a derivative of a direction whose face is known.
+    #[inline]
+    pub(crate) fn axes(face: usize, d: Vec3) -> (f32, f32, f32) {
+        match face {
+            0 => (-d.z, -d.y, d.x),
+            1 => (d.z, -d.y, -d.x),
+            2 => (d.x, d.z, d.y),
+            3 => (d.x, -d.z, -d.y),
+            4 => (d.x, -d.y, d.z),
+            _ => (-d.x, -d.y, -d.z),
+        }
+    }
+
     /// The direction (not normalised) through face coordinates `(sc, tc)` in [−1, 1] of
     /// this face (outside that range, on the face's extended plane).
     #[inline]
@@ -144,20 +158,8 @@ pub fn sample_cube(cube: &TextureCube, sampler: &Sampler, fp: &CubeFootprint) ->
 /// The face footprint of a direction footprint (derivatives by the quotient rule).
 fn face_footprint(fp: &CubeFootprint) -> (usize, Footprint) {
     let (f, sc, tc, ma) = CubeFace::select(fp.dir);
-    let face_coords = |d: Vec3| {
-        // The same axes as `select` chose, for a derivative vector.
-        let (_, s, t, m) = match f {
-            0 => (0, -d.z, -d.y, d.x),
-            1 => (1, d.z, -d.y, -d.x),
-            2 => (2, d.x, d.z, d.y),
-            3 => (3, d.x, -d.z, -d.y),
-            4 => (4, d.x, -d.y, d.z),
-            _ => (5, -d.x, -d.y, -d.z),
-        };
-        (s, t, m)
-    };
     let deriv = |dd: Vec3| {
-        let (ds, dt, dm) = face_coords(dd);
+        let (ds, dt, dm) = CubeFace::axes(f, dd);
         Vec2::new(
             (ds * ma - sc * dm) / (2.0 * ma * ma),
             (dt * ma - tc * dm) / (2.0 * ma * ma),

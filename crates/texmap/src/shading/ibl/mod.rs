@@ -42,7 +42,11 @@
 //!
 //! Reads and their footprints. Mirror reads (roughness 0) go to the map itself through the
 //! sampling engine with the reflected direction's footprint, so they filter like the base
-//! colour. Rough reads interpolate the two prefiltered levels around the roughness (weights
+//! colour. Under roughness 1/8 a rough read blends the mirror with the first GGX level; there
+//! the mirror is read from the [`MirrorCube`] (the map resampled to a mipmapped cube at its
+//! own density, read trilinearly with the same footprint rule), several times cheaper than the
+//! map's generic read, when the map's sampler is trilinear (any other filter the user asks
+//! for reads the map itself). Rough reads interpolate the two prefiltered levels around the roughness (weights
 //! linear in α², as GGX's tails grow), widened by the footprint (`α'² = α² + (w/2)²`, `w`
 //! the reflected direction's angle across a pixel): a pixel seeing more of the environment
 //! than the lobe does reads a blurrier level, which removes the sparkle at grazing angles.
@@ -63,7 +67,7 @@ use prefilter::{irradiance_cube, source_cube, specular_levels};
 #[cfg(test)]
 mod tests;
 
-pub use prefilter::FaceSet;
+pub use prefilter::{FaceSet, MirrorCube};
 pub use terms::*;
 
 /// Roughness levels prefiltered above the mirror: roughness `k/LEVELS`, `k = 1…LEVELS`.
@@ -147,6 +151,7 @@ struct Cache {
     source: OnceLock<TextureCube>,
     irradiance: OnceLock<FaceSet>,
     specular: OnceLock<Vec<FaceSet>>,
+    mirror: OnceLock<MirrorCube>,
 }
 
 impl Environment {
@@ -234,10 +239,18 @@ impl Environment {
             .get_or_init(|| specular_levels(self.source_cube()))
     }
 
+    /// The map as a [`MirrorCube`] (the sharp end of the specular reads), computed on first
+    /// use.
+    #[must_use]
+    pub fn mirror_cube(&self) -> &MirrorCube {
+        self.cache.mirror.get_or_init(|| MirrorCube::new(&self.map))
+    }
+
     /// Computes every prefiltered form now (the renderer otherwise does it on first use).
     pub fn prefilter(&self) {
         let _ = self.irradiance();
         let _ = self.specular_levels();
+        let _ = self.mirror_cube();
     }
 
     /// Checks the values: finite rotation, a finite intensity ≥ 0.

@@ -36,6 +36,14 @@ impl FaceSet {
     /// Evaluates `f` at the direction through every texel centre (apron included), in
     /// parallel.
     pub fn from_fn(n: usize, f: impl Fn(Vec3) -> Vec3 + Sync) -> Self {
+        Self::from_face_fn(n, |face, sc, tc| {
+            f(CubeFace::direction(face, sc, tc).normalize())
+        })
+    }
+
+    /// Evaluates `f(face, sc, tc)` at every texel centre's face coordinates (apron included,
+    /// so `sc` or `tc` may pass ±1 by a texel), in parallel.
+    fn from_face_fn(n: usize, f: impl Fn(usize, f32, f32) -> Vec3 + Sync) -> Self {
         let m = n + 2;
         let mut texels = vec![Vec3A::ZERO; 6 * m * m];
         texels.par_chunks_mut(m).enumerate().for_each(|(row, out)| {
@@ -43,7 +51,7 @@ impl FaceSet {
             let tc = 2.0 * (y as f32 - 0.5) / n as f32 - 1.0;
             for (x, o) in out.iter_mut().enumerate() {
                 let sc = 2.0 * (x as f32 - 0.5) / n as f32 - 1.0;
-                *o = f(CubeFace::direction(face, sc, tc).normalize()).into();
+                *o = f(face, sc, tc).into();
             }
         });
         FaceSet { n, texels }
@@ -74,7 +82,7 @@ impl FaceSet {
 
     /// The bilinear value at face coordinates `(sc, tc)` of face `f`.
     #[inline]
-    fn read_at(&self, f: usize, sc: f32, tc: f32) -> Vec3 {
+    pub(super) fn read_at(&self, f: usize, sc: f32, tc: f32) -> Vec3 {
         let n = self.n as f32;
         let m = self.n + 2;
         // Texel centre i sits at face coordinate 2(i + ½)/n − 1; the apron shifts by one.
@@ -87,6 +95,85 @@ impl FaceSet {
         let top = t[0].lerp(t[1], fx);
         let bottom = t[m].lerp(t[m + 1], fx);
         top.lerp(bottom, fy).into()
+    }
+}
+
+/// The map itself as a mip chain of [`FaceSet`]s, for the sharp reads of shading (a
+/// reflection under roughness 1/8 blends it with the first GGX level): face size the map's own
+/// density rounded up to a power of two, at most 512, each texel the map read with that
+/// texel's footprint (trilinear), down to one texel a face. A trilinear read here is a face
+/// selection and two bilinear reads of four vector loads, where the map itself (an
+/// equirectangular image in 4×4 tiles) costs a generic filtered read; the background still
+/// reads the map.
+#[derive(Clone, Debug)]
+pub struct MirrorCube {
+    levels: Vec<FaceSet>,
+}
+
+impl MirrorCube {
+    /// Resamples `map` (module docs: rayon over faces and rows).
+    pub(super) fn new(map: &EnvironmentMap) -> Self {
+        let density = (map.texels_per_steradian() * 4.0 * PI / 6.0).sqrt();
+        let n0 = (density.max(1.0) as usize).next_power_of_two().min(512);
+        let sampler = Sampler::new(Filter::TRILINEAR, Wrap::ClampToEdge);
+        let levels = std::iter::successors(Some(n0), |&n| (n > 1).then_some(n / 2))
+            .map(|n| {
+                let step = 2.0 / n as f32;
+                FaceSet::from_face_fn(n, |face, sc, tc| {
+                    let dir = CubeFace::direction(face, sc, tc);
+                    let fp = CubeFootprint {
+                        dir,
+                        ddir_dx: CubeFace::direction(face, sc + step, tc) - dir,
+                        ddir_dy: CubeFace::direction(face, sc, tc + step) - dir,
+                    };
+                    map.sample(&sampler, &fp).truncate()
+                })
+            })
+            .collect();
+        MirrorCube { levels }
+    }
+
+    /// Face size of level 0.
+    #[must_use]
+    pub fn size(&self) -> usize {
+        self.levels[0].n
+    }
+
+    /// The trilinear value along the footprint `fp` (λ by `sampler`'s rule, bias and clamps
+    /// from the face-coordinate derivatives, as the cube sampler computes them), with the
+    /// face and face coordinates it read at (for a second read at the same place).
+    #[inline]
+    #[must_use]
+    pub fn read(&self, sampler: &Sampler, fp: &CubeFootprint) -> (Vec3, (usize, f32, f32)) {
+        let (f, s, t, ma) = CubeFace::select(fp.dir);
+        if !(ma > 0.0) || !ma.is_finite() {
+            return (Vec3::ZERO, (0, 0.0, 0.0));
+        }
+        let inv = 1.0 / ma;
+        let (sc, tc) = (s * inv, t * inv);
+        // d(s/m) = (ds − (s/m)·dm)/m, in level-0 texels (a face is 2 units across).
+        let k = 0.5 * self.levels[0].n as f32 * inv;
+        let texels = |dd: Vec3| {
+            let (ds, dt, dm) = CubeFace::axes(f, dd);
+            glam::Vec2::new((ds - sc * dm) * k, (dt - tc * dm) * k)
+        };
+        let (dx, dy) = (texels(fp.ddir_dx), texels(fp.ddir_dy));
+        let lod = if dx.length_squared().max(dy.length_squared()) > 0.0 {
+            sampler.adjust_lod(sampler.lod_rule.lod(dx, dy))
+        } else {
+            sampler.adjust_lod(f32::NEG_INFINITY)
+        };
+        let top = (self.levels.len() - 1) as f32;
+        let lod = if lod > 0.0 { lod.min(top) } else { 0.0 };
+        let l0 = lod as usize;
+        let frac = lod - l0 as f32;
+        let a = self.levels[l0].read_at(f, sc, tc);
+        let c = if frac > 0.0 {
+            a.lerp(self.levels[l0 + 1].read_at(f, sc, tc), frac)
+        } else {
+            a
+        };
+        (c, (f, sc, tc))
     }
 }
 

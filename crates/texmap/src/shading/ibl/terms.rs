@@ -4,8 +4,8 @@
 use glam::{Mat3, Vec2, Vec3, Vec4};
 
 use super::super::{pbr, Surface, Viewer};
-use super::{Environment, FaceSet, LEVELS};
-use crate::texture::{CubeFootprint, Sampler};
+use super::{Environment, FaceSet, MirrorCube, LEVELS};
+use crate::texture::{CubeFootprint, Filter, Sampler};
 
 /// The environment as one frame reads it: rotation, intensity and the prefiltered forms
 /// resolved.
@@ -17,6 +17,8 @@ pub struct EnvLight<'a> {
     /// `None` unless image-based light is on and some draw needs it.
     pub irradiance: Option<&'a FaceSet>,
     pub specular: Option<&'a [FaceSet]>,
+    /// The map as a trilinear cube, beside `specular` (the sharp end of rough reads).
+    pub sharp: Option<&'a MirrorCube>,
     /// How the map itself is read: the environment's sampler, with any overrides of the
     /// frame laid over it (the wrap modes stay the layout's).
     pub sampler: Sampler,
@@ -32,6 +34,7 @@ impl<'a> EnvLight<'a> {
             env_from_world: Mat3::from_rotation_y(-env.rotation_deg.to_radians()),
             irradiance: diffuse.then(|| env.irradiance()),
             specular: specular.then(|| env.specular_levels()),
+            sharp: specular.then(|| env.mirror_cube()),
             sampler: env.sampler,
         }
     }
@@ -84,6 +87,22 @@ impl<'a> EnvLight<'a> {
         let dir = self.env_from_world * fp.dir;
         let intensity = self.env.intensity;
         if k == 0 {
+            if let Some(sharp) = self
+                .sharp
+                .filter(|_| self.sampler.filter == Filter::TRILINEAR)
+            {
+                let m = self.env_from_world;
+                let local = CubeFootprint {
+                    dir,
+                    ddir_dx: m * fp.ddir_dx,
+                    ddir_dy: m * fp.ddir_dy,
+                };
+                let (lower, (f, sc, tc)) = sharp.read(&self.sampler, &local);
+                if frac <= 0.0 {
+                    return lower * intensity;
+                }
+                return lower.lerp(levels[0].read_at(f, sc, tc), frac) * intensity;
+            }
             let lower = self.mirror(fp);
             if frac <= 0.0 {
                 return lower;
