@@ -83,13 +83,16 @@ impl FaceSet {
     /// The bilinear value at face coordinates `(sc, tc)` of face `f`.
     #[inline]
     pub(super) fn read_at(&self, f: usize, sc: f32, tc: f32) -> Vec3 {
-        let n = self.n as f32;
+        let n = self.n as u32 as f32;
         let m = self.n + 2;
         // Texel centre i sits at face coordinate 2(i + ½)/n − 1; the apron shifts by one.
-        let x = ((sc + 1.0) * 0.5 * n + 0.5).clamp(0.0, n + 1.0);
-        let y = ((tc + 1.0) * 0.5 * n + 0.5).clamp(0.0, n + 1.0);
-        let (x0, y0) = ((x as usize).min(self.n), (y as usize).min(self.n));
-        let (fx, fy) = (x - x0 as f32, y - y0 as f32);
+        // `max` then `min` (no NaN assertion) and signed conversions: this is the hot read of
+        // image-based light.
+        let x = ((sc + 1.0) * 0.5 * n + 0.5).max(0.0).min(n + 1.0);
+        let y = ((tc + 1.0) * 0.5 * n + 0.5).max(0.0).min(n + 1.0);
+        let (xi, yi) = ((x as i32).min(self.n as i32), (y as i32).min(self.n as i32));
+        let (fx, fy) = (x - xi as f32, y - yi as f32);
+        let (x0, y0) = (xi as usize, yi as usize);
         let base = f * m * m + y0 * m + x0;
         let t = &self.texels[base..base + m + 2];
         let top = t[0].lerp(t[1], fx);

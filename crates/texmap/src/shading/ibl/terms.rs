@@ -82,8 +82,7 @@ impl<'a> EnvLight<'a> {
         // grow as α², so this weighting keeps the blurred light a lobe spreads as the lobe
         // of this roughness does (linear in roughness, a roughness-0.3 metal was 26% too
         // bright where a bright sky leaks into its reflection of the ground).
-        let a2_at = |k: usize| (k as f32 / LEVELS as f32).powi(4);
-        let frac = ((a2.min(1.0) - a2_at(k)) / (a2_at(k + 1) - a2_at(k))).clamp(0.0, 1.0);
+        let frac = ((a2.min(1.0) - A2_AT[k]) * INV_A2_STEP[k]).clamp(0.0, 1.0);
         let dir = self.env_from_world * fp.dir;
         let intensity = self.env.intensity;
         if k == 0 {
@@ -122,6 +121,28 @@ impl<'a> EnvLight<'a> {
         self.mirror(fp).extend(1.0)
     }
 }
+
+/// α² at each prefiltered roughness `k/LEVELS` (`(k/8)⁴`), and the reciprocals of the steps
+/// between neighbours: the blend weights of [`EnvLight::radiance`] without a division.
+const A2_AT: [f32; LEVELS + 1] = {
+    let mut t = [0.0; LEVELS + 1];
+    let mut k = 0;
+    while k <= LEVELS {
+        let r = k as f32 / LEVELS as f32;
+        t[k] = r * r * r * r;
+        k += 1;
+    }
+    t
+};
+const INV_A2_STEP: [f32; LEVELS] = {
+    let mut t = [0.0; LEVELS];
+    let mut k = 0;
+    while k < LEVELS {
+        t[k] = 1.0 / (A2_AT[k + 1] - A2_AT[k]);
+        k += 1;
+    }
+    t
+};
 
 /// The material's environment parameters beside its [`Surface`].
 #[derive(Clone, Copy, Debug, PartialEq)]
