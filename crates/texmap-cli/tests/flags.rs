@@ -365,3 +365,37 @@ fn mesh_camera_and_load_flags_act_or_are_refused() {
         &[(&["--tris", "100"], Acts)],
     );
 }
+
+/// A file without a camera seen from an eye far outside the automatic framing (or close in)
+/// still draws: the near and far planes follow the eye.
+#[test]
+fn a_moved_eye_sees_the_whole_model() {
+    let d = dir().join("moved-eye");
+    std::fs::create_dir_all(&d).unwrap();
+    let obj = write_obj(&d);
+    for eye in ["40,30,50", "0,2,3", "-60,5,0"] {
+        let out = d.join("eye.png");
+        let o = texmap(&[
+            "render",
+            obj.to_str().unwrap(),
+            "--eye",
+            eye,
+            "--target",
+            "0,0,0",
+            "--size",
+            "64x48",
+            "--stats",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let stats = String::from_utf8_lossy(&o.stdout);
+        let clipped = stats
+            .split("\"triangles_after_clip\":")
+            .nth(1)
+            .and_then(|t| t.trim_start().split([',', '}']).next())
+            .and_then(|n| n.trim().parse::<u64>().ok())
+            .expect("triangles_after_clip in --stats");
+        assert_eq!(clipped, 2, "eye {eye}: {stats}");
+    }
+}

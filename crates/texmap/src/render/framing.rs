@@ -9,7 +9,8 @@
 //!   ([`vtk_camera_for_bounds`] over every mesh and volume, turned by the azimuth and moved in
 //!   by the dolly), and the near and far planes then enclose everything wherever the eye was
 //!   moved.
-//! - `eye`, `target` and `up` replace the pose; a field of view makes the projection
+//! - `eye`, `target` and `up` replace the pose; a moved eye or target gets near and far
+//!   planes that enclose every mesh and volume from the new eye; a field of view makes the projection
 //!   perspective, an orthographic request makes it orthographic (its height given, or framing
 //!   the bounding sphere with the same margin); otherwise the chosen camera keeps its own.
 
@@ -162,7 +163,11 @@ pub fn choose_camera(
         ..base
     };
     camera.validate()?;
-    Ok(if with_volumes {
+    // A pose the user moved keeps everything between near and far from where it now looks,
+    // as a volume framing always does (a chosen camera's planes were fitted to its own eye).
+    let moved = request.eye.is_some() || request.target.is_some();
+    let anything = !scene.meshes.is_empty() || !volumes.is_empty();
+    Ok(if anything && (with_volumes || moved) {
         let (lo, hi) = bounds(scene, volumes);
         enclose(camera, lo, hi)
     } else {
@@ -195,5 +200,38 @@ fn enclose(camera: Camera, lo: Vec3, hi: Vec3) -> Camera {
         near: (dist - radius).max(dist * 1e-3).max(1e-4),
         far: dist + radius + 1.0,
         ..camera
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::builtin;
+
+    #[test]
+    fn a_moved_eye_gets_planes_that_enclose_the_scene_from_there() {
+        let scene = builtin::sphere(200, None, Default::default());
+        let (lo, hi) = scene.bounds();
+        let (c, r) = ((lo + hi) * 0.5, ((hi - lo) * 0.5).length());
+        for eye in [
+            Vec3::new(4.0, 3.0, 5.0),
+            Vec3::new(40.0, -30.0, 50.0),
+            Vec3::new(0.3, 0.2, 1.2),
+            Vec3::new(0.0, 0.0, -0.5),
+        ] {
+            let req = CameraRequest::default()
+                .with_eye(eye)
+                .with_target(Vec3::ZERO);
+            let cam = choose_camera(&scene, &[], &req).unwrap();
+            let d = eye.distance(c);
+            assert!(
+                cam.near > 0.0 && cam.near <= (d - r).max(1e-3 * d),
+                "{eye}: {cam:?}"
+            );
+            assert!(cam.far >= d + r, "{eye}: {cam:?}");
+        }
+        // Untouched, the automatic framing keeps its own planes.
+        let auto = choose_camera(&scene, &[], &CameraRequest::default()).unwrap();
+        assert_eq!(auto, scene.framing_camera(60.0));
     }
 }
