@@ -168,7 +168,7 @@ impl Hypertexture {
                 rise: 3.0,
                 stretch: 0.45,
                 core: true,
-                step: 0.06,
+                step: 0.15,
                 ..base
             },
             "smoke" => Hypertexture {
@@ -186,7 +186,7 @@ impl Hypertexture {
                 shadows: true,
                 rise: 1.0,
                 core: false,
-                step: 0.06,
+                step: 0.15,
                 ..base
             },
             "melt" => Hypertexture {

@@ -49,15 +49,18 @@ struct Tracer<'a> {
     light_list: &'a [crate::shading::Light],
     texture_from_world: glam::Mat4,
     world_from_voxel: glam::Mat4,
-    /// The object's size (its box's largest side) and the box's low corner, world.
+    /// The object's size (its box's largest side), world.
     size: f32,
-    lo: Vec3,
+    /// The box's lowest point along the screen's up, world.
+    base: f32,
     /// The screen's up, world (unit).
     up: Vec3,
     /// Shell thickness, world.
     shell: f32,
     /// Reach of material and displaced core beyond the surface, world (∞: no skipping).
     reach: f32,
+    /// How fast the core distance may change (1 for the plain field).
+    lipschitz: f32,
     /// Step inside the reach, world.
     step: f32,
     /// Bias and gain of the density ramp, tabulated.
@@ -96,13 +99,17 @@ pub fn render_distance_field(
     let field = FieldReader::new(vol);
     let (lo, hi) = vol.world_bounds();
     let size = (hi - lo).max_element().max(1e-12);
-    let diag = (hi - lo).length();
     let shell = hyper.map_or(0.0, |h| h.thickness * size);
     let reach = match hyper {
         _ if !params.empty_space_skipping => f32::INFINITY,
         None => 0.0,
-        Some(h) => (h.amplitude + h.core_displacement) * shell + h.melt * h.time.abs() * 1.5 * diag,
+        Some(h) => (h.amplitude + h.core_displacement) * shell + h.melt * h.time.abs() * 2.5 * size,
     };
+    // A bound on how fast the melted, displaced core distance changes (its Lipschitz
+    // constant, in practice): sphere tracing it steps by e / lipschitz.
+    let lipschitz = hyper.map_or(1.0, |h| {
+        1.0 + 2.0 * h.melt * h.time.abs() + 2.0 * h.core_displacement * h.thickness * h.frequency
+    });
     let step = hyper.map_or(field.voxel * 0.5, |h| h.step * shell);
     let shape = match hyper {
         Some(h) => (0..=SHAPE_LUT)
@@ -130,10 +137,15 @@ pub fn render_distance_field(
         texture_from_world: texture_from_world(lo, hi),
         world_from_voxel: vol.world_from_voxel(),
         size,
-        lo,
+        base: vol
+            .world_corners()
+            .iter()
+            .map(|c| c.dot(up))
+            .fold(f32::INFINITY, f32::min),
         up,
         shell,
         reach,
+        lipschitz,
         step,
         shape,
         footprint,
@@ -169,7 +181,7 @@ impl Tracer<'_> {
         let mut t = span.t0;
         let mut t_prev: Option<f32> = None;
         let mut jittered = false;
-        let min_step = self.field.voxel * 0.02;
+        let min_step = self.field.voxel * 0.05;
         for _ in 0..MAX_STEPS {
             if t > span.t1 {
                 break;
@@ -181,10 +193,39 @@ impl Tracer<'_> {
             if d > self.reach {
                 // Sphere tracing to the reach.
                 t_prev = Some(t);
-                t += ((d - self.reach) * 0.9).max(min_step);
+                // Inside a shell, stepping less than a shell step gains nothing.
+                let least = if self.reach > 0.0 {
+                    self.step
+                } else {
+                    min_step
+                };
+                t += ((d - self.reach) * 0.9).max(least);
                 continue;
             }
-            if !jittered && self.hyper.is_some() {
+            let medium = self
+                .hyper
+                .is_some_and(|h| h.amplitude > 0.0 && h.opacity > 0.0);
+            if !medium && self.reach.is_finite() {
+                // No material: sphere tracing of the (melted, displaced) core itself.
+                let e = if self.warped() {
+                    self.core_distance(p)
+                } else {
+                    d
+                };
+                if e <= 0.0 {
+                    let hit = match t_prev {
+                        Some(tp) => self.bisect(eye, dir, tp, t),
+                        None => t,
+                    };
+                    reads += u64::from(BISECTIONS) + 6;
+                    acc = self.shade_core(eye + dir * hit, dir, hit);
+                    break;
+                }
+                t_prev = Some(t);
+                t += (e * 0.9 / self.lipschitz).max(min_step);
+                continue;
+            }
+            if !jittered && medium {
                 // The first step into the reach starts the pixel's jittered sample grid.
                 jittered = true;
                 if jitter > 0.0 {
@@ -242,10 +283,12 @@ impl Tracer<'_> {
         if h.melt == 0.0 || h.time == 0.0 {
             return Vec3::ZERO;
         }
-        let height = ((p - self.lo).dot(self.up) / self.size).max(0.0);
+        let height = ((p.dot(self.up) - self.base) / self.size).max(0.0);
+        // Drips: noise across the up axis, slowly varying along it.
         let x = self.texture_from_world.transform_point3(p) * (h.frequency * 0.5);
-        let n = octaves3f(Vec3::new(x.x, 0.0, x.z) + x.y * 0.1, 2.0, 2.0, 0.5, false);
-        self.up * (h.melt * h.time * height * (1.0 + 0.5 * n) * self.size)
+        let along = x.dot(self.up);
+        let n = octaves3f(x - self.up * (along * 0.9), 2.0, 2.0, 0.5, false);
+        self.up * (h.melt * h.time * height * (1.0 + 1.5 * n).max(0.0) * self.size)
     }
 
     /// The distance to the core surface (melted and displaced), world.
@@ -370,7 +413,7 @@ impl Tracer<'_> {
         else {
             return (lit, a, 0);
         };
-        let steps = 6;
+        let steps = 4;
         let ds = (h.amplitude * self.shell).max(self.step) / steps as f32;
         let mut tau = 0.0;
         for k in 1..=steps {
