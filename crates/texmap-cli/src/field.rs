@@ -27,9 +27,9 @@ pub struct FieldArgs {
     /// granite, clouds, checker3d or bricks. A mesh is drawn as its distance field.
     #[arg(long)]
     pub solid: Option<String>,
-    /// Bump a distance field's surface with the noise gradient, of this strength (0.5 when
+    /// Bump a distance field's surface with the noise gradient, of this strength (0.2 when
     /// given without a value).
-    #[arg(long, num_args = 0..=1, require_equals = true, default_missing_value = "0.5")]
+    #[arg(long, num_args = 0..=1, require_equals = true, default_missing_value = "0.2")]
     pub bump: Option<f32>,
     /// The bump noise's frequency per object size [default: 24].
     #[arg(long)]

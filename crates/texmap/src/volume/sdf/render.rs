@@ -182,9 +182,16 @@ impl Tracer<'_> {
         let mut t_prev: Option<f32> = None;
         let mut jittered = false;
         let min_step = self.field.voxel * 0.05;
+        let mut at_end = false;
         for _ in 0..MAX_STEPS {
             if t > span.t1 {
-                break;
+                // The last sample sits on the span's end, so a crossing just before a stop
+                // (a surface in front, the box's far side) is still found.
+                if at_end || t_prev.is_none_or(|tp| tp >= span.t1) {
+                    break;
+                }
+                t = span.t1;
+                at_end = true;
             }
             let q = ray.at(t);
             let p = eye + dir * t;
