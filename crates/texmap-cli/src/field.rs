@@ -12,7 +12,7 @@ use clap::Args;
 use glam::{Mat4, Vec3};
 use texmap::scene::Scene;
 use texmap::texture::procedural::Solid;
-use texmap::volume::sdf::{hyper, Hypertexture};
+use texmap::volume::sdf::{hyper, smooth_field, Hypertexture, SCAN_SMOOTHING};
 use texmap::volume::{Method, SceneVolume};
 use texmap::Error;
 
@@ -100,7 +100,8 @@ impl FieldArgs {
         ignore_orientation: bool,
     ) -> Result<SceneVolume, Error> {
         let (field, _, _) = crate::sdf::scan_to_field(path, threshold, max_memory)?;
-        let vol = field
+        // The mask's staircase rounded off (see `smooth_field`).
+        let vol = smooth_field(&field, SCAN_SMOOTHING)
             .to_volume()
             .map_err(|e| Error::parameter(format!("{}: {e}", path.display())))?;
         let mut sv = SceneVolume::new(vol, path);
@@ -225,4 +226,49 @@ pub fn volumes_at(volumes: &[SceneVolume], k: u32, n: u32) -> Option<Vec<SceneVo
 /// True for a volume drawn with a hypertexture that changes with time.
 pub fn animated(v: &SceneVolume) -> bool {
     v.method == Method::Hypertexture && v.hypertexture.as_ref().is_some_and(|h| h.animated())
+}
+
+/// How a distance field is drawn, for `texmap info` and `--stats`: the surface's look and
+/// the hypertexture with its parameters.
+pub fn describe(v: &SceneVolume) -> String {
+    let l = &v.look;
+    let mut out = match &l.solid {
+        Some(s) => format!("surface {}", format!("{s:?}").to_lowercase()),
+        None => format!(
+            "surface colour ({}, {}, {})",
+            l.color.x, l.color.y, l.color.z
+        ),
+    };
+    if l.bump > 0.0 {
+        out += &format!(", bump {} at frequency {}", l.bump, l.bump_frequency);
+    }
+    out += if v.params.lights.is_empty() {
+        ", headlight"
+    } else {
+        ", scene lights"
+    };
+    if let (Method::Hypertexture, Some(h)) = (v.method, &v.hypertexture) {
+        out += &format!(
+            "; hypertexture {} (thickness {}, amplitude {}, frequency {}, octaves {}, {:?}{}, \
+             softness {}, bias {}, gain {}, opacity {}, emission {}, shadows {}, rise {}, \
+             melt {}, time {})",
+            h.preset,
+            h.thickness,
+            h.amplitude,
+            h.frequency,
+            h.octaves,
+            h.noise,
+            if h.strands { " strands" } else { "" },
+            h.softness,
+            h.bias,
+            h.gain,
+            h.opacity,
+            h.emission,
+            h.shadows,
+            h.rise,
+            h.melt,
+            h.time
+        );
+    }
+    out
 }

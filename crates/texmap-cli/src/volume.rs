@@ -361,6 +361,10 @@ pub fn stats_json(volumes: &[SceneVolume]) -> serde_json::Value {
                 "shade": v.params.shade,
                 "lights": v.params.lights.len(),
                 "step": v.params.step,
+                "distance_field": v
+                    .method
+                    .is_distance_field()
+                    .then(|| crate::field::describe(v)),
             })
         })
         .collect()

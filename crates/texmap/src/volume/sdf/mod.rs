@@ -35,6 +35,7 @@ mod look;
 mod mesh;
 mod reader;
 mod render;
+mod smooth;
 mod winding;
 mod write;
 
@@ -46,6 +47,7 @@ pub use hyper::{Hypertexture, NoiseKind};
 pub use look::SurfaceLook;
 pub use mesh::{mesh_field, MeshFieldStats, Triangles};
 pub use render::render_distance_field;
+pub use smooth::{smooth_field, SCAN_SMOOTHING};
 pub use write::{write_nifti, write_nrrd, FieldFormat};
 
 use crate::{Error, Result};
