@@ -457,6 +457,14 @@ fn describe_volume(v: &Volume) -> String {
 /// A scene's volume: its file, [`describe_volume`] and how it is rendered.
 fn describe_scene_volume(v: &SceneVolume) -> String {
     let p = &v.params;
+    if v.method.is_distance_field() {
+        return format!(
+            "{}: {}; distance field, {}",
+            v.source.display(),
+            describe_volume(&v.volume),
+            crate::field::describe(v)
+        );
+    }
     format!(
         "{}: {}; tf {}, {}, {}, step {}{}{}",
         v.source.display(),

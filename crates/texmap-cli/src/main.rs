@@ -4,6 +4,7 @@ mod animation;
 mod bake;
 mod compare;
 mod convert;
+mod field;
 mod formats;
 mod info;
 mod manifest;

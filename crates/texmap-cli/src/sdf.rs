@@ -17,7 +17,9 @@ use std::time::Instant;
 
 use clap::Args;
 use texmap::scene::{load, LoadOptions};
-use texmap::volume::sdf::{mask_field, mesh_field, Field, FieldFormat, FieldGrid, Mask};
+use texmap::volume::sdf::{
+    mask_field, mesh_field, Field, FieldFormat, FieldGrid, Mask, MeshFieldStats, Triangles,
+};
 use texmap::volume::{load_scalars_with, VolumeOptions};
 use texmap::Error;
 
@@ -215,27 +217,13 @@ fn build_mesh(args: &SdfArgs, max_memory: u64) -> Result<(Field, Report), Error>
     let tris = loaded.scene.world_triangles();
     drop(loaded);
     let load_ms = ms(t);
-    let (lo, hi) = tris
-        .bounds()
-        .ok_or_else(|| Error::decode(path, "has no triangles: there is no surface to measure"))?;
-    let grid = FieldGrid::around_box(lo, hi, args.res.unwrap_or(128), args.pad.unwrap_or(0.1))
-        .map_err(|e| Error::parameter(format!("{}: {e}", path.display())))?;
-    check_memory(
+    let (field, stats) = mesh_to_field(
         path,
-        mesh_bytes(grid.voxel_count(), tris.len() as u64),
+        &tris,
+        args.res.unwrap_or(128),
+        args.pad.unwrap_or(0.1),
         max_memory,
-        &format!(
-            "a {}x{}x{} field of {} triangles",
-            grid.dims[0],
-            grid.dims[1],
-            grid.dims[2],
-            tris.len()
-        ),
     )?;
-    let (field, stats) = mesh_field(&tris, &grid).map_err(|e| match e {
-        Error::Parameter(m) => Error::decode(path, m),
-        other => other,
-    })?;
     let mut r = Report::new();
     r.insert(
         "input".into(),
@@ -257,16 +245,53 @@ fn build_mesh(args: &SdfArgs, max_memory: u64) -> Result<(Field, Report), Error>
     Ok((field, r))
 }
 
-fn round1(x: f64) -> f64 {
-    (x * 10.0).round() / 10.0
+/// The distance field of `tris` (from `path`) on `sdf_ref.py`'s grid of `res` voxels with
+/// margin `pad`, after the checks: triangles present, a grid that fits `max_memory`.
+pub(crate) fn mesh_to_field(
+    path: &Path,
+    tris: &Triangles,
+    res: u32,
+    pad: f64,
+    max_memory: u64,
+) -> Result<(Field, MeshFieldStats), Error> {
+    let (lo, hi) = tris
+        .bounds()
+        .ok_or_else(|| Error::decode(path, "has no triangles: there is no surface to measure"))?;
+    let grid = FieldGrid::around_box(lo, hi, res, pad)
+        .map_err(|e| Error::parameter(format!("{}: {e}", path.display())))?;
+    check_memory(
+        path,
+        mesh_bytes(grid.voxel_count(), tris.len() as u64),
+        max_memory,
+        &format!(
+            "a {}x{}x{} field of {} triangles",
+            grid.dims[0],
+            grid.dims[1],
+            grid.dims[2],
+            tris.len()
+        ),
+    )?;
+    mesh_field(tris, &grid).map_err(|e| match e {
+        Error::Parameter(m) => Error::decode(path, m),
+        other => other,
+    })
 }
 
-fn build_scan(args: &SdfArgs, max_memory: u64) -> Result<(Field, Report), Error> {
-    let path = &args.input;
-    let threshold = args.threshold.unwrap_or_default();
+/// The distance field of the scan at `path` thresholded at `threshold` (inside: value ≥
+/// it), after the checks: a finite threshold within the scan's values, memory within
+/// `max_memory`. Also the number of inside voxels and the load and transform times (ms).
+pub(crate) fn scan_to_field(
+    path: &Path,
+    threshold: f64,
+    max_memory: u64,
+) -> Result<(Field, usize, [f64; 2]), Error> {
     let t = Instant::now();
+    if !threshold.is_finite() {
+        return Err(Error::parameter(format!(
+            "--threshold {threshold} is not finite"
+        )));
+    }
     let scan = load_scalars_with(path, None, &VolumeOptions::default().max_bytes(max_memory))?;
-    let load_ms = ms(t);
     let voxels: u64 = scan.dims.iter().map(|&d| u64::from(d)).product();
     check_memory(
         path,
@@ -291,11 +316,12 @@ fn build_scan(args: &SdfArgs, max_memory: u64) -> Result<(Field, Report), Error>
             path.display()
         )));
     }
+    let load_ms = t.elapsed().as_secs_f64() * 1e3;
+    let t = Instant::now();
     let grid = FieldGrid {
         dims: scan.dims,
         world_from_voxel: scan.world_from_voxel.as_dmat4(),
     };
-    let t = Instant::now();
     let mask = Mask::threshold(scan.dims, &scan.values, threshold);
     let inside = mask.inside.iter().filter(|&&b| b).count();
     drop(scan);
@@ -303,6 +329,17 @@ fn build_scan(args: &SdfArgs, max_memory: u64) -> Result<(Field, Report), Error>
         Error::Parameter(m) => Error::decode(path, m),
         other => other,
     })?;
+    Ok((field, inside, [load_ms, t.elapsed().as_secs_f64() * 1e3]))
+}
+
+fn round1(x: f64) -> f64 {
+    (x * 10.0).round() / 10.0
+}
+
+fn build_scan(args: &SdfArgs, max_memory: u64) -> Result<(Field, Report), Error> {
+    let path = &args.input;
+    let threshold = args.threshold.unwrap_or_default();
+    let (field, inside, [load_ms, edt_ms]) = scan_to_field(path, threshold, max_memory)?;
     let mut r = Report::new();
     r.insert(
         "input".into(),
@@ -311,7 +348,7 @@ fn build_scan(args: &SdfArgs, max_memory: u64) -> Result<(Field, Report), Error>
     r.insert("kind".into(), serde_json::json!("scan"));
     r.insert("threshold".into(), serde_json::json!(threshold));
     r.insert("inside_voxels".into(), serde_json::json!(inside));
-    r.insert("load_ms".into(), load_ms);
-    r.insert("edt_ms".into(), ms(t));
+    r.insert("load_ms".into(), serde_json::json!(round1(load_ms)));
+    r.insert("edt_ms".into(), serde_json::json!(round1(edt_ms)));
     Ok((field, r))
 }

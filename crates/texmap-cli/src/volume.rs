@@ -121,6 +121,10 @@ pub enum ModeArg {
 pub enum MethodArg {
     Raymarch,
     Slices,
+    /// The volume is a distance field: its surface, sphere-traced.
+    Surface,
+    /// The volume is a distance field: its surface with a hypertexture (--hypertexture).
+    Hypertexture,
 }
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum ClassArg {
@@ -326,6 +330,8 @@ impl VolumeArgs {
             sv.method = match m {
                 MethodArg::Raymarch => Method::Raymarch,
                 MethodArg::Slices => Method::Slices,
+                MethodArg::Surface => Method::Surface,
+                MethodArg::Hypertexture => Method::Hypertexture,
             };
         }
         if !(sv.params.step.is_finite() && sv.params.step > 0.0) {
@@ -355,6 +361,10 @@ pub fn stats_json(volumes: &[SceneVolume]) -> serde_json::Value {
                 "shade": v.params.shade,
                 "lights": v.params.lights.len(),
                 "step": v.params.step,
+                "distance_field": v
+                    .method
+                    .is_distance_field()
+                    .then(|| crate::field::describe(v)),
             })
         })
         .collect()

@@ -247,6 +247,8 @@ pub struct RenderArgs {
     pub(crate) quiet: bool,
     #[command(flatten)]
     pub volume: Box<crate::volume::VolumeArgs>,
+    #[command(flatten)]
+    pub field: Box<crate::field::FieldArgs>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]

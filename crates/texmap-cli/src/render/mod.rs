@@ -45,6 +45,8 @@ use crate::formats::OutputFormat;
 struct Built {
     scene: Scene,
     volumes: Vec<SceneVolume>,
+    /// The scene's light is the loader's default (the file has none).
+    default_light: bool,
     /// A built-in scene (not read from a file).
     builtin: Option<Builtin>,
 }
@@ -70,14 +72,48 @@ fn build(args: &RenderArgs, texture: Option<Arc<Texture2D>>) -> Result<Built, Er
     let mut built = match volume_file {
         Some(path) => {
             let path = Path::new(path);
-            let (scene, sv) = crate::volume::volume_file_scene(v, path, &options)?;
+            let (scene, sv) = match args.field.surface {
+                Some(t) => (
+                    Scene::default(),
+                    args.field.scan_surface(
+                        path,
+                        t,
+                        args.max_memory.unwrap_or(texmap::files::DEFAULT_MAX_BYTES),
+                        v.ignore_orientation,
+                    )?,
+                ),
+                None => crate::volume::volume_file_scene(v, path, &options)?,
+            };
             Built {
                 scene,
                 volumes: vec![sv],
+                default_light: false,
                 builtin: None,
             }
         }
-        None => build_scene(args, &options, texture)?,
+        None => {
+            if let Some(t) = args.field.surface {
+                return Err(Error::parameter(format!(
+                    "--surface {t}: a threshold applies to a scan (.nii, .nii.gz, .nrrd, \
+                     .nhdr); a mesh takes --solid, --bump or --hypertexture alone"
+                )));
+            }
+            let mut built = build_scene(args, &options, texture)?;
+            if args.field.wants_field() && built.volumes.is_empty() && built.builtin.is_none() {
+                // A mesh drawn as its distance field.
+                let path = Path::new(args.scene.as_deref().unwrap_or_default());
+                let mut sv = args.field.mesh_surface(
+                    &mut built.scene,
+                    path,
+                    args.max_memory.unwrap_or(texmap::files::DEFAULT_MAX_BYTES),
+                )?;
+                if !built.default_light {
+                    sv.params.lights = built.scene.lights.clone();
+                }
+                built.volumes.push(sv);
+            }
+            built
+        }
     };
     let own_lights = crate::volume::add_meshes(v, &mut built.scene, &options, args.quiet)?;
     if volume_file.is_some() {
@@ -112,12 +148,41 @@ fn build(args: &RenderArgs, texture: Option<Arc<Texture2D>>) -> Result<Built, Er
         )));
     }
     for sv in &mut built.volumes {
-        v.apply(sv).map_err(|e| match e {
-            Error::Parameter(m) | Error::Unsupported(m) => {
-                Error::parameter(format!("{}: {m}", sv.source.display()))
-            }
-            other => other,
-        })?;
+        args.field.preset_hypertexture(sv);
+        v.apply(sv)
+            .and_then(|()| args.field.apply(sv))
+            .map_err(|e| match e {
+                Error::Parameter(m) | Error::Unsupported(m) => {
+                    Error::parameter(format!("{}: {m}", sv.source.display()))
+                }
+                other => other,
+            })?;
+    }
+    let fields = built.volumes.iter().any(|v| v.method.is_distance_field());
+    let name = args.scene.as_deref().unwrap_or("builtin:demo");
+    if !fields {
+        let mut given = args.field.given_look_flags();
+        if args.field.sdf_res.is_some() {
+            given.push("--sdf-res");
+        }
+        if !given.is_empty() {
+            return Err(Error::parameter(format!(
+                "{}: {name} has no distance field to draw (a mesh file, a scan with --surface \
+                 T, or a field with --method surface)",
+                given.join(", ")
+            )));
+        }
+    }
+    if args.field.sdf_res.is_some() && (volume_file.is_some() || !args.field.wants_field()) {
+        return Err(Error::parameter(
+            "--sdf-res: the resolution of a mesh's distance field (with --solid, --bump or \
+             --hypertexture on a mesh file)",
+        ));
+    }
+    if args.field.still && (args.frames <= 1 || !built.volumes.iter().any(crate::field::animated)) {
+        return Err(Error::parameter(
+            "--still keeps the camera while --frames animate a hypertexture (fire, smoke, melt)",
+        ));
     }
     Ok(built)
 }
@@ -137,6 +202,7 @@ fn build_scene(
         return Ok(Built {
             scene,
             volumes: Vec::new(),
+            default_light: false,
             builtin: Some(builtin),
         });
     }
@@ -155,6 +221,7 @@ fn build_scene(
     Ok(Built {
         scene: loaded.scene,
         volumes: loaded.volumes,
+        default_light: loaded.info.default_light,
         builtin: None,
     })
 }
@@ -280,6 +347,8 @@ pub(super) struct Prepared {
     shadow_ms: f64,
     prefilter_ms: Option<f64>,
     pub setup_ms: f64,
+    /// `--still`: frames animate the hypertexture, the camera stays.
+    still: bool,
 }
 
 /// Loads `args.scene` and makes everything its frames share.
@@ -387,6 +456,7 @@ pub(super) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
         shadow_ms,
         prefilter_ms: prefiltered.then_some(prefilter_ms),
         setup_ms: setup_start.elapsed().as_secs_f64() * 1e3,
+        still: args.field.still,
     })
 }
 
@@ -400,7 +470,9 @@ impl Prepared {
         n: u32,
         frame: &mut Frame,
     ) -> Result<(), Error> {
-        let cam = if k <= 1 {
+        let animated = crate::field::volumes_at(&self.volumes, k, n);
+        let volumes = animated.as_deref().unwrap_or(&self.volumes);
+        let cam = if k <= 1 || (self.still && animated.is_some()) {
             self.camera
         } else {
             self.camera
@@ -416,7 +488,7 @@ impl Prepared {
                     frame,
                 )
             } else {
-                *frame = render_with_volumes(&self.scene, &self.volumes, &cam, &self.settings)?;
+                *frame = render_with_volumes(&self.scene, volumes, &cam, &self.settings)?;
                 Ok(())
             }
         })

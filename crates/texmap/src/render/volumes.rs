@@ -20,6 +20,7 @@ use crate::pipeline::{
     MAX_VARYINGS,
 };
 use crate::scene::Scene;
+use crate::volume::sdf::render_distance_field;
 use crate::volume::{
     raymarch, render_slices_until, MarchParams, Method, SceneVolume, TransferFunction, Volume,
 };
@@ -174,19 +175,36 @@ pub fn render_with_volumes(
         Some(render(scene, camera, settings)?)
     };
     for v in order {
-        let method = match v.method {
-            Method::Raymarch => raymarch,
-            Method::Slices => render_slices_until,
+        let f = match v.method {
+            Method::Raymarch | Method::Slices => {
+                let method = if v.method == Method::Raymarch {
+                    raymarch
+                } else {
+                    render_slices_until
+                };
+                method(
+                    &v.volume,
+                    &v.transfer,
+                    camera,
+                    w,
+                    h,
+                    &v.params,
+                    depth.as_deref(),
+                )?
+            }
+            Method::Surface | Method::Hypertexture => render_distance_field(
+                &v.volume,
+                camera,
+                w,
+                h,
+                &v.params,
+                &v.look,
+                v.hypertexture
+                    .as_ref()
+                    .filter(|_| v.method == Method::Hypertexture),
+                depth.as_deref(),
+            )?,
         };
-        let f = method(
-            &v.volume,
-            &v.transfer,
-            camera,
-            w,
-            h,
-            &v.params,
-            depth.as_deref(),
-        )?;
         frame = Some(match frame {
             None => {
                 // The farthest volume over the background.

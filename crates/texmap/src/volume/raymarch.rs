@@ -94,6 +94,33 @@ pub fn raymarch(
     let headlight = (camera.target - camera.eye).normalize();
     let m = Marcher::new(vol, tf, params, Some(headlight))?;
     let rays = RayLoop::for_frame(&m);
+    let (color, samples) = tiled_frame(width, height, |x, y| {
+        let (o, d) = camera_ray(camera, width, height, x as f32 + 0.5, y as f32 + 0.5);
+        let t_max = depth.map_or(f32::INFINITY, |dd| dd[(y * width + x) as usize]);
+        let j = if params.jitter { pixel_hash(x, y) } else { 0.0 };
+        let traced = trace(&m, rays, o, d, t_max, j);
+        (display_to_frame(traced.color), traced.samples)
+    });
+    Ok(Frame {
+        width,
+        height,
+        color,
+        stats: FrameStats {
+            texture_samples: samples,
+            ..Default::default()
+        },
+    })
+}
+
+/// Every pixel of a `width × height` frame through `pixel(x, y)` (its colour and the
+/// samples it took), in [`TILE`]-pixel square tiles across rayon's pool, written to the
+/// frame in a fixed order: the result does not depend on the number of threads. Shared by
+/// every per-pixel volume renderer (rays, distance-field surfaces, hypertexture).
+pub(crate) fn tiled_frame(
+    width: u32,
+    height: u32,
+    pixel: impl Fn(u32, u32) -> (Vec4, u64) + Sync,
+) -> (Vec<Vec4>, u64) {
     let (w, h) = (width as usize, height as usize);
     let (tx, ty) = (w.div_ceil(TILE), h.div_ceil(TILE));
     let tiles: Vec<TilePixels> = (0..tx * ty)
@@ -105,16 +132,9 @@ pub fn raymarch(
             let mut samples = 0u64;
             for y in y0..y1 {
                 for x in x0..x1 {
-                    let (o, d) = camera_ray(camera, width, height, x as f32 + 0.5, y as f32 + 0.5);
-                    let t_max = depth.map_or(f32::INFINITY, |dd| dd[y * w + x]);
-                    let j = if params.jitter {
-                        pixel_hash(x as u32, y as u32)
-                    } else {
-                        0.0
-                    };
-                    let traced = trace(&m, rays, o, d, t_max, j);
-                    samples += traced.samples;
-                    color.push(display_to_frame(traced.color));
+                    let (c, n) = pixel(x as u32, y as u32);
+                    samples += n;
+                    color.push(c);
                 }
             }
             TilePixels { color, samples }
@@ -130,15 +150,7 @@ pub fn raymarch(
         }
         samples += tile.samples;
     }
-    Ok(Frame {
-        width,
-        height,
-        color,
-        stats: FrameStats {
-            texture_samples: samples,
-            ..Default::default()
-        },
-    })
+    (color, samples)
 }
 
 /// One ray from `eye` along the unit `dir`, stopped at `t_max`, its samples offset by

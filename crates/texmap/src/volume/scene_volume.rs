@@ -8,6 +8,7 @@ use glam::{Mat4, Vec3};
 
 use super::grid::Volume;
 use super::params::{Classification, MarchParams, Mode};
+use super::sdf::{Hypertexture, SurfaceLook};
 use super::transfer::TransferFunction;
 use crate::{Error, Result};
 
@@ -19,17 +20,31 @@ pub enum Method {
     Raymarch,
     /// View-aligned slices through the pipeline ([`super::render_slices`]; composite mode).
     Slices,
+    /// The volume is a distance field: its surface, sphere-traced and coloured by
+    /// [`SceneVolume::look`] ([`super::sdf::render_distance_field`]).
+    Surface,
+    /// The volume is a distance field: its surface with [`SceneVolume::hypertexture`]
+    /// around it.
+    Hypertexture,
 }
 
 impl Method {
-    /// `raymarch` or `slices`.
+    /// `raymarch`, `slices`, `surface` or `hypertexture`.
     #[must_use]
     pub fn parse(s: &str) -> Option<Method> {
         match s {
             "raymarch" => Some(Method::Raymarch),
             "slices" => Some(Method::Slices),
+            "surface" => Some(Method::Surface),
+            "hypertexture" => Some(Method::Hypertexture),
             _ => None,
         }
+    }
+
+    /// True for the methods that read the volume as a distance field.
+    #[must_use]
+    pub fn is_distance_field(self) -> bool {
+        matches!(self, Method::Surface | Method::Hypertexture)
     }
 }
 
@@ -66,6 +81,11 @@ pub struct SceneVolume {
     pub transfer_name: String,
     pub params: MarchParams,
     pub method: Method,
+    /// The surface's material when the volume is a distance field ([`Method::Surface`],
+    /// [`Method::Hypertexture`]).
+    pub look: SurfaceLook,
+    /// The hypertexture of [`Method::Hypertexture`].
+    pub hypertexture: Option<Hypertexture>,
     /// The file the volume was read from.
     pub source: PathBuf,
 }
@@ -80,6 +100,8 @@ impl SceneVolume {
             transfer_name: "synth".into(),
             params: MarchParams::default(),
             method: Method::Raymarch,
+            look: SurfaceLook::default(),
+            hypertexture: None,
             source: source.to_path_buf(),
         }
     }
@@ -129,6 +151,24 @@ impl SceneVolume {
             return Err(Error::Unsupported(
                 "method slices renders composite mode with post-classification only".into(),
             ));
+        }
+        if self.method.is_distance_field() {
+            let (lo, hi) = self.volume.range();
+            if !(lo < 0.0 && hi > 0.0) {
+                return Err(Error::parameter(format!(
+                    "{}: values {lo} to {hi} are not a distance field (negative inside, \
+                     positive outside): nothing to draw as a surface",
+                    self.source.display()
+                )));
+            }
+            self.look.validate()?;
+        }
+        match (&self.method, &self.hypertexture) {
+            (Method::Hypertexture, None) => {
+                return Err(Error::parameter("method hypertexture needs a hypertexture"))
+            }
+            (_, Some(h)) => h.validate()?,
+            _ => {}
         }
         Ok(())
     }

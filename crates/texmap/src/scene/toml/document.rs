@@ -116,15 +116,10 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     for (i, v) in spec.volumes.iter().enumerate() {
         let transform = placement(v.translate, v.rotate, v.scale.as_ref(), v.matrix)
             .map_err(|e| err(format!("volumes[{i}]: {e}")))?;
-        let sv =
-            volume(&dir, v, transform, volume_lights, &options.volume_options()).map_err(|e| {
-                match e {
-                    Error::Parameter(msg) | Error::Unsupported(msg) => {
-                        err(format!("volumes[{i}]: {msg}"))
-                    }
-                    other => other,
-                }
-            })?;
+        let sv = volume(&dir, v, transform, volume_lights, options).map_err(|e| match e {
+            Error::Parameter(msg) | Error::Unsupported(msg) => err(format!("volumes[{i}]: {msg}")),
+            other => other,
+        })?;
         out.info.volumes.push(sv.source.display().to_string());
         out.volumes.push(sv);
     }

@@ -477,4 +477,20 @@ pub(super) struct VolumeSpec {
     pub(super) jitter: bool,
     #[serde(default = "yes")]
     pub(super) empty_space_skipping: bool,
+    /// A scan drawn as its surface: inside is value ≥ threshold; its exact distance field is
+    /// built (method `surface` unless given).
+    pub(super) threshold: Option<f64>,
+    /// `file` a mesh (.obj, .gltf, .glb): voxels along the largest side of its distance
+    /// field (default 128).
+    pub(super) sdf_res: Option<u32>,
+    /// A distance field's surface: solid pattern, its two colours, bump strength and
+    /// frequency, plain colour.
+    pub(super) solid: Option<String>,
+    pub(super) solid_colors: Option<[[f32; 3]; 2]>,
+    pub(super) bump: Option<f32>,
+    pub(super) bump_frequency: Option<f32>,
+    pub(super) color: Option<[f32; 3]>,
+    /// A hypertexture around a distance field's surface: `preset` and any parameter
+    /// (method `hypertexture` unless given).
+    pub(super) hypertexture: Option<toml::Table>,
 }

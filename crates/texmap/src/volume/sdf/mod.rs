@@ -11,6 +11,11 @@
 //!   Felzenszwalb & Huttenlocher, linear in the voxel count, with anisotropic spacing (`edt`);
 //! - analytic primitives and their CSG ([`Shape`], `analytic`).
 //!
+//! And drawn (Miller & Jones §5–6): [`render_distance_field`] sphere-traces the surface
+//! (`render`, reading the field through `reader`), colours it with a solid texture and bumps
+//! it ([`SurfaceLook`], `look`), and marches a [`Hypertexture`] (`hyper`) in a shell around
+//! it: fur, fire, smoke, melt.
+//!
 //! Conventions:
 //! - A field's voxels are points, as everywhere in [`crate::volume`]: voxel `(i, j, k)` holds
 //!   the distance at `origin + (i, j, k)·spacing` (its centre). The grid of
@@ -25,7 +30,12 @@
 mod analytic;
 mod bvh;
 mod edt;
+pub mod hyper;
+mod look;
 mod mesh;
+mod reader;
+mod render;
+mod smooth;
 mod winding;
 mod write;
 
@@ -33,7 +43,11 @@ use glam::{DMat4, DVec3, Mat4};
 
 pub use analytic::{shape_field, Shape};
 pub use edt::{distance_transform_sq, mask_field, Mask};
+pub use hyper::{Hypertexture, NoiseKind};
+pub use look::SurfaceLook;
 pub use mesh::{mesh_field, MeshFieldStats, Triangles};
+pub use render::render_distance_field;
+pub use smooth::{smooth_field, SCAN_SMOOTHING};
 pub use write::{write_nifti, write_nrrd, FieldFormat};
 
 use crate::{Error, Result};

@@ -1,0 +1,448 @@
+//! Drawing a distance field: its surface by sphere tracing, and a hypertexture around it by
+//! ray marching the shell, one ray per pixel in the volume renderer's tiles.
+//!
+//! Rules:
+//! - Sphere tracing (Hart 1996): outside the reach `R` of the material (0 for a plain
+//!   surface) a ray advances by `0.9 · (d − R)` (at least 1/50 voxel), `d` the trilinear
+//!   distance. This is the empty-space skipping: the field itself says how far the next
+//!   thing is. The trilinear field of a distance field is close to 1-Lipschitz; the 0.9
+//!   leaves room, and any crossing a step jumps into is still found by the sign change.
+//! - Inside the reach the ray takes fixed steps of `step` shells (jittered per pixel like
+//!   the volume rays), compositing the hypertexture's density front to back, until the
+//!   opacity reaches the early stop or the core surface is crossed.
+//! - A crossing (distance from > 0 to ≤ 0) is placed by bisecting the last step to 1/100
+//!   voxel (at most 16 times; a sphere-traced step is short, a shell step longer), and
+//!   shaded with the normal from central differences (±½ voxel) of the trilinear field.
+//! - Colours are linear and premultiplied, as meshes' are (not the display values of
+//!   transfer functions): the frame holds them as they are.
+//! - The image does not depend on the number of threads (per-pixel work, fixed tile order).
+
+use glam::{Vec3, Vec4};
+
+use super::super::grid::Volume;
+use super::super::output::check_request;
+use super::super::params::MarchParams;
+use super::super::raymarch::tiled_frame;
+use super::super::rays::{camera_ray, clip_to_box, pixel_hash, VoxelRay};
+use super::super::shade::VolumeLights;
+use super::hyper::{Hypertexture, NoiseKind};
+use super::look::{texture_from_world, SurfaceLook};
+use super::reader::FieldReader;
+use crate::camera::{Camera, CameraProjection};
+use crate::frame::{Frame, FrameStats};
+use crate::texture::procedural::perlin::octaves3f;
+use crate::Result;
+
+/// Most steps one ray takes.
+const MAX_STEPS: u32 = 8192;
+/// Most bisections that place a crossing; they stop once the interval is under 1/100 voxel.
+const BISECTIONS: u32 = 16;
+/// Entries of the density shaping table (bias and gain of `u ∈ [0, 1]`).
+const SHAPE_LUT: usize = 1024;
+
+/// Everything the rays of one frame share.
+struct Tracer<'a> {
+    field: FieldReader<'a>,
+    look: &'a SurfaceLook,
+    hyper: Option<&'a Hypertexture>,
+    lights: VolumeLights,
+    has_lights: bool,
+    light_list: &'a [crate::shading::Light],
+    texture_from_world: glam::Mat4,
+    world_from_voxel: glam::Mat4,
+    /// The object's size (its box's largest side), world.
+    size: f32,
+    /// The box's lowest point along the screen's up, world.
+    base: f32,
+    /// The screen's up, world (unit).
+    up: Vec3,
+    /// Shell thickness, world.
+    shell: f32,
+    /// Reach of material and displaced core beyond the surface, world (∞: no skipping).
+    reach: f32,
+    /// How fast the core distance may change (1 for the plain field).
+    lipschitz: f32,
+    /// Step inside the reach, world.
+    step: f32,
+    /// Bias and gain of the density ramp, tabulated.
+    shape: Vec<f32>,
+    /// Pixel footprint: texture units per unit of distance (perspective) and constant.
+    footprint: (f32, f32),
+    early: f32,
+    jitter: bool,
+}
+
+/// Renders the distance field `vol` (world distances, negative inside) as a surface with
+/// `look`, and with the hypertexture `hyper` around it when given, seen by `camera`, into a
+/// `width × height` frame, in rayon's current pool. `depth`, when given, holds per pixel the
+/// ray distance where rays stop (surfaces in front), as [`raymarch`](super::super::raymarch())'s.
+/// From `params` it reads the lights and reflectance, jitter, empty-space skipping and the
+/// early stop.
+///
+/// # Errors
+/// [`crate::Error::Parameter`] for a bad camera, size, depth buffer, look or hypertexture.
+#[allow(clippy::too_many_arguments)]
+pub fn render_distance_field(
+    vol: &Volume,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    params: &MarchParams,
+    look: &SurfaceLook,
+    hyper: Option<&Hypertexture>,
+    depth: Option<&[f32]>,
+) -> Result<Frame> {
+    check_request(camera, width, height, params, depth)?;
+    look.validate()?;
+    if let Some(h) = hyper {
+        h.validate()?;
+    }
+    let field = FieldReader::new(vol);
+    let (lo, hi) = vol.world_bounds();
+    let size = (hi - lo).max_element().max(1e-12);
+    let shell = hyper.map_or(0.0, |h| h.thickness * size);
+    let reach = match hyper {
+        _ if !params.empty_space_skipping => f32::INFINITY,
+        None => 0.0,
+        Some(h) => (h.amplitude + h.core_displacement) * shell + h.melt * h.time.abs() * 2.5 * size,
+    };
+    // A bound on how fast the melted, displaced core distance changes (its Lipschitz
+    // constant, in practice): sphere tracing it steps by e / lipschitz.
+    let lipschitz = hyper.map_or(1.0, |h| {
+        1.0 + 2.0 * h.melt * h.time.abs() + 2.0 * h.core_displacement * h.thickness * h.frequency
+    });
+    let step = hyper.map_or(field.voxel * 0.5, |h| h.step * shell);
+    let shape = match hyper {
+        Some(h) => (0..=SHAPE_LUT)
+            .map(|i| h.shape(i as f32 / SHAPE_LUT as f32))
+            .collect(),
+        None => Vec::new(),
+    };
+    let footprint = match camera.projection {
+        CameraProjection::Perspective { fov_y_deg } => (
+            2.0 * (fov_y_deg.to_radians() * 0.5).tan() / height as f32 / size,
+            0.0,
+        ),
+        CameraProjection::Orthographic { half_height } => {
+            (0.0, 2.0 * half_height / height as f32 / size)
+        }
+    };
+    let up = camera.up.try_normalize().unwrap_or(Vec3::Y);
+    let tr = Tracer {
+        field,
+        look,
+        hyper,
+        lights: VolumeLights::new(params.reflectance, &params.lights),
+        has_lights: !params.lights.is_empty(),
+        light_list: &params.lights,
+        texture_from_world: texture_from_world(lo, hi),
+        world_from_voxel: vol.world_from_voxel(),
+        size,
+        base: vol
+            .world_corners()
+            .iter()
+            .map(|c| c.dot(up))
+            .fold(f32::INFINITY, f32::min),
+        up,
+        shell,
+        reach,
+        lipschitz,
+        step,
+        shape,
+        footprint,
+        early: params.early_termination,
+        jitter: params.jitter,
+    };
+    let (color, samples) = tiled_frame(width, height, |x, y| {
+        let (o, d) = camera_ray(camera, width, height, x as f32 + 0.5, y as f32 + 0.5);
+        let t_max = depth.map_or(f32::INFINITY, |dd| dd[(y * width + x) as usize]);
+        let j = if tr.jitter { pixel_hash(x, y) } else { 0.0 };
+        tr.trace(o, d, t_max, j)
+    });
+    Ok(Frame {
+        width,
+        height,
+        color,
+        stats: FrameStats {
+            texture_samples: samples,
+            ..Default::default()
+        },
+    })
+}
+
+impl Tracer<'_> {
+    /// One ray: its colour (linear, premultiplied) and the field reads it took.
+    fn trace(&self, eye: Vec3, dir: Vec3, t_max: f32, jitter: f32) -> (Vec4, u64) {
+        let ray = VoxelRay::new(&self.field.voxel_from_world, eye, dir);
+        let Some(span) = clip_to_box(&ray, t_max, self.field.hi) else {
+            return (Vec4::ZERO, 0);
+        };
+        let mut acc = Vec4::ZERO;
+        let mut reads = 0u64;
+        let mut t = span.t0;
+        let mut t_prev: Option<f32> = None;
+        let mut jittered = false;
+        let min_step = self.field.voxel * 0.05;
+        let mut at_end = false;
+        for _ in 0..MAX_STEPS {
+            if t > span.t1 {
+                // The last sample sits on the span's end, so a crossing just before a stop
+                // (a surface in front, the box's far side) is still found.
+                if at_end || t_prev.is_none_or(|tp| tp >= span.t1) {
+                    break;
+                }
+                t = span.t1;
+                at_end = true;
+            }
+            let q = ray.at(t);
+            let p = eye + dir * t;
+            let (d, g) = self.field.distance_and_gradient(q);
+            reads += 1;
+            if d > self.reach {
+                // Sphere tracing to the reach.
+                t_prev = Some(t);
+                // Inside a shell, stepping less than a shell step gains nothing.
+                let least = if self.reach > 0.0 {
+                    self.step
+                } else {
+                    min_step
+                };
+                t += ((d - self.reach) * 0.9).max(least);
+                continue;
+            }
+            let medium = self
+                .hyper
+                .is_some_and(|h| h.amplitude > 0.0 && h.opacity > 0.0);
+            if !medium && self.reach.is_finite() {
+                // No material: sphere tracing of the (melted, displaced) core itself.
+                let e = if self.warped() {
+                    self.core_distance(p)
+                } else {
+                    d
+                };
+                if e <= 0.0 {
+                    let (hit, n) = match t_prev {
+                        Some(tp) => self.bisect(eye, dir, tp, t),
+                        None => (t, 0),
+                    };
+                    reads += u64::from(n) + 6;
+                    acc = self.shade_core(eye + dir * hit, dir, hit);
+                    break;
+                }
+                t_prev = Some(t);
+                t += (e * 0.9 / self.lipschitz).max(min_step);
+                continue;
+            }
+            if !jittered && medium {
+                // The first step into the reach starts the pixel's jittered sample grid.
+                jittered = true;
+                if jitter > 0.0 {
+                    t_prev = Some(t);
+                    t += jitter * self.step;
+                    continue;
+                }
+            }
+            let core = self.hyper.is_none_or(|h| h.core);
+            let e = if self.warped() {
+                self.core_distance(p)
+            } else {
+                d
+            };
+            if core && e <= 0.0 {
+                let (hit, n) = match t_prev {
+                    Some(tp) => self.bisect(eye, dir, tp, t),
+                    None => (t, 0),
+                };
+                reads += u64::from(n) + 6;
+                let c = self.shade_core(eye + dir * hit, dir, hit);
+                acc += c * (1.0 - acc.w);
+                break;
+            }
+            if let Some(h) = self.hyper {
+                let (c, a, n) = self.material(h, p, d, g, dir);
+                reads += n;
+                if a > 0.0 {
+                    acc += (c * a).extend(a) * (1.0 - acc.w);
+                    if acc.w >= self.early {
+                        break;
+                    }
+                }
+                t_prev = Some(t);
+                t += self.step;
+            } else {
+                // A plain surface without skipping: fixed half-voxel steps.
+                t_prev = Some(t);
+                t += self.step;
+            }
+        }
+        (acc, reads)
+    }
+
+    /// True when the core surface is not the field's zero set (melted or displaced).
+    #[inline(always)]
+    fn warped(&self) -> bool {
+        self.hyper
+            .is_some_and(|h| h.melt != 0.0 || h.core_displacement != 0.0)
+    }
+
+    /// The melt's displacement of world point `p`: the field is read that far up.
+    #[inline]
+    fn sag(&self, h: &Hypertexture, p: Vec3) -> Vec3 {
+        if h.melt == 0.0 || h.time == 0.0 {
+            return Vec3::ZERO;
+        }
+        let height = ((p.dot(self.up) - self.base) / self.size).max(0.0);
+        // Drips: noise across the up axis, slowly varying along it.
+        let x = self.texture_from_world.transform_point3(p) * (h.frequency * 0.5);
+        let along = x.dot(self.up);
+        let n = octaves3f(x - self.up * (along * 0.9), 2.0, 2.0, 0.5, false);
+        self.up * (h.melt * h.time * height * (1.0 + 1.5 * n).max(0.0) * self.size)
+    }
+
+    /// The distance to the core surface (melted and displaced), world.
+    #[inline]
+    fn core_distance(&self, p: Vec3) -> f32 {
+        let Some(h) = self.hyper else {
+            return self
+                .field
+                .distance(self.field.voxel_from_world.transform_point3(p));
+        };
+        let pm = p + self.sag(h, p);
+        let d = self
+            .field
+            .distance(self.field.voxel_from_world.transform_point3(pm));
+        if h.core_displacement == 0.0 {
+            d
+        } else {
+            d - h.core_displacement * self.shell * self.noise(h, p)
+        }
+    }
+
+    /// The crossing between `lo` (outside) and `hi` (inside) along the ray, to 1/100 voxel,
+    /// and the reads it took.
+    fn bisect(&self, eye: Vec3, dir: Vec3, lo: f32, hi: f32) -> (f32, u32) {
+        let (mut lo, mut hi) = (lo, hi);
+        let tolerance = 0.01 * self.field.voxel;
+        let mut n = 0;
+        while n < BISECTIONS && hi - lo > tolerance {
+            n += 1;
+            let mid = 0.5 * (lo + hi);
+            if self.core_distance(eye + dir * mid) <= 0.0 {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        (0.5 * (lo + hi), n)
+    }
+
+    /// The core surface at world point `p`, reached at ray distance `t`: opaque, shaded.
+    fn shade_core(&self, p: Vec3, dir: Vec3, t: f32) -> Vec4 {
+        let q = self.field.voxel_from_world.transform_point3(p);
+        let g = if self.warped() {
+            self.field.central_gradient(q, |v| {
+                self.core_distance(self.world_from_voxel.transform_point3(v))
+            })
+        } else {
+            self.field.central_gradient(q, |v| self.field.distance(v))
+        };
+        let n = g.try_normalize().unwrap_or(-dir);
+        // The material moves with the melt: its texture is read where it came from.
+        let pt = match self.hyper {
+            Some(h) => p + self.sag(h, p),
+            None => p,
+        };
+        let n = self.look.bumped(&self.texture_from_world, pt, n);
+        let width = self.footprint.0 * t + self.footprint.1;
+        let c = self.look.color_at(&self.texture_from_world, pt, width);
+        self.lights.shade(c, n, dir, || p).extend(1.0)
+    }
+
+    /// The hypertexture's noise at world point `p`, in `[0, 1]`.
+    #[inline(always)]
+    fn noise(&self, h: &Hypertexture, p: Vec3) -> f32 {
+        let x = self.texture_from_world.transform_point3(p) * h.frequency;
+        let up = self.up;
+        let x = x + up * (x.dot(up) * (h.stretch - 1.0) - h.rise * h.time);
+        match h.noise {
+            NoiseKind::Fbm => 0.5 + 0.7 * octaves3f(x, h.octaves, 2.0, 0.5, false),
+            NoiseKind::Turbulence => octaves3f(x, h.octaves, 2.0, 0.5, true) * 1.2,
+        }
+        .clamp(0.0, 1.0)
+    }
+
+    /// The density at world point `p` with field distance `d` and gradient `g`, in `[0, 1]`,
+    /// and its ramp value `u`.
+    #[inline(always)]
+    fn density(&self, h: &Hypertexture, p: Vec3, d: f32, g: Vec3) -> (f32, f32) {
+        if h.amplitude == 0.0 || h.opacity == 0.0 {
+            return (0.0, 0.0);
+        }
+        let d = if h.melt != 0.0 {
+            let pm = p + self.sag(h, p);
+            self.field
+                .distance(self.field.voxel_from_world.transform_point3(pm))
+        } else {
+            d
+        };
+        let height = d / self.shell;
+        if height >= h.amplitude {
+            return (0.0, 0.0);
+        }
+        let at = if h.strands {
+            p - g.try_normalize().unwrap_or(Vec3::ZERO) * d
+        } else {
+            p
+        };
+        let u = (h.amplitude * self.noise(h, at) - height.max(0.0)) / h.softness;
+        if u <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let i = (u.min(1.0) * SHAPE_LUT as f32) as usize;
+        (self.shape[i.min(SHAPE_LUT)], u.min(1.0))
+    }
+
+    /// The material at one sample: its colour, opacity over the step, and the reads taken.
+    fn material(&self, h: &Hypertexture, p: Vec3, d: f32, g: Vec3, dir: Vec3) -> (Vec3, f32, u64) {
+        let (dens, u) = self.density(h, p, d, g);
+        if dens <= 0.0 {
+            return (Vec3::ZERO, 0.0, 0);
+        }
+        let a = 1.0 - (-h.opacity * dens * self.step / self.shell).exp();
+        let ramp = h.outer.lerp(h.inner, u);
+        if h.emission > 0.0 {
+            return (ramp * h.emission, a, 0);
+        }
+        let lit = self.lights.shade(ramp, g, dir, || p);
+        if !(h.shadows && self.has_lights) {
+            return (lit, a, 0);
+        }
+        // Self-shadowing: the material between the sample and the first light.
+        let Some((l, _)) = self
+            .light_list
+            .iter()
+            .find_map(|li| li.normalized().and_then(|li| li.incidence(p)))
+        else {
+            return (lit, a, 0);
+        };
+        let steps = 4;
+        let ds = (h.amplitude * self.shell).max(self.step) / steps as f32;
+        let mut tau = 0.0;
+        for k in 1..=steps {
+            let ps = p + l * (ds * k as f32);
+            let qs = self.field.voxel_from_world.transform_point3(ps);
+            let (dd, gg) = self.field.distance_and_gradient(qs);
+            if dd <= 0.0 {
+                tau = f32::INFINITY;
+                break;
+            }
+            tau += h.opacity * self.density(h, ps, dd, gg).0 * ds / self.shell;
+        }
+        let ambient = ramp * 0.2;
+        (
+            ambient + (lit - ambient).max(Vec3::ZERO) * (-tau).exp(),
+            a,
+            steps,
+        )
+    }
+}
