@@ -14,7 +14,7 @@ use glam::{Vec3, Vec4};
 use super::source::PageSource;
 
 /// The weight bound of each Haar wavelet at every level (linear light).
-pub const AMPLITUDE: f32 = 0.045;
+pub const AMPLITUDE: f32 = 0.03;
 /// The colour at the root (linear).
 const BASE: Vec3 = Vec3::new(0.42, 0.36, 0.28);
 /// Grid families: spacing 2^s texels, width 2^w, how much they darken.
