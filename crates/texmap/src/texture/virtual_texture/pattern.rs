@@ -61,6 +61,41 @@ fn line_coverage(x0: u32, level: u32, s: u32, w: u32) -> f32 {
     }
 }
 
+impl QuadtreePattern {
+    /// The offset child `(x, y)` of level `parent − 1` adds to its parent's colour.
+    #[inline]
+    fn offset(&self, parent: u32, x: u32, y: u32) -> Vec3 {
+        let (px, py) = (x >> 1, y >> 1);
+        let hx = if x & 1 == 0 { 1.0 } else { -1.0 };
+        let hy = if y & 1 == 0 { 1.0 } else { -1.0 };
+        let key = self.seed ^ (u64::from(parent) << 58) ^ (u64::from(py) << 29) ^ u64::from(px);
+        let h = mix(key.wrapping_add(0x9e37_79b9_7f4a_7c15));
+        let weight = |k: u32| ((h >> (7 * k)) & 127) as f32 / 63.5 - 1.0;
+        let basis = [hx, hy, hx * hy];
+        let channel = |ch: u32| -> f32 {
+            (0..3)
+                .map(|b| weight(3 * ch + b) * basis[b as usize])
+                .sum::<f32>()
+        };
+        Vec3::new(channel(0), channel(1), channel(2)) * AMPLITUDE
+    }
+
+    /// How much the grid lines darken texel `x` (along one axis) of level `level`, per
+    /// family.
+    fn lines(level: u32, x: u32) -> [f32; GRIDS.len()] {
+        GRIDS.map(|(s, w, _)| line_coverage(x << level, level, s, w))
+    }
+
+    /// The colour with the lines of coverages `cx`, `cy` taken off.
+    #[inline]
+    fn with_lines(mut c: Vec3, cx: &[f32; GRIDS.len()], cy: &[f32; GRIDS.len()]) -> Vec4 {
+        for (k, (_, _, depth)) in GRIDS.iter().enumerate() {
+            c -= Vec3::splat(depth * (cx[k] + cy[k] - cx[k] * cy[k]));
+        }
+        c.extend(1.0)
+    }
+}
+
 impl PageSource for QuadtreePattern {
     fn describe(&self) -> String {
         format!(
@@ -74,36 +109,60 @@ impl PageSource for QuadtreePattern {
         // From the root down to this texel: each step adds the zero-sum offset of the child
         // the path takes.
         for parent in (level + 1..=self.side_log2).rev() {
-            let shift = parent - level;
-            let (px, py) = (x >> shift, y >> shift);
-            let hx = if (x >> (shift - 1)) & 1 == 0 {
-                1.0
-            } else {
-                -1.0
-            };
-            let hy = if (y >> (shift - 1)) & 1 == 0 {
-                1.0
-            } else {
-                -1.0
-            };
-            let key = self.seed ^ (u64::from(parent) << 58) ^ (u64::from(py) << 29) ^ u64::from(px);
-            let h = mix(key.wrapping_add(0x9e37_79b9_7f4a_7c15));
-            let weight = |k: u32| ((h >> (7 * k)) & 127) as f32 / 63.5 - 1.0;
-            let basis = [hx, hy, hx * hy];
-            let channel = |ch: u32| -> f32 {
-                (0..3)
-                    .map(|b| weight(3 * ch + b) * basis[b as usize])
-                    .sum::<f32>()
-            };
-            c += Vec3::new(channel(0), channel(1), channel(2)) * AMPLITUDE;
+            let shift = parent - level - 1;
+            c += self.offset(parent, x >> shift, y >> shift);
         }
-        let (x0, y0) = (x << level, y << level);
-        for (s, w, depth) in GRIDS {
-            let cx = line_coverage(x0, level, s, w);
-            let cy = line_coverage(y0, level, s, w);
-            c -= Vec3::splat(depth * (cx + cy - cx * cy));
+        Self::with_lines(c, &Self::lines(level, x), &Self::lines(level, y))
+    }
+
+    /// The grid `xs × ys` level by level from the root: each level's texels from their
+    /// parents', one offset each, so a page costs about 4/3 of an offset a texel instead of
+    /// one per level above it. The sums run in [`PageSource::texel`]'s order: the same bits.
+    fn fill(&self, level: u32, xs: &[u32], ys: &[u32], out: &mut [Vec4]) {
+        // The distinct indices of every level from this one to the root, sorted.
+        let chain = |v: &[u32]| -> Vec<Vec<u32>> {
+            let mut first = v.to_vec();
+            first.sort_unstable();
+            first.dedup();
+            let mut all = vec![first];
+            for _ in level..self.side_log2 {
+                let mut up: Vec<u32> = all
+                    .last()
+                    .map_or(Vec::new(), |l| l.iter().map(|x| x >> 1).collect());
+                up.dedup();
+                all.push(up);
+            }
+            all
+        };
+        let (cx, cy) = (chain(xs), chain(ys));
+        let top = (self.side_log2 - level) as usize;
+        let mut grid = vec![BASE; cx[top].len() * cy[top].len()];
+        for k in (0..top).rev() {
+            let parent = level + k as u32 + 1;
+            let (px, py) = (&cx[k + 1], &cy[k + 1]);
+            let at = |p: &[u32], v: u32| p.binary_search(&(v >> 1)).unwrap_or(0);
+            let ix: Vec<usize> = cx[k].iter().map(|&x| at(px, x)).collect();
+            let mut next = Vec::with_capacity(cx[k].len() * cy[k].len());
+            for &y in &cy[k] {
+                let row = at(py, y) * px.len();
+                for (&x, &i) in cx[k].iter().zip(&ix) {
+                    next.push(grid[row + i] + self.offset(parent, x, y));
+                }
+            }
+            grid = next;
         }
-        c.extend(1.0)
+        let lines_x: Vec<_> = cx[0].iter().map(|&x| Self::lines(level, x)).collect();
+        let lines_y: Vec<_> = cy[0].iter().map(|&y| Self::lines(level, y)).collect();
+        let ix: Vec<usize> = xs
+            .iter()
+            .map(|x| cx[0].binary_search(x).unwrap_or(0))
+            .collect();
+        for (row, &y) in out.chunks_exact_mut(xs.len()).zip(ys) {
+            let j = cy[0].binary_search(&y).unwrap_or(0);
+            for (o, &i) in row.iter_mut().zip(&ix) {
+                *o = Self::with_lines(grid[j * cx[0].len() + i], &lines_x[i], &lines_y[j]);
+            }
+        }
     }
 }
 
@@ -139,6 +198,28 @@ mod tests {
                     (got - want).abs().max_element() < 2e-5,
                     "level {level} ({x}, {y}): {got} vs {want}"
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn a_filled_grid_equals_its_texels_bit_for_bit() {
+        let p = QuadtreePattern::new(12, 4);
+        // Wrapped indices, as a page's border at the texture's edge takes them.
+        let xs: Vec<u32> = (4092..4096).chain(0..9).collect();
+        let ys: Vec<u32> = (1000..1013).collect();
+        for level in [0, 3] {
+            let n = 4096 >> level;
+            let (xs, ys): (Vec<u32>, Vec<u32>) = (
+                xs.iter().map(|&x| x % n).collect(),
+                ys.iter().map(|&y| y % n).collect(),
+            );
+            let mut out = vec![Vec4::ZERO; xs.len() * ys.len()];
+            p.fill(level, &xs, &ys, &mut out);
+            for (j, &y) in ys.iter().enumerate() {
+                for (i, &x) in xs.iter().enumerate() {
+                    assert_eq!(out[j * xs.len() + i], p.texel(level, x, y), "({x}, {y})");
+                }
             }
         }
     }

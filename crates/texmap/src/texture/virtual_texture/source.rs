@@ -18,6 +18,17 @@ pub trait PageSource: Send + Sync + std::fmt::Debug {
     fn describe(&self) -> String;
     /// Linear, premultiplied texel `(x, y)` of level `level` (both in range).
     fn texel(&self, level: u32, x: u32, y: u32) -> Vec4;
+
+    /// The texels of level `level` at every `(xs[i], ys[j])` (in range), row by row into
+    /// `out` (`xs.len() · ys.len()` long). A source that shares work between neighbours
+    /// overrides it; the default reads [`PageSource::texel`] one by one.
+    fn fill(&self, level: u32, xs: &[u32], ys: &[u32], out: &mut [Vec4]) {
+        for (row, &y) in out.chunks_exact_mut(xs.len().max(1)).zip(ys) {
+            for (o, &x) in row.iter_mut().zip(xs) {
+                *o = self.texel(level, x, y);
+            }
+        }
+    }
 }
 
 /// Texel index `i` of a level of `n` texels, wrapped as `wrap` says (repeat or clamp).
@@ -44,18 +55,19 @@ pub(super) fn build_page(
     let xs: Vec<u32> = (0..side)
         .map(|i| wrap_index(wraps.0, ox + i64::from(i), n))
         .collect();
+    let ys: Vec<u32> = (0..side)
+        .map(|i| wrap_index(wraps.1, oy + i64::from(i), n))
+        .collect();
+    let mut texels = vec![Vec4::ZERO; (side * side) as usize];
+    source.fill(key.level, &xs, &ys, &mut texels);
     let mut bytes = vec![0u8; (side * side) as usize * 8];
-    for (row, out) in bytes.chunks_exact_mut(side as usize * 8).enumerate() {
-        let y = wrap_index(wraps.1, oy + row as i64, n);
-        for (&x, texel) in xs.iter().zip(out.chunks_exact_mut(8)) {
-            let c = source.texel(key.level, x, y);
-            let straight = if c.w > 0.0 {
-                (c.truncate() / c.w).extend(c.w)
-            } else {
-                Vec4::ZERO
-            };
-            Format::Rgba16F.encode(straight, ColorSpace::Linear, texel);
-        }
+    for (c, texel) in texels.iter().zip(bytes.chunks_exact_mut(8)) {
+        let straight = if c.w > 0.0 {
+            (c.truncate() / c.w).extend(c.w)
+        } else {
+            Vec4::ZERO
+        };
+        Format::Rgba16F.encode(straight, ColorSpace::Linear, texel);
     }
     Texture2D::from_texels(
         side,
