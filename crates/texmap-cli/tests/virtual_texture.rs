@@ -155,6 +155,11 @@ fn bad_budgets_filters_and_wraps_are_refused() {
     };
     let e = refused(&render(&["--vt-budget", "1M"]), &out);
     assert!(e.contains("--vt-budget") && e.contains("too small"), "{e}");
+    let e = refused(&render(&["--vt-budget", "2G", "--max-memory", "1G"]), &out);
+    assert!(
+        e.contains("page caches take 2048 MiB") && e.contains("--max-memory"),
+        "{e}"
+    );
     let e = refused(&render(&["--filter", "ewa"]), &out);
     assert!(e.contains("not ewa"), "{e}");
     let e = refused(&render(&["--filter", "sat"]), &out);

@@ -306,6 +306,19 @@ pub(super) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
     if let Some(s) = args.uv_scale {
         scene.uv_scale = s;
     }
+    let virtual_bytes: u64 = scene
+        .virtual_textures()
+        .iter()
+        .map(|(vt, _)| args.vt_budget.unwrap_or_else(|| vt.budget()))
+        .sum();
+    if virtual_bytes > common.max_memory {
+        let mib = |b: u64| b >> 20;
+        return Err(Error::parameter(format!(
+            "the virtual textures' page caches take {} MiB, above --max-memory {} MiB",
+            mib(virtual_bytes),
+            mib(common.max_memory)
+        )));
+    }
     if let Some(bytes) = args.vt_budget {
         for (vt, _) in scene.virtual_textures() {
             pool.install(|| vt.set_budget(bytes))
