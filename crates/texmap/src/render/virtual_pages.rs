@@ -1,5 +1,5 @@
 //! The frame driver's part for virtual textures: check how they are read, draw the
-//! feedback pass at a quarter of the frame's size (each read records the pages it needs,
+//! feedback pass at half the frame's size (each read records the pages it needs,
 //! λ corrected for the smaller frame), bring the pages in, and count the fallbacks of the
 //! frame drawn after.
 
@@ -29,7 +29,7 @@ pub(super) fn feedback(
             vt.check_sampler(&settings.textures.apply(*s))?;
         }
     }
-    // The frame's sample grid (supersampling included), a quarter of it on a side.
+    // The frame's sample grid (supersampling included), halved on each side.
     let (w, h) = (
         settings.width * settings.ssaa,
         settings.height * settings.ssaa,

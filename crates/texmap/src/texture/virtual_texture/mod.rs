@@ -11,7 +11,7 @@
 //!   recently used pages evicted, the tail (the levels of ≤ 128 texels, one page each)
 //!   pinned: the finest coarser level resident always exists.
 //! - **Feedback** (`requests.rs`, `sample.rs`): the frame driver (`render`) first draws
-//!   the frame at a quarter of its size with the textures in feedback mode: each read
+//!   the frame at half its size with the textures in feedback mode: each read
 //!   records the pages its levels need over its footprint (λ corrected for the smaller
 //!   frame) instead of reading. [`VirtualTexture::update`] then loads what was asked (coarse
 //!   levels first, pages made in parallel, in an order that does not depend on threads) and

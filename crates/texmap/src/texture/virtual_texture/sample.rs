@@ -42,8 +42,8 @@ enum Plan {
 
 /// Pixel `j`'s own derivatives: along x its row's difference, along y its column's. The
 /// frame reads with the quad's coarse ones (the top row, the left column); a feedback quad
-/// spans 2×4 frame pixels a side, where perspective can change them twofold between its
-/// rows, so a feedback read takes the ones of its own pixel.
+/// spans twice as many frame pixels as a frame quad, where perspective near the horizon
+/// changes them severalfold between its rows, so a feedback read takes its own pixel's.
 fn fine_derivatives(c: &QuadCoords, j: usize) -> (Vec2, Vec2) {
     let lane = |k: usize| Vec2::new(c.u[k], c.v[k]);
     let row = j & 2;
