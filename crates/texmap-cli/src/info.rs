@@ -102,6 +102,51 @@ pub fn run(args: InfoArgs) -> Result<(), Error> {
     crate::output::stdout(&out)
 }
 
+/// The scene's virtual textures: size, levels, pages, what stays resident, the cache.
+fn print_virtual_textures(out: &mut String, s: &texmap::scene::Scene) {
+    use texmap::texture::virtual_texture::{PAGE_BORDER, PAGE_BYTES, PAGE_SIDE, PAGE_TEXELS};
+    let virtuals = s.virtual_textures();
+    if virtuals.is_empty() {
+        return;
+    }
+    let mib = |b: f64| b / f64::from(1u32 << 20);
+    outln!(out, "virtual textures: {}", virtuals.len());
+    for (vt, _) in &virtuals {
+        let l = vt.layout();
+        let side = u64::from(vt.side());
+        let tail = l.tail().count() as u64;
+        let (wu, wv) = vt.wraps();
+        outln!(
+            out,
+            "  {side}x{side}, {} levels, wrap {}/{}: {}",
+            l.levels(),
+            wu.name(),
+            wv.name(),
+            vt.describe()
+        );
+        outln!(
+            out,
+            "  whole it would be {:.1} GiB (RGBA16F with its mip levels)",
+            (side * side * 8) as f64 * 4.0 / 3.0 / f64::from(1u32 << 30)
+        );
+        outln!(
+            out,
+            "  pages: {PAGE_TEXELS}² texels + {PAGE_BORDER}-texel border ({PAGE_SIDE}² RGBA16F, {PAGE_BYTES} bytes); {} in all, {}² at level 0; levels {}..{} are one page each, pinned",
+            l.total_pages(),
+            l.pages(0),
+            l.tail_start(),
+            l.levels() - 1
+        );
+        outln!(
+            out,
+            "  cache: budget {:.2} MiB = {} pages ({tail} pinned); page tables {:.2} MiB",
+            mib(vt.budget() as f64),
+            vt.slots().0,
+            mib(l.total_pages() as f64 * 4.0)
+        );
+    }
+}
+
 /// A texture container: its format, shape, levels and bytes.
 fn describe_texture_file(f: &TextureFile) -> String {
     let mut out = String::new();
@@ -257,6 +302,7 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
             attrs.join(" ")
         );
     }
+    print_virtual_textures(out, s);
     outln!(out, "materials: {}", s.materials.len());
     for (i, m) in s.materials.iter().enumerate() {
         let name = l.info.material_names.get(i).map_or("", String::as_str);
@@ -267,12 +313,20 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
         };
         let mut maps = Vec::new();
         if let Some(t) = &m.base_color_texture {
-            maps.push(format!(
-                "base_color {}x{} uv{}",
-                t.texture.width(),
-                t.texture.height(),
-                t.tex_coord
-            ));
+            maps.push(match &t.virtual_texture {
+                Some(vt) => format!(
+                    "base_color virtual {}x{} uv{}",
+                    vt.side(),
+                    vt.side(),
+                    t.tex_coord
+                ),
+                None => format!(
+                    "base_color {}x{} uv{}",
+                    t.texture.width(),
+                    t.texture.height(),
+                    t.tex_coord
+                ),
+            });
         }
         for map in &m.maps {
             maps.push(format!(

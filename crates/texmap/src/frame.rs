@@ -20,6 +20,40 @@ pub struct FrameStats {
     /// Fragment shader invocations (pixels × triangles, at the supersampled size).
     pub pixels_shaded: u64,
     pub texture_samples: u64,
+    /// Virtual textures' pages this frame (all zero without any).
+    pub virtual_pages: VirtualPageStats,
+}
+
+/// What a frame's feedback pass asked of the virtual textures' caches, and what moved.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct VirtualPageStats {
+    /// Pages the feedback pass asked for.
+    pub requested: u64,
+    /// Pages made and brought in.
+    pub loaded: u64,
+    /// Pages dropped to make room (least recently used first).
+    pub evicted: u64,
+    /// Pages asked for but left out: the budget was full of this frame's pages.
+    pub over_budget: u64,
+    /// Pages resident after the update (the pinned coarsest levels included).
+    pub resident: u64,
+    /// Reads whose page was not resident and that read a coarser level.
+    pub fallback_reads: u64,
+}
+
+impl VirtualPageStats {
+    /// The counts of two textures together (`resident` summed too).
+    #[must_use]
+    pub fn plus(self, o: VirtualPageStats) -> VirtualPageStats {
+        VirtualPageStats {
+            requested: self.requested + o.requested,
+            loaded: self.loaded + o.loaded,
+            evicted: self.evicted + o.evicted,
+            over_budget: self.over_budget + o.over_budget,
+            resident: self.resident + o.resident,
+            fallback_reads: self.fallback_reads + o.fallback_reads,
+        }
+    }
 }
 
 /// A rendered image.

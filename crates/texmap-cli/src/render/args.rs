@@ -204,6 +204,12 @@ pub struct RenderArgs {
     /// native) [default: decoded].
     #[arg(long, value_parser = parse_storage, value_name = "decoded|native|compressed")]
     pub(crate) texture_storage: Option<Storage>,
+    /// The resident page cache of each virtual texture in the scene, e.g. 64M (replaces the
+    /// scene's `budget_mib`): pages of 128² texels plus a 4-texel border, 148 KiB each,
+    /// least recently used evicted first. It must hold the texture's coarsest levels (one
+    /// page each) and 4 pages more; the caches together count against --max-memory.
+    #[arg(long, value_parser = limits::parse_bytes, value_name = "BYTES")]
+    pub(crate) vt_budget: Option<u64>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub(crate) threads: Option<usize>,

@@ -400,6 +400,12 @@ pub(super) fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error>
             format!("{name} is built in: its textures are made in code, held decoded"),
         )?;
     }
+    if built.scene.virtual_textures().is_empty() {
+        refuse(
+            given(&[("--vt-budget", args.vt_budget.is_some())]),
+            format!("{name} reads no virtual texture"),
+        )?;
+    }
     if built.volumes.is_empty() {
         refuse(
             args.volume.given_volume_flags(),

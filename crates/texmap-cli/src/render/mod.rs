@@ -375,6 +375,25 @@ pub(super) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
     if let Some(s) = args.uv_scale {
         scene.uv_scale = s;
     }
+    let virtual_bytes: u64 = scene
+        .virtual_textures()
+        .iter()
+        .map(|(vt, _)| args.vt_budget.unwrap_or_else(|| vt.budget()))
+        .sum();
+    if virtual_bytes > common.max_memory {
+        let mib = |b: u64| b >> 20;
+        return Err(Error::parameter(format!(
+            "the virtual textures' page caches take {} MiB, above --max-memory {} MiB",
+            mib(virtual_bytes),
+            mib(common.max_memory)
+        )));
+    }
+    if let Some(bytes) = args.vt_budget {
+        for (vt, _) in scene.virtual_textures() {
+            pool.install(|| vt.set_budget(bytes))
+                .map_err(|e| Error::parameter(format!("--vt-budget: {e}")))?;
+        }
+    }
     let projection = match (args.ortho, args.fov) {
         (Some(height), _) => ProjectionRequest::Orthographic { height },
         (None, Some(fov_y_deg)) => ProjectionRequest::Perspective { fov_y_deg },
@@ -525,6 +544,31 @@ impl Prepared {
         });
         if let Some(ms) = self.prefilter_ms {
             json["env_prefilter_ms"] = serde_json::json!(round2(ms));
+        }
+        let virtuals = self.scene.virtual_textures();
+        if !virtuals.is_empty() {
+            let v = &s.virtual_pages;
+            let totals = virtuals
+                .iter()
+                .fold(texmap::render::VirtualPageStats::default(), |t, (vt, _)| {
+                    t.plus(vt.totals())
+                });
+            json["virtual_texture"] = serde_json::json!({
+                "budget_bytes": virtuals.iter().map(|(vt, _)| vt.budget()).sum::<u64>(),
+                "slots": virtuals.iter().map(|(vt, _)| vt.slots().0).sum::<usize>(),
+                "pages_requested": v.requested,
+                "pages_loaded": v.loaded,
+                "pages_evicted": v.evicted,
+                "pages_over_budget": v.over_budget,
+                "pages_resident": v.resident,
+                "fallback_reads": v.fallback_reads,
+                "all_frames": {
+                    "pages_requested": totals.requested,
+                    "pages_loaded": totals.loaded,
+                    "pages_evicted": totals.evicted,
+                    "pages_over_budget": totals.over_budget,
+                },
+            });
         }
         if let Some(kb) = limits::peak_rss_kib() {
             json["peak_rss_kib"] = serde_json::json!(kb);

@@ -9,7 +9,9 @@ use glam::{Mat2, Vec2, Vec4};
 use super::varyings::Slot;
 use crate::pipeline::{Quad, BATCH};
 use crate::shading::TextureSlot;
-use crate::texture::{sample_quad_lanes, sample_quads_lanes, QuadCoords, Sampler, Texture2D};
+use crate::texture::{
+    sample_quad_lanes, sample_quads_lanes, QuadCoords, Sampler, Texture2D, VirtualTexture,
+};
 
 /// A texture the fragment stage reads: image, sampler (command-line overrides applied), the
 /// slot's uv transform and scales folded into one affine map (computed once per draw, not per
@@ -17,6 +19,8 @@ use crate::texture::{sample_quad_lanes, sample_quads_lanes, QuadCoords, Sampler,
 #[derive(Clone, Copy)]
 pub(super) struct MapRead<'a> {
     pub tex: &'a Texture2D,
+    /// A virtual texture read through its page table instead of `tex`.
+    pub virt: Option<&'a VirtualTexture>,
     pub sampler: Sampler,
     /// `uv' = linear·uv + offset` = `transform.apply(uv) · uv_scale · scene scale`.
     pub linear: Mat2,
@@ -39,6 +43,7 @@ impl<'a> MapRead<'a> {
         let s = slot.uv_scale * uv_scale;
         MapRead {
             tex: &slot.texture,
+            virt: slot.virtual_texture.as_deref(),
             sampler,
             linear: slot.transform.matrix() * s,
             offset: slot.transform.offset * s,
@@ -50,14 +55,24 @@ impl<'a> MapRead<'a> {
     /// The quad's four reads. The transform is affine, so applying it per pixel to the raw,
     /// interpolated uv (and its linear part to the derivatives) equals applying it per vertex.
     pub fn quad(&self, quad: &Quad) -> [Vec4; 4] {
-        let c = self.coords(quad);
+        self.read_lanes(&self.coords(quad), quad.mask)
+    }
+
+    /// One quad's reads at `c`, from the image or through the virtual texture's pages.
+    #[inline]
+    fn read_lanes(&self, c: &QuadCoords, mask: u8) -> [Vec4; 4] {
+        if let Some(vt) = self.virt {
+            let mut out = [[Vec4::ZERO; 4]];
+            vt.sample_quads_lanes(&self.sampler, std::slice::from_ref(c), &[mask], &mut out);
+            return out[0];
+        }
         sample_quad_lanes(
             self.tex,
             &self.sampler,
             (c.u, c.v),
             c.duv_dx,
             c.duv_dy,
-            quad.mask,
+            mask,
         )
     }
 
@@ -72,7 +87,10 @@ impl<'a> MapRead<'a> {
                 *m = q.mask;
             }
             let n = quads.len();
-            sample_quads_lanes(self.tex, &self.sampler, &coords[..n], &masks[..n], out);
+            match self.virt {
+                Some(vt) => vt.sample_quads_lanes(&self.sampler, &coords[..n], &masks[..n], out),
+                None => sample_quads_lanes(self.tex, &self.sampler, &coords[..n], &masks[..n], out),
+            }
         }
     }
 
@@ -97,7 +115,13 @@ impl<'a> MapRead<'a> {
         let c = self.coords(quad);
         let (dx, dy) = (c.duv_dx, c.duv_dy);
         let read = |u: Vec4, v: Vec4| {
-            sample_quad_lanes(self.tex, &self.sampler, (u, v), dx, dy, quad.mask)
+            let c = QuadCoords {
+                u,
+                v,
+                duv_dx: dx,
+                duv_dy: dy,
+            };
+            self.read_lanes(&c, quad.mask)
         };
         let h = read(c.u, c.v);
         let hx = read(c.u + dx.x, c.v + dx.y);

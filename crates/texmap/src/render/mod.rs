@@ -42,12 +42,13 @@ mod shadow;
 mod surface;
 mod varyings;
 mod vertex;
+mod virtual_pages;
 mod volumes;
 
 use glam::{DVec3, Mat4, Vec3, Vec4};
 
 use crate::camera::Camera;
-pub use crate::frame::{Frame, FrameStats};
+pub use crate::frame::{Frame, FrameStats, VirtualPageStats};
 use crate::pipeline::{self, DrawCall, Target};
 pub use crate::pipeline::{CullMode, Interpolation};
 use crate::scene::{Mesh, Scene};
@@ -116,6 +117,31 @@ pub fn render_into(
 /// # Errors
 /// As [`render`]; [`Error::Parameter`] when `shadows` were made for other lights.
 pub fn render_into_with_shadows(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &Settings,
+    shadows: &ShadowMaps,
+    frame: &mut Frame,
+) -> Result<()> {
+    settings.validate()?;
+    camera.validate()?;
+    let virtuals = scene.virtual_textures();
+    if virtuals.is_empty() {
+        return draw_frame(scene, camera, settings, shadows, frame);
+    }
+    // Virtual textures: a feedback pass says which pages the frame needs, the caches bring
+    // them in, then the frame is drawn (virtual_pages.rs).
+    let pages = virtual_pages::feedback(&virtuals, settings, |fb: &Settings| {
+        let mut scratch = Frame::default();
+        draw_frame(scene, camera, fb, shadows, &mut scratch)
+    })?;
+    draw_frame(scene, camera, settings, shadows, frame)?;
+    frame.stats.virtual_pages = virtual_pages::with_fallbacks(&virtuals, pages);
+    Ok(())
+}
+
+/// One frame drawn: [`render_into_with_shadows`] once the virtual textures are ready.
+fn draw_frame(
     scene: &Scene,
     camera: &Camera,
     settings: &Settings,
@@ -253,6 +279,7 @@ pub fn render_into_with_shadows(
         triangles_after_clip: st.triangles_after_clip,
         pixels_shaded: st.pixels_shaded,
         texture_samples: st.texture_samples,
+        virtual_pages: VirtualPageStats::default(),
     };
     Ok(())
 }

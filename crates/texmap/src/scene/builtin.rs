@@ -333,6 +333,7 @@ pub fn demo() -> Scene {
             transform: TextureTransform::default(),
             uv_scale: 16.0,
             tex_coord: 0,
+            virtual_texture: None,
         }),
         ambient: 0.3,
         diffuse: 0.7,

@@ -50,7 +50,7 @@ pub use crate::shading::{
     AlphaMode, Light, Material, Procedural, ShadingModel, SolidChannel, SolidMap, TextureSlot,
     Viewer,
 };
-use crate::texture::{Sampler, Texture2D};
+use crate::texture::{Sampler, Texture2D, VirtualTexture};
 
 /// An indexed triangle mesh. Optional attributes are empty or have one entry per position.
 #[derive(Clone, Debug, Default)]
@@ -198,6 +198,30 @@ impl Scene {
         out
     }
 
+    /// The virtual textures the meshes' materials read, each once (in scene order), with
+    /// the samplers that read them.
+    #[must_use]
+    pub fn virtual_textures(&self) -> Vec<(Arc<VirtualTexture>, Vec<Sampler>)> {
+        let mut out: Vec<(Arc<VirtualTexture>, Vec<Sampler>)> = Vec::new();
+        for m in &self.meshes {
+            let Some(slot) = self
+                .materials
+                .get(m.material)
+                .and_then(|mat| mat.base_color_texture.as_ref())
+            else {
+                continue;
+            };
+            let Some(vt) = &slot.virtual_texture else {
+                continue;
+            };
+            match out.iter_mut().find(|(v, _)| Arc::ptr_eq(v, vt)) {
+                Some((_, samplers)) => samplers.push(slot.sampler),
+                None => out.push((vt.clone(), vec![slot.sampler])),
+            }
+        }
+        out
+    }
+
     /// Makes `texture` the base-colour image of every material without a procedural colour
     /// (replacing the image of those that have one, keeping their sampler and transform;
     /// the others get a default slot). Returns how many materials drawn by a mesh take it.
@@ -207,7 +231,10 @@ impl Scene {
                 continue;
             }
             match &mut m.base_color_texture {
-                Some(slot) => slot.texture = texture.clone(),
+                Some(slot) => {
+                    slot.texture = texture.clone();
+                    slot.virtual_texture = None;
+                }
                 None => {
                     m.base_color_texture =
                         Some(TextureSlot::new(texture.clone(), Sampler::default()))

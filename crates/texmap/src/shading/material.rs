@@ -8,7 +8,7 @@ use glam::{Vec3, Vec4};
 
 use crate::geometry::Projection;
 use crate::texture::procedural::Solid;
-use crate::texture::{Sampler, Texture2D, Texture3D, TextureTransform};
+use crate::texture::{Sampler, Texture2D, Texture3D, TextureTransform, VirtualTexture};
 
 /// A texture bound to a material: the image, how it is read, and the uv transform.
 ///
@@ -21,6 +21,10 @@ pub struct TextureSlot {
     pub uv_scale: f32,
     /// Which texture coordinate set the slot reads: 0 (`Mesh::uvs`) or 1 (`Mesh::uvs1`).
     pub tex_coord: u32,
+    /// Set when the slot reads a virtual texture: reads go through its page table, and
+    /// `texture` holds its coarsest page-sized level (what readers that know nothing of
+    /// pages see).
+    pub virtual_texture: Option<Arc<VirtualTexture>>,
 }
 
 impl TextureSlot {
@@ -33,6 +37,7 @@ impl TextureSlot {
             transform: TextureTransform::default(),
             uv_scale: 1.0,
             tex_coord: 0,
+            virtual_texture: None,
         }
     }
 }

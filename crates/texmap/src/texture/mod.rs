@@ -26,6 +26,7 @@ mod sampler;
 mod storage;
 mod texture3d;
 mod transform;
+pub mod virtual_texture;
 mod wrap;
 
 pub use cube::{sample_cube, CubeFace, TextureCube};
@@ -41,4 +42,5 @@ pub use sampler::{Filter, MagFilter, MinFilter, Sampler, UnknownName};
 pub use storage::{Layout, Level, Storage, Texture2D, TextureOptions};
 pub use texture3d::{sample_3d, Texture3D};
 pub use transform::TextureTransform;
+pub use virtual_texture::VirtualTexture;
 pub use wrap::{Wrap, BORDER};

@@ -284,6 +284,7 @@ pub fn render_slices_until(
             triangles_after_clip: st.triangles_after_clip,
             pixels_shaded: st.pixels_shaded,
             texture_samples: st.texture_samples,
+            ..FrameStats::default()
         },
     })
 }

@@ -12,6 +12,7 @@ use glam::{Vec3, Vec4};
 use super::procedural::{colour_source, solid_maps};
 use super::spec::MaterialSpec;
 use super::textures::slot;
+use super::virtual_texture::virtual_slot;
 use crate::scene::texture_cache::{channel_color_space, TextureCache};
 use crate::shading::{AlphaMode, MapChannel, Material, MaterialMap, ShadingModel};
 use crate::texture::ColorSpace;
@@ -79,6 +80,17 @@ pub(super) fn material(
     }
     if let Some(t) = &m.base_color_texture {
         mat.base_color_texture = slot(dir, "base_color_texture", t, ColorSpace::Srgb, textures)?;
+    }
+    if let Some(v) = &m.virtual_texture {
+        if m.base_color_texture.is_some() {
+            return Err(Error::parameter(
+                "virtual_texture and base_color_texture are both given; keep one",
+            ));
+        }
+        mat.base_color_texture = Some(virtual_slot(v).map_err(|e| match e {
+            Error::Parameter(msg) => Error::Parameter(format!("virtual_texture: {msg}")),
+            other => other,
+        })?);
     }
     mat.procedural = colour_source(dir, m, textures)?;
     mat.solid_maps.extend(solid_maps(m)?);

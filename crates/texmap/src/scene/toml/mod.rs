@@ -34,6 +34,7 @@ mod sampler;
 mod spec;
 mod texgen;
 mod textures;
+mod virtual_texture;
 mod volumes;
 
 #[cfg(test)]

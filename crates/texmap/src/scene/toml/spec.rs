@@ -208,6 +208,8 @@ pub(super) struct MaterialSpec {
     pub(super) alpha_mode: Option<String>,
     pub(super) alpha_cutoff: Option<f32>,
     pub(super) base_color_texture: Option<TextureSpec>,
+    /// A virtual texture as the base-colour texture (instead of `base_color_texture`).
+    pub(super) virtual_texture: Option<VirtualTextureSpec>,
     #[serde(default)]
     pub(super) maps: MapsSpec,
     /// A solid (procedural) texture multiplying the base colour.
@@ -364,6 +366,37 @@ pub(super) struct TextureSpec {
     /// How the image is held in memory: decoded | native | compressed (default: the
     /// load's, `--texture-storage`).
     pub(super) storage: Option<String>,
+}
+
+/// A `virtual_texture` table: a texture too large to hold, read a page at a time.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct VirtualTextureSpec {
+    /// The source: "quadtree" (the procedural pattern).
+    pub(super) pattern: String,
+    /// Texels on a side: a power of two from 128 to 131072.
+    pub(super) size: u32,
+    /// Chooses the pattern's colours (default 1).
+    #[serde(default = "seed_one")]
+    pub(super) seed: u64,
+    /// An OpenGL filter or anisoN (default trilinear).
+    pub(super) filter: Option<String>,
+    /// repeat | clamp, both axes (default repeat).
+    pub(super) wrap: Option<String>,
+    #[serde(default = "one")]
+    pub(super) uv_scale: f32,
+    #[serde(default)]
+    pub(super) lod_bias: f32,
+    /// The resident page cache in MiB (default 64; `--vt-budget` replaces it).
+    pub(super) budget_mib: Option<f64>,
+    /// Hold the whole texture as an ordinary one instead (sides up to 4096): the same
+    /// texels read without pages, for comparisons.
+    #[serde(default)]
+    pub(super) resident: bool,
+}
+
+fn seed_one() -> u64 {
+    1
 }
 
 /// A texture table's `transform`, in `KHR_texture_transform`'s order.
