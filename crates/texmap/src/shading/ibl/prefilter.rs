@@ -116,20 +116,14 @@ pub struct MirrorCube {
 impl MirrorCube {
     /// Resamples `map` (module docs: rayon over faces and rows).
     pub(super) fn new(map: &EnvironmentMap) -> Self {
-        let density = (map.texels_per_steradian() * 4.0 * PI / 6.0).sqrt();
-        let n0 = (density.max(1.0) as usize).next_power_of_two().min(512);
-        let sampler = Sampler::new(Filter::TRILINEAR, Wrap::ClampToEdge);
+        let n0 = (face_density(map).max(1.0) as usize)
+            .next_power_of_two()
+            .min(512);
         let levels = std::iter::successors(Some(n0), |&n| (n > 1).then_some(n / 2))
             .map(|n| {
                 let step = 2.0 / n as f32;
                 FaceSet::from_face_fn(n, |face, sc, tc| {
-                    let dir = CubeFace::direction(face, sc, tc);
-                    let fp = CubeFootprint {
-                        dir,
-                        ddir_dx: CubeFace::direction(face, sc + step, tc) - dir,
-                        ddir_dy: CubeFace::direction(face, sc, tc + step) - dir,
-                    };
-                    map.sample(&sampler, &fp).truncate()
+                    read_face_texel(map, face, sc, tc, step).truncate()
                 })
             })
             .collect();
@@ -190,12 +184,29 @@ fn texel_solid_angle(x: usize, y: usize, n: usize) -> f32 {
     (corner(s0, t0) - corner(s0, t1) - corner(s1, t0) + corner(s1, t1)) as f32
 }
 
+/// The face size at which a cube holds as many texels as `map` does (its density).
+fn face_density(map: &EnvironmentMap) -> f32 {
+    (map.texels_per_steradian() * 4.0 * PI / 6.0).sqrt()
+}
+
+/// `map` read trilinearly over the face texel of side `step` (face units) at `(sc, tc)` of
+/// `face`: its footprint the directions to the neighbouring texel centres.
+fn read_face_texel(map: &EnvironmentMap, face: usize, sc: f32, tc: f32, step: f32) -> Vec4 {
+    let dir = CubeFace::direction(face, sc, tc);
+    let fp = CubeFootprint {
+        dir,
+        ddir_dx: CubeFace::direction(face, sc + step, tc) - dir,
+        ddir_dy: CubeFace::direction(face, sc, tc + step) - dir,
+    };
+    map.sample(&Sampler::new(Filter::TRILINEAR, Wrap::ClampToEdge), &fp)
+}
+
 /// The map resampled to a world-direction cube of face size `min(256, the map's own
 /// density)`, each texel read with its footprint, mipmapped.
 pub(super) fn source_cube(map: &EnvironmentMap) -> TextureCube {
-    let density = (map.texels_per_steradian() * 4.0 * PI / 6.0).sqrt();
-    let n = (density.max(16.0) as u32).next_power_of_two().min(256);
-    let sampler = Sampler::new(Filter::TRILINEAR, Wrap::ClampToEdge);
+    let n = (face_density(map).max(16.0) as u32)
+        .next_power_of_two()
+        .min(256);
     let step = 2.0 / n as f32;
     let faces: Vec<Texture2D> = (0..6)
         .into_par_iter()
@@ -207,14 +218,9 @@ pub(super) fn source_cube(map: &EnvironmentMap) -> TextureCube {
                     (0..n)
                         .map(|x| {
                             let sc = (x as f32 + 0.5) * step - 1.0;
-                            let dir = CubeFace::direction(face, sc, tc);
-                            let fp = CubeFootprint {
-                                dir,
-                                ddir_dx: CubeFace::direction(face, sc + step, tc) - dir,
-                                ddir_dy: CubeFace::direction(face, sc, tc + step) - dir,
-                            };
-                            let c = map.sample(&sampler, &fp);
-                            c.truncate().extend(1.0)
+                            read_face_texel(map, face, sc, tc, step)
+                                .truncate()
+                                .extend(1.0)
                         })
                         .collect()
                 })
