@@ -102,6 +102,9 @@ pub(super) struct DrawInfo<'a> {
     /// The environment's terms, when the frame has an environment and the material takes
     /// them (`environment.rs`).
     pub env: Option<EnvDraw<'a>>,
+    /// The frame's projectors light this draw (`projectors.rs`): its position (and, in
+    /// Gouraud shading, its normal) are interpolated for them.
+    pub projectors: bool,
 }
 
 /// The normal matrix (inverse transpose) of `m`'s upper 3×3; `m`'s own for a singular one.
@@ -319,6 +322,7 @@ impl<'a> DrawInfo<'a> {
                 && material.alpha_mode == AlphaMode::Opaque
                 && model == ShadingModel::Phong,
             env: None,
+            projectors: false,
         }
     }
 

@@ -241,6 +241,8 @@ impl SceneShader<'_> {
             }
             let s = &surfaces[j];
             let (df, sp) = illuminate(d.model, s, &lighting, self.viewer);
+            let (pd, ps) = self.projected(d, quad, s);
+            let (df, sp) = (df + pd, sp + ps);
             let mut material = e.material;
             if let Some(k) = &kt {
                 material.transmission *= k[j].x;

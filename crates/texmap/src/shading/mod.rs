@@ -37,6 +37,7 @@ pub mod lanes;
 mod light;
 mod material;
 pub mod pbr;
+mod projector;
 pub mod shadow;
 mod viewer;
 
@@ -47,6 +48,7 @@ pub use material::{
     AlphaMode, MapChannel, Material, MaterialMap, Procedural, ShadingModel, SolidChannel, SolidMap,
     TextureSlot,
 };
+pub use projector::{Projector, ProjectorView};
 pub use viewer::Viewer;
 
 /// What the illumination models read at one surface point: the material's parameters after
