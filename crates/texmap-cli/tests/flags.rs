@@ -442,3 +442,39 @@ fn projector_flags_act_or_are_refused() {
         &[(&["--projectors", "off"], Refused)],
     );
 }
+
+/// `--view` acts on a scene with its own camera and on a camera-less model, and is refused
+/// beside the flags that place the camera too.
+#[test]
+fn standard_views_act_or_are_refused() {
+    let d = dir();
+    let shapes = repo().join("scenes/shapes.toml");
+    let flags: &[(&[&str], Want)] = &[
+        (&["--view", "front"], Acts),
+        (&["--view", "top"], Acts),
+        (&["--view", "iso", "--ortho"], Acts),
+        (&["--view", "left", "--eye", "1,2,3"], Refused),
+        (&["--view", "back", "--auto-camera"], Refused),
+    ];
+    check(
+        &d,
+        "views",
+        &Case {
+            scene: shapes.to_str().unwrap(),
+            size: "48x32",
+            base: &[],
+        },
+        flags,
+    );
+    let obj = write_obj(&d);
+    check(
+        &d,
+        "views-obj",
+        &Case {
+            scene: obj.to_str().unwrap(),
+            size: "48x32",
+            base: &[],
+        },
+        &[(&["--view", "top"], Acts), (&["--view", "bottom"], Acts)],
+    );
+}

@@ -36,6 +36,10 @@ pub struct RenderArgs {
     /// Ignore the file's own camera: frame the bounding box as `gl_render.py` does.
     #[arg(long)]
     pub(crate) auto_camera: bool,
+    /// A standard view of everything drawn, in place of the file's camera: from +z (front),
+    /// −z, −x, +x, +y (top, −z up), −y, or (1, 1, 1) (iso); the bounding sphere in frame.
+    #[arg(long, value_enum)]
+    pub(crate) view: Option<ViewArg>,
     /// Output image, its format from the extension: `.png` (8/16-bit sRGB), `.exr` (OpenEXR,
     /// 32-bit float linear RGBA, premultiplied), `.hdr` (Radiance, linear RGB), `.jpg`,
     /// `.gif` or `.apng` (animations: every frame in one file); `-` is stdout (PNG unless
@@ -266,6 +270,16 @@ pub(crate) enum BackgroundArg {
     Env,
     Color,
     None,
+}
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum ViewArg {
+    Front,
+    Back,
+    Left,
+    Right,
+    Top,
+    Bottom,
+    Iso,
 }
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum Switch {

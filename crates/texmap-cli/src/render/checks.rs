@@ -448,8 +448,19 @@ pub(super) fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error>
             format!("{name} has no volumes (these flags act on volumes)"),
         )?;
     }
-    let framed_by_volumes =
-        !built.volumes.is_empty() && (built.scene.camera.is_none() || args.auto_camera);
+    if args.view.is_some() {
+        refuse(
+            given(&[
+                ("--eye", args.eye.is_some()),
+                ("--target", args.target.is_some()),
+                ("--auto-camera", args.auto_camera),
+            ]),
+            "--view places the camera itself (give one or the other)".to_string(),
+        )?;
+    }
+    let framed_by_volumes = !built.volumes.is_empty()
+        && args.view.is_none()
+        && (built.scene.camera.is_none() || args.auto_camera);
     if !framed_by_volumes {
         refuse(
             args.volume.given_framing_flags(),

@@ -17,7 +17,7 @@ mod shard;
 
 pub(crate) use args::parse_storage;
 pub use args::{parse_size, RenderArgs};
-use args::{ColorSpaceArg, CullArg, InterpArg, ShadingArg, Switch, VisibilityArg};
+use args::{ColorSpaceArg, CullArg, InterpArg, ShadingArg, Switch, ViewArg, VisibilityArg};
 
 use std::path::Path;
 use std::sync::Arc;
@@ -25,7 +25,7 @@ use std::time::Instant;
 
 use glam::Vec3;
 use texmap::camera::CameraProjection;
-use texmap::render::framing::{choose_camera, CameraRequest, ProjectionRequest};
+use texmap::render::framing::{choose_camera, CameraRequest, ProjectionRequest, StandardView};
 use texmap::render::{
     prefilter_environment, render_into_with_shadows, render_with_volumes, shadow_map_bytes,
     shadow_maps, CullMode, Frame, Interpolation, Settings, ShadingMode, Visibility,
@@ -410,6 +410,15 @@ pub(super) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
     request.eye = args.eye;
     request.target = args.target;
     request.up = args.up;
+    request.view = args.view.map(|v| match v {
+        ViewArg::Front => StandardView::Front,
+        ViewArg::Back => StandardView::Back,
+        ViewArg::Left => StandardView::Left,
+        ViewArg::Right => StandardView::Right,
+        ViewArg::Top => StandardView::Top,
+        ViewArg::Bottom => StandardView::Bottom,
+        ViewArg::Iso => StandardView::Iso,
+    });
     let camera = choose_camera(&scene, &volumes, &request).map_err(|e| camera_error(args, e))?;
     // Per-volume structures (VTK builds its own in its first frame): outside the frame times.
     pool.install(|| {
@@ -670,6 +679,7 @@ fn camera_error(args: &RenderArgs, e: Error) -> Error {
         ("--fov", args.fov.is_some()),
         ("--ortho", args.ortho.is_some()),
         ("--auto-camera", args.auto_camera),
+        ("--view", args.view.is_some()),
     ]
     .into_iter()
     .filter_map(|(flag, given)| given.then_some(flag))

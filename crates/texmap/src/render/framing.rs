@@ -9,6 +9,9 @@
 //!   ([`vtk_camera_for_bounds`] over every mesh and volume, turned by the azimuth and moved in
 //!   by the dolly), and the near and far planes then enclose everything wherever the eye was
 //!   moved.
+//! - A [`StandardView`] (`--view`) replaces both: the eye on an axis (or the diagonal) of
+//!   the bounding box of everything drawn, the bounding sphere in frame, near and far
+//!   enclosing it.
 //! - `eye`, `target` and `up` replace the pose; a moved eye or target gets near and far
 //!   planes that enclose every mesh and volume from the new eye; a field of view makes the projection
 //!   perspective, an orthographic request makes it orthographic (its height given, or framing
@@ -35,6 +38,54 @@ pub enum ProjectionRequest {
     Orthographic { height: Option<f32> },
 }
 
+/// A standard view of the whole scene (`--view`): the eye on one axis of the bounding box's
+/// centre (or on its diagonal for `Iso`), far enough for the bounding sphere to fill the
+/// frame with a 10% margin, whatever camera the scene has.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StandardView {
+    /// From +z (the glTF front), +y up.
+    Front,
+    /// From −z.
+    Back,
+    /// From −x.
+    Left,
+    /// From +x.
+    Right,
+    /// From +y, −z up (the front at the image's bottom).
+    Top,
+    /// From −y, +z up.
+    Bottom,
+    /// From (1, 1, 1): above, to the right and in front, +y up.
+    Iso,
+}
+
+impl StandardView {
+    /// Every view with its name, in the order the command line lists them.
+    pub const NAMES: [(&'static str, StandardView); 7] = [
+        ("front", StandardView::Front),
+        ("back", StandardView::Back),
+        ("left", StandardView::Left),
+        ("right", StandardView::Right),
+        ("top", StandardView::Top),
+        ("bottom", StandardView::Bottom),
+        ("iso", StandardView::Iso),
+    ];
+
+    /// The unit direction from the target to the eye, and the up vector.
+    #[must_use]
+    pub fn direction_and_up(self) -> (Vec3, Vec3) {
+        match self {
+            StandardView::Front => (Vec3::Z, Vec3::Y),
+            StandardView::Back => (-Vec3::Z, Vec3::Y),
+            StandardView::Left => (-Vec3::X, Vec3::Y),
+            StandardView::Right => (Vec3::X, Vec3::Y),
+            StandardView::Top => (Vec3::Y, -Vec3::Z),
+            StandardView::Bottom => (-Vec3::Y, Vec3::Z),
+            StandardView::Iso => (Vec3::ONE.normalize(), Vec3::Y),
+        }
+    }
+}
+
 /// What the user asks of the camera (the command line's `--eye`, `--target`, `--up`, `--fov`,
 /// `--ortho`, `--auto-camera`, `--dolly`, `--azimuth`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -51,6 +102,9 @@ pub struct CameraRequest {
     pub dolly: f32,
     /// Volume framing: degrees the eye turns about the view-up (`--azimuth`, default 0).
     pub azimuth_deg: f32,
+    /// A standard view of everything drawn, in place of the scene's camera and the
+    /// automatic framing (`--view`).
+    pub view: Option<StandardView>,
 }
 
 impl Default for CameraRequest {
@@ -63,6 +117,7 @@ impl Default for CameraRequest {
             auto: false,
             dolly: 1.6,
             azimuth_deg: 0.0,
+            view: None,
         }
     }
 }
@@ -94,6 +149,11 @@ impl CameraRequest {
         self
     }
     #[must_use]
+    pub fn with_view(mut self, view: StandardView) -> Self {
+        self.view = Some(view);
+        self
+    }
+    #[must_use]
     pub fn with_volume_framing(mut self, dolly: f32, azimuth_deg: f32) -> Self {
         (self.dolly, self.azimuth_deg) = (dolly, azimuth_deg);
         self
@@ -122,14 +182,21 @@ pub fn choose_camera(
     volumes: &[SceneVolume],
     request: &CameraRequest,
 ) -> Result<Camera> {
-    let own = scene.camera.filter(|_| !request.auto);
+    let own = scene
+        .camera
+        .filter(|_| !request.auto && request.view.is_none());
     let with_volumes = own.is_none() && !volumes.is_empty();
     let fov = match request.projection {
         ProjectionRequest::Perspective { fov_y_deg } => fov_y_deg,
         _ => 60.0,
     };
+    let anything = !scene.meshes.is_empty() || !volumes.is_empty();
     let base = match own {
         Some(c) => c,
+        None if request.view.is_some() && anything => {
+            let (lo, hi) = bounds(scene, volumes);
+            standard_view(request.view.unwrap_or(StandardView::Front), lo, hi, fov)
+        }
         None if with_volumes => {
             let (lo, hi) = bounds(scene, volumes);
             vtk_camera_for_bounds(lo, hi, request.dolly, request.azimuth_deg)
@@ -145,6 +212,12 @@ pub fn choose_camera(
             half_height: 0.5 * height,
         },
         // VTK's parallel scale: the bounding radius over the dolly.
+        ProjectionRequest::Orthographic { height: None } if request.view.is_some() && anything => {
+            let (lo, hi) = bounds(scene, volumes);
+            CameraProjection::Orthographic {
+                half_height: 1.1 * ((hi - lo) * 0.5).length().max(1e-3),
+            }
+        }
         ProjectionRequest::Orthographic { height: None } if with_volumes => {
             let (lo, hi) = bounds(scene, volumes);
             CameraProjection::Orthographic {
@@ -165,8 +238,7 @@ pub fn choose_camera(
     camera.validate()?;
     // A pose the user moved keeps everything between near and far from where it now looks,
     // as a volume framing always does (a chosen camera's planes were fitted to its own eye).
-    let moved = request.eye.is_some() || request.target.is_some();
-    let anything = !scene.meshes.is_empty() || !volumes.is_empty();
+    let moved = request.eye.is_some() || request.target.is_some() || request.view.is_some();
     Ok(if anything && (with_volumes || moved) {
         let (lo, hi) = bounds(scene, volumes);
         enclose(camera, lo, hi)
@@ -191,6 +263,24 @@ fn bounds(scene: &Scene, volumes: &[SceneVolume]) -> (Vec3, Vec3) {
     (lo, hi)
 }
 
+/// The camera of `view` over the box `lo..hi`: aimed at its centre from the view's direction,
+/// at the distance where its bounding sphere (the box's half-diagonal) fills a `fov_y_deg`
+/// view with a 10% margin (near and far are fitted by the caller).
+fn standard_view(view: StandardView, lo: Vec3, hi: Vec3, fov_y_deg: f32) -> Camera {
+    let (dir, up) = view.direction_and_up();
+    let centre = (lo + hi) * 0.5;
+    let radius = ((hi - lo) * 0.5).length().max(1e-3);
+    let half = (fov_y_deg.clamp(1.0, 179.0).to_radians() * 0.5).sin();
+    Camera {
+        eye: centre + dir * (1.1 * radius / half),
+        target: centre,
+        up,
+        projection: CameraProjection::Perspective { fov_y_deg },
+        near: 0.1,
+        far: 1.0,
+    }
+}
+
 /// `camera` with near and far around the box `lo..hi`, wherever the eye was moved.
 fn enclose(camera: Camera, lo: Vec3, hi: Vec3) -> Camera {
     let centre = (lo + hi) * 0.5;
@@ -207,6 +297,34 @@ fn enclose(camera: Camera, lo: Vec3, hi: Vec3) -> Camera {
 mod tests {
     use super::*;
     use crate::scene::builtin;
+
+    #[test]
+    fn standard_views_look_at_the_centre_from_their_side_and_see_everything() {
+        let scene = builtin::sphere(200, None, Default::default());
+        let (lo, hi) = scene.bounds();
+        let (c, r) = ((lo + hi) * 0.5, ((hi - lo) * 0.5).length());
+        for (name, view) in StandardView::NAMES {
+            let req = CameraRequest::default().with_view(view);
+            let cam = choose_camera(&scene, &[], &req).unwrap();
+            let (dir, up) = view.direction_and_up();
+            let seen = (cam.eye - cam.target).normalize();
+            assert!((seen - dir).length() < 1e-5, "{name}: {seen}");
+            assert!((cam.target - c).length() < 1e-5, "{name}");
+            assert_eq!(cam.up, up, "{name}");
+            let d = cam.eye.distance(c);
+            // The bounding sphere fits the 60° view, and lies between near and far.
+            assert!(r / d <= (30f32).to_radians().sin() + 1e-5, "{name}: {d}");
+            assert!(cam.near <= d - r && cam.far >= d + r, "{name}: {cam:?}");
+        }
+        // A view replaces the scene's own camera too.
+        let demo = builtin::demo();
+        let top = choose_camera(
+            &demo,
+            &[],
+            &CameraRequest::default().with_view(StandardView::Top),
+        );
+        assert!(top.unwrap().eye.y > demo.camera.unwrap().eye.y);
+    }
 
     #[test]
     fn a_moved_eye_gets_planes_that_enclose_the_scene_from_there() {
