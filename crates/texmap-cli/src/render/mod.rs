@@ -157,6 +157,9 @@ fn build(args: &RenderArgs, texture: Option<Arc<Texture2D>>) -> Result<Built, Er
                 }
                 other => other,
             })?;
+        if let Some(w) = sv.transfer_warning().filter(|_| !args.quiet) {
+            crate::output::stderr_line(&format!("texmap: warning: {}: {w}", sv.source.display()));
+        }
     }
     let fields = built.volumes.iter().any(|v| v.method.is_distance_field());
     let name = args.scene.as_deref().unwrap_or("builtin:demo");

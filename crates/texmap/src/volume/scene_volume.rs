@@ -117,6 +117,40 @@ impl SceneVolume {
         Ok(())
     }
 
+    /// What is wrong with the transfer function for this scan's values, if anything a user
+    /// should hear before looking at the image (composite rendering of a scan, not of a
+    /// distance field): it is transparent over every value the scan holds (nothing would be
+    /// drawn), or it is visible at the scan's lowest value — its background, air in a CT,
+    /// outside the head in an MRI — and everywhere above it, so the box renders as a wall
+    /// (a CT preset on an MRI, or on data that is not in Hounsfield units).
+    #[must_use]
+    pub fn transfer_warning(&self) -> Option<String> {
+        if self.method.is_distance_field() || self.params.mode != Mode::Composite {
+            return None;
+        }
+        let (lo, hi) = self.volume.range();
+        let alpha = |k: u32| {
+            let v = lo + (hi - lo) * k as f32 / 255.0;
+            self.transfer.eval(v).w
+        };
+        let name = &self.transfer_name;
+        if (0..=255).all(|k| alpha(k) <= 0.0) {
+            return Some(format!(
+                "transfer function {name} is transparent over every value of the scan \
+                 ({lo} .. {hi}): nothing would be drawn"
+            ));
+        }
+        if (0..=255).all(|k| alpha(k) > 0.0) {
+            return Some(format!(
+                "transfer function {name} is visible at the scan's lowest value {lo} (its \
+                 background) and at every value above it ({lo} .. {hi}): the box renders as a \
+                 wall; a preset made for other units (CT presets are in Hounsfield units) or a \
+                 --tf with a transparent start fits it"
+            ));
+        }
+        None
+    }
+
     /// Places the volume: `world_from_object` applied after the file's own placement, or
     /// after its spacing alone when `ignore_orientation` (as `vtk_volume.py` places scans).
     ///
@@ -178,5 +212,38 @@ impl SceneVolume {
     pub fn centre(&self) -> Vec3 {
         let (lo, hi) = self.volume.world_bounds();
         (lo + hi) * 0.5
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 16³ ramp over 0..255: a scan in 8-bit units, not Hounsfield.
+    fn ramp() -> SceneVolume {
+        let scalars = (0..16 * 16 * 16).map(|i| (i % 256) as f32).collect();
+        let v = Volume::from_scalars([16; 3], Mat4::IDENTITY, scalars).unwrap();
+        SceneVolume::new(v, Path::new("ramp.nrrd"))
+    }
+
+    #[test]
+    fn a_transfer_function_that_misses_the_scan_is_named() {
+        let mut sv = ramp();
+        // synth is transparent at 0 and visible above 45: no warning.
+        assert_eq!(sv.transfer_warning(), None);
+        // A CT preset on 8-bit data: visible from its lowest value up.
+        sv.set_transfer("ct-bone", Path::new("")).unwrap();
+        let w = sv.transfer_warning().unwrap();
+        assert!(w.contains("ct-bone") && w.contains("wall"), "{w}");
+        // Opaque only above the scan's values: nothing would be drawn.
+        sv.set_transfer("0:0,0,0,0;1000:1,1,1,0;2000:1,1,1,1", Path::new(""))
+            .unwrap();
+        assert!(sv
+            .transfer_warning()
+            .unwrap()
+            .contains("nothing would be drawn"));
+        // MIP ignores the opacity: no warning.
+        sv.params.mode = Mode::Mip;
+        assert_eq!(sv.transfer_warning(), None);
     }
 }
