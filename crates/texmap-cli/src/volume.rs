@@ -44,6 +44,10 @@ pub struct VolumeArgs {
     /// Opacity × a function of gradient magnitude, `g:factor;…` (a 2D transfer function).
     #[arg(long)]
     pub gradient_opacity: Option<String>,
+    /// Draw only the part of the volume inside this box, in voxel coordinates
+    /// `x0,x1,y0,y1,z0,z1` (voxel centres at integers, 0 to n − 1): cut-away views.
+    #[arg(long, value_parser = parse_crop, allow_hyphen_values = true, value_name = "x0,x1,y0,y1,z0,z1")]
+    pub crop: Option<[f32; 6]>,
     /// Start every ray at the box entry (no jittered offset), as VTK does.
     #[arg(long)]
     pub no_jitter: bool,
@@ -256,6 +260,7 @@ impl VolumeArgs {
             ("--gradient-opacity", self.gradient_opacity.is_some()),
             ("--no-jitter", self.no_jitter),
             ("--no-skip", self.no_skip),
+            ("--crop", self.crop.is_some()),
         ]
         .into_iter()
         .filter_map(|(f, g)| g.then_some(f))
@@ -326,6 +331,11 @@ impl VolumeArgs {
         if self.no_skip {
             p.empty_space_skipping = false;
         }
+        if let Some(c) = self.crop {
+            p.crop = Some(c);
+            p.check_crop(sv.volume.dims())
+                .map_err(|e| Error::parameter(format!("--{e}")))?;
+        }
         if let Some(m) = self.method {
             sv.method = match m {
                 MethodArg::Raymarch => Method::Raymarch,
@@ -368,4 +378,14 @@ pub fn stats_json(volumes: &[SceneVolume]) -> serde_json::Value {
             })
         })
         .collect()
+}
+
+/// `--crop x0,x1,y0,y1,z0,z1`: six numbers.
+fn parse_crop(s: &str) -> Result<[f32; 6], String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("{s:?} is not six numbers x0,x1,y0,y1,z0,z1"))?;
+    <[f32; 6]>::try_from(v).map_err(|_| format!("{s:?} is not six numbers x0,x1,y0,y1,z0,z1"))
 }

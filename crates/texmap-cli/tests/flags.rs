@@ -264,6 +264,9 @@ fn texture_flags_are_refused_where_nothing_reads_an_image() {
     ] {
         volume.push((f, Refused));
     }
+    volume.push((&["--crop", "0,23,0,47,0,39"], Acts));
+    volume.push((&["--crop", "30,20,0,47,0,39"], Refused));
+    volume.push((&["--tf", "ct-bone"], Acts));
     check(
         &d,
         "cell",

@@ -211,11 +211,17 @@ impl Volume {
     #[must_use]
     pub fn world_corners(&self) -> [Vec3; 8] {
         let n = Vec3::from_array(self.dims.map(|d| (d - 1) as f32));
+        self.world_corners_of((Vec3::ZERO, n))
+    }
+
+    /// The eight corners of the voxel-space box `lo..hi` in world space.
+    #[must_use]
+    pub fn world_corners_of(&self, (lo, hi): (Vec3, Vec3)) -> [Vec3; 8] {
         std::array::from_fn(|i| {
             let c = Vec3::new(
-                if i & 1 != 0 { n.x } else { 0.0 },
-                if i & 2 != 0 { n.y } else { 0.0 },
-                if i & 4 != 0 { n.z } else { 0.0 },
+                if i & 1 != 0 { hi.x } else { lo.x },
+                if i & 2 != 0 { hi.y } else { lo.y },
+                if i & 4 != 0 { hi.z } else { lo.z },
             );
             self.world_from_voxel.transform_point3(c)
         })

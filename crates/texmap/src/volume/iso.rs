@@ -116,6 +116,6 @@ pub fn iso_hit(
     };
     let m = Marcher::new(vol, tf, &p, None)?;
     let ray = VoxelRay::new(&m.voxel_from_world, origin, dir);
-    Ok(clip_to_box(&ray, f32::INFINITY, m.hi)
+    Ok(clip_to_box(&ray, f32::INFINITY, m.lo, m.hi)
         .and_then(|span| crossing(&m, &RaySamples::new(ray, span, p.step, 0.0)).t))
 }

@@ -30,7 +30,8 @@ pub(crate) struct Marcher<'a> {
     /// The 16-bit levels, x fastest.
     pub data: &'a [u16],
     pub dims: [u32; 3],
-    /// The far corner of the box, `n − 1` per axis (voxel space).
+    /// The box drawn (voxel space): `0` and `n − 1` per axis, or the crop box.
+    pub lo: Vec3,
     pub hi: Vec3,
     pub voxel_from_world: Mat4,
     pub world_from_voxel: Mat4,
@@ -74,13 +75,14 @@ impl<'a> Marcher<'a> {
     /// The frame's tables for `vol` under `tf` and `p`, the headlight along `headlight`.
     ///
     /// # Errors
-    /// [`Error::Parameter`] when the iso-value is not finite.
+    /// [`Error::Parameter`] when the iso-value is not finite or the crop box is not one.
     pub fn new(
         vol: &'a Volume,
         tf: &TransferFunction,
         p: &'a MarchParams,
         headlight: Option<Vec3>,
     ) -> Result<Self> {
+        p.check_crop(vol.dims()).map_err(Error::Parameter)?;
         let range = vol.range();
         let lut = TransferLut::new(tf, range, p.step);
         let pre_int = (p.classification == Classification::PreIntegrated
@@ -103,6 +105,7 @@ impl<'a> Marcher<'a> {
             0.0
         };
         let (bricks, dims) = (vol.bricks(), vol.dims());
+        let crop = p.voxel_box(dims);
         let empty = if !p.empty_space_skipping {
             EmptyBricks::none(bricks, dims)
         } else {
@@ -120,7 +123,8 @@ impl<'a> Marcher<'a> {
             vol,
             data: vol.quantized(),
             dims,
-            hi: Vec3::from_array(dims.map(|n| (n - 1) as f32)),
+            lo: crop.0,
+            hi: crop.1,
             voxel_from_world,
             world_from_voxel: vol.world_from_voxel(),
             grad_to_world: Mat3::from_mat4(voxel_from_world).transpose() * value_step,

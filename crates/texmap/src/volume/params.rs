@@ -68,6 +68,52 @@ pub struct MarchParams {
     pub early_termination: f32,
     /// Read values through the texture engine instead of the plain copy (slow; for checks).
     pub engine_sampling: bool,
+    /// A crop box in voxel coordinates (`x0, x1, y0, y1, z0, z1`, voxel centres at integers):
+    /// only the part of the volume inside it is drawn, by rays and by slices. `None`: the
+    /// whole volume.
+    pub crop: Option<[f32; 6]>,
+}
+
+impl MarchParams {
+    /// The box drawn, in voxel coordinates: `[0, n − 1]` on each axis, or the crop box
+    /// within it.
+    #[must_use]
+    pub fn voxel_box(&self, dims: [u32; 3]) -> (glam::Vec3, glam::Vec3) {
+        let hi = glam::Vec3::from_array(dims.map(|n| n.saturating_sub(1) as f32));
+        match self.crop {
+            None => (glam::Vec3::ZERO, hi),
+            Some(c) => (
+                glam::Vec3::new(c[0], c[2], c[4]).clamp(glam::Vec3::ZERO, hi),
+                glam::Vec3::new(c[1], c[3], c[5]).clamp(glam::Vec3::ZERO, hi),
+            ),
+        }
+    }
+
+    /// Checks the crop box against a volume of `dims`: finite, each low end below its high
+    /// end, overlapping the volume.
+    ///
+    /// # Errors
+    /// The problem, for the caller to name the file.
+    pub fn check_crop(&self, dims: [u32; 3]) -> std::result::Result<(), String> {
+        let Some(c) = self.crop else {
+            return Ok(());
+        };
+        for (a, name) in ["x", "y", "z"].iter().enumerate() {
+            let (lo, hi) = (c[2 * a], c[2 * a + 1]);
+            let n = dims[a].saturating_sub(1) as f32;
+            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                return Err(format!(
+                    "crop {name} {lo}..{hi} is not a range (low < high)"
+                ));
+            }
+            if hi <= 0.0 || lo >= n {
+                return Err(format!(
+                    "crop {name} {lo}..{hi} misses the volume's voxels 0..{n}"
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Default for MarchParams {
@@ -85,6 +131,7 @@ impl Default for MarchParams {
             empty_space_skipping: true,
             early_termination: 0.992,
             engine_sampling: false,
+            crop: None,
         }
     }
 }

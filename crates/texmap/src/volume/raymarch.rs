@@ -157,7 +157,7 @@ pub(crate) fn tiled_frame(
 /// `jitter` steps.
 fn trace(m: &Marcher, rays: RayLoop, eye: Vec3, dir: Vec3, t_max: f32, jitter: f32) -> Traced {
     let ray = VoxelRay::new(&m.voxel_from_world, eye, dir);
-    let Some(span) = clip_to_box(&ray, t_max, m.hi) else {
+    let Some(span) = clip_to_box(&ray, t_max, m.lo, m.hi) else {
         return Traced::NOTHING;
     };
     let step = m.p.step;

@@ -126,20 +126,20 @@ pub(crate) struct Span {
     pub t1: f32,
 }
 
-/// Where `ray` enters and leaves the box `[0, hi]` (slabs), cut at `t_max`; `None` when it
+/// Where `ray` enters and leaves the box `[lo, hi]` (slabs), cut at `t_max`; `None` when it
 /// misses the box or the box lies past `t_max`.
-pub(crate) fn clip_to_box(ray: &VoxelRay, t_max: f32, hi: Vec3) -> Option<Span> {
+pub(crate) fn clip_to_box(ray: &VoxelRay, t_max: f32, lo: Vec3, hi: Vec3) -> Option<Span> {
     let (o, d) = (ray.origin, ray.dir);
     let (mut t0, mut t1) = (0.0f32, t_max);
     for a in 0..3 {
         if d[a].abs() < 1e-12 {
-            if o[a] < 0.0 || o[a] > hi[a] {
+            if o[a] < lo[a] || o[a] > hi[a] {
                 return None;
             }
             continue;
         }
         let inv = 1.0 / d[a];
-        let (mut ta, mut tb) = (-o[a] * inv, (hi[a] - o[a]) * inv);
+        let (mut ta, mut tb) = ((lo[a] - o[a]) * inv, (hi[a] - o[a]) * inv);
         if ta > tb {
             std::mem::swap(&mut ta, &mut tb);
         }

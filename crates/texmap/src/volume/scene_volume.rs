@@ -179,6 +179,12 @@ impl SceneVolume {
         if p.iso.is_some_and(|v| !v.is_finite()) {
             return Err(Error::parameter("iso must be finite"));
         }
+        p.check_crop(self.volume.dims()).map_err(Error::Parameter)?;
+        if p.crop.is_some() && self.method.is_distance_field() {
+            return Err(Error::parameter(
+                "crop applies to a scan drawn by rays or slices, not to a distance field's                  surface",
+            ));
+        }
         if self.method == Method::Slices
             && (p.mode != Mode::Composite || p.classification != Classification::Post)
         {

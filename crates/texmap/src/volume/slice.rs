@@ -187,13 +187,14 @@ pub fn render_slices_until(
     depth: Option<&[f32]>,
 ) -> Result<Frame> {
     check_request(camera, width, height, params, depth)?;
+    params.check_crop(vol.dims()).map_err(Error::Parameter)?;
     if params.mode != Mode::Composite || params.classification != Classification::Post {
         return Err(Error::Unsupported(
             "--method slices renders composite mode with post-classification only".into(),
         ));
     }
     let fwd = (camera.target - camera.eye).normalize();
-    let corners = vol.world_corners();
+    let corners = vol.world_corners_of(params.voxel_box(vol.dims()));
     let depths: Vec<f32> = corners.iter().map(|c| (*c - camera.eye).dot(fwd)).collect();
     let d_min = depths
         .iter()

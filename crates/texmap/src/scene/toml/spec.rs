@@ -533,6 +533,8 @@ pub(super) struct VolumeSpec {
     pub(super) iso: Option<f32>,
     /// Sample distance in world units (default 0.5).
     pub(super) step: Option<f32>,
+    /// A crop box in voxel coordinates: x0, x1, y0, y1, z0, z1.
+    pub(super) crop: Option<[f32; 6]>,
     #[serde(default)]
     pub(super) shade: bool,
     /// raymarch | slices.

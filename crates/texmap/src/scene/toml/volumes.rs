@@ -143,6 +143,9 @@ fn finish(
         })?;
     }
     p.iso = v.iso;
+    if let Some(c) = v.crop {
+        p.crop = Some(c);
+    }
     if let Some(s) = v.step {
         p.step = s;
     }

@@ -174,7 +174,7 @@ impl Tracer<'_> {
     /// One ray: its colour (linear, premultiplied) and the field reads it took.
     fn trace(&self, eye: Vec3, dir: Vec3, t_max: f32, jitter: f32) -> (Vec4, u64) {
         let ray = VoxelRay::new(&self.field.voxel_from_world, eye, dir);
-        let Some(span) = clip_to_box(&ray, t_max, self.field.hi) else {
+        let Some(span) = clip_to_box(&ray, t_max, Vec3::ZERO, self.field.hi) else {
             return (Vec4::ZERO, 0);
         };
         let mut acc = Vec4::ZERO;
