@@ -13,7 +13,8 @@
 use glam::{Vec3, Vec4};
 
 use super::draw::{DrawInfo, LightingPath};
-use super::fragment::{pixel_color, SceneShader};
+use super::fragment::SceneShader;
+use super::layers::surface_color;
 use super::maps::{MapRead, QuadReads};
 use super::settings::Settings;
 use crate::pipeline::Quad;
@@ -205,7 +206,7 @@ impl SceneShader<'_> {
         let mut reflected = [Vec3::ZERO; 4];
         let mut refracted = [Vec3::ZERO; 4];
         for j in 0..4 {
-            let c = pixel_color(d, quad, &reads.texels, &reads.opacity, j);
+            let c = surface_color(d, quad, reads, j);
             let normal = d
                 .layout
                 .normal
@@ -240,7 +241,10 @@ impl SceneShader<'_> {
                 continue;
             }
             let s = &surfaces[j];
-            let (df, sp) = illuminate(d.model, s, &lighting, self.viewer);
+            let (mut df, sp) = d.lit_factors(s, &lighting, self.viewer);
+            if let Some(l) = d.light_factor(reads, j) {
+                df *= l;
+            }
             let mut material = e.material;
             if let Some(k) = &kt {
                 material.transmission *= k[j].x;
