@@ -67,7 +67,7 @@ def main():
         sy = min(max((0.17 - abs(v - 0.64)) * 12, 0), 1)
         shade = 1 - 0.7 * sx * sy
         warm = (1.0, 0.85, 0.6)
-        cool = (0.15, 0.18, 0.25)
+        cool = (0.04, 0.05, 0.08)
         lin = [cool[i] + warm[i] * pool * shade for i in range(3)]
         return tuple(255 * (c ** (1 / 2.2)) for c in lin)
     png("lightmap.png", 64, 64, 3, light)
