@@ -22,7 +22,7 @@ use crate::scene::Scene;
 use crate::shading::ibl::{
     environment_terms, point_rays, reflect, refract, EnvLight, EnvMaterial, EnvRays,
 };
-use crate::shading::{combine, illuminate, Lighting, MapChannel, ShadingModel, Surface, Viewer};
+use crate::shading::{combine, Lighting, MapChannel, ShadingModel, Surface, Viewer};
 use crate::texture::CubeFootprint;
 
 /// What one draw takes from the frame's environment.
@@ -160,7 +160,8 @@ impl<'a> DrawInfo<'a> {
         }
     }
 
-    /// `illuminate` for a vertex or a face, with the environment's terms along its own
+    /// The factors of a vertex or a face (toon shading for toon materials, as `lit_factors`),
+    /// with the environment's terms along its own
     /// directions (no footprint) when the draw takes them.
     #[inline]
     pub(super) fn illuminate_vertex(
@@ -170,9 +171,9 @@ impl<'a> DrawInfo<'a> {
         viewer: Viewer,
     ) -> (Vec3, Vec3) {
         let Some(e) = &self.env else {
-            return illuminate(self.material.model, s, lighting, viewer);
+            return self.lit_factors(s, lighting, viewer);
         };
-        let (d, sp) = illuminate(self.model, s, &self.env_lighting(e, lighting), viewer);
+        let (d, sp) = self.lit_factors(s, &self.env_lighting(e, lighting), viewer);
         let (ed, es) = environment_terms(
             self.model,
             s,

@@ -178,7 +178,7 @@ impl Scene {
         }
     }
 
-    /// The samplers of every image texture a mesh's material reads (base colour, maps,
+    /// The samplers of every image texture a mesh's material reads (base colour, maps, layers,
     /// projected images, 3D textures), in scene order.
     #[must_use]
     pub fn texture_samplers(&self) -> Vec<Sampler> {
@@ -189,6 +189,7 @@ impl Scene {
             };
             out.extend(mat.base_color_texture.iter().map(|s| s.sampler));
             out.extend(mat.maps.iter().map(|m| m.slot.sampler));
+            out.extend(mat.layers.iter().map(|l| l.slot.sampler));
             match &mat.procedural {
                 Some(Procedural::Projected { slot, .. }) => out.push(slot.sampler),
                 Some(Procedural::Texture3D { sampler, .. }) => out.push(*sampler),
