@@ -215,3 +215,15 @@ fn info_lists_layers_light_map_and_toon() {
         assert!(text.contains(want), "{want:?} not in:\n{text}");
     }
 }
+
+#[test]
+fn the_same_bytes_whatever_the_thread_count() {
+    let d = dir().join("threads");
+    std::fs::create_dir_all(&d).unwrap();
+    let scene = write_scene(&d);
+    let scene = scene.to_str().unwrap();
+    let (a, b) = (d.join("t1.png"), d.join("t3.png"));
+    assert!(render(scene, &a, &["--threads", "1"]).status.success());
+    assert!(render(scene, &b, &["--threads", "3"]).status.success());
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+}
