@@ -222,11 +222,21 @@ fn print_shadows(out: &mut String, s: &texmap::scene::Scene) {
         .copied()
         .filter(|&i| i < s.lights.len())
         .collect();
+    let projectors = s.projectors.iter().filter(|p| p.shadows).count();
     if casting.is_empty() {
-        outln!(
-            out,
-            "shadows: none (no light casts; --shadows makes every light cast)"
-        );
+        if projectors > 0 {
+            outln!(
+                out,
+                "shadows: no light casts; {projectors} projector(s) cast, maps {}², filter {}",
+                s.shadows.params.map_size,
+                s.shadows.params.filter.name()
+            );
+        } else {
+            outln!(
+                out,
+                "shadows: none (no light casts; --shadows makes every light cast)"
+            );
+        }
         return;
     }
     let p = &s.shadows.params;
@@ -265,6 +275,35 @@ fn print_shadows(out: &mut String, s: &texmap::scene::Scene) {
             "  pcss: directional lights {}° across, point and spot lights of radius {}",
             p.light_angle,
             p.light_radius
+        );
+    }
+}
+
+/// The slide projectors: where each stands and aims, its frustum, slide and light.
+fn print_projectors(out: &mut String, s: &texmap::scene::Scene) {
+    if s.projectors.is_empty() {
+        return;
+    }
+    outln!(
+        out,
+        "projectors: {} (--projectors off draws without them)",
+        s.projectors.len()
+    );
+    for (k, p) in s.projectors.iter().enumerate() {
+        let t = &p.slide.texture;
+        outln!(
+            out,
+            "  [{k}] position {:.3?} target {:.3?} fov {}° aspect {:.3}, slide {}x{} {}, light {:.3?}{}{}",
+            p.position.to_array(),
+            p.target.to_array(),
+            p.fov_deg,
+            p.aspect,
+            t.width(),
+            t.height(),
+            p.slide.sampler.filter.name(),
+            p.color.to_array(),
+            if p.falloff { ", inverse-square" } else { ", no falloff" },
+            if p.shadows { ", casts (its depth map)" } else { "" }
         );
     }
 }
@@ -455,6 +494,7 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
         None => outln!(out, "environment: none"),
         Some(e) => outln!(out, "environment: {}", describe_environment(e)),
     }
+    print_projectors(out, s);
     outln!(out, "volumes: {}", l.volumes.len());
     for (i, v) in l.volumes.iter().enumerate() {
         outln!(out, "  [{i}] {}", describe_scene_volume(v));

@@ -666,3 +666,51 @@ fn an_environment_alone_is_something_to_draw() {
     let img = image::open(&out).unwrap().to_rgb8();
     assert_eq!(img.get_pixel(16, 12).0, [40, 90, 200]);
 }
+
+/// A bad `[[projectors]]` entry is one line naming the file, the entry and the problem: a
+/// missing slide, a target at the position, a field of view out of range, an unknown key.
+#[test]
+fn bad_projectors_are_named() {
+    let d = dir("projectors");
+    let out = d.join("out.png");
+    let scene = |name: &str, entry: &str| {
+        let p = d.join(name);
+        std::fs::write(
+            &p,
+            format!(
+                "[[meshes]]\nprimitive = \"plane\"\n\n[[projectors]]\nposition = [0, 2, 2]\n\
+                 {entry}\n"
+            ),
+        )
+        .unwrap();
+        p
+    };
+    let card = repo().join("scenes/projector/test_card.png");
+    let card = card.to_str().unwrap();
+    for (name, entry, needles) in [
+        (
+            "missing.toml",
+            "target = [0, 0, 0]\nimage = { file = \"nowhere.png\" }".to_string(),
+            vec!["nowhere.png", "No such file"],
+        ),
+        (
+            "nowhere.toml",
+            format!("target = [0, 2, 2]\nimage = {{ file = {card:?} }}"),
+            vec!["nowhere.toml", "projectors[0]", "points nowhere"],
+        ),
+        (
+            "fov.toml",
+            format!("target = [0, 0, 0]\nfov = 180\nimage = {{ file = {card:?} }}"),
+            vec!["fov.toml", "projectors[0]", "fov 180"],
+        ),
+        (
+            "key.toml",
+            format!("target = [0, 0, 0]\nbrightness = 2\nimage = {{ file = {card:?} }}"),
+            vec!["key.toml", "brightness"],
+        ),
+    ] {
+        let path = scene(name, &entry);
+        let r = render(&[path.to_str().unwrap()], &out);
+        assert_refused(&r, &needles, &out);
+    }
+}

@@ -399,3 +399,46 @@ fn a_moved_eye_sees_the_whole_model() {
         assert_eq!(clipped, 2, "eye {eye}: {stats}");
     }
 }
+
+/// `--projectors` acts on a scene with projectors (off removes their light, on is the
+/// default, so accepted), the shadow flags reach a casting projector, and `--projectors` is
+/// refused where there is none.
+#[test]
+fn projector_flags_act_or_are_refused() {
+    let d = dir();
+    let projector = repo().join("scenes/projector.toml");
+    check(
+        &d,
+        "projector",
+        &Case {
+            scene: projector.to_str().unwrap(),
+            size: "64x36",
+            base: &[],
+        },
+        &[
+            (&["--projectors", "off"], Acts),
+            (&["--projectors", "on"], Accepted),
+            // Its one light does not cast; its projector does.
+            (&["--shadows=false"], Acts),
+            (&["--shadows"], Acts),
+            (&["--shadow-filter", "hard"], Acts),
+            (&["--shadow-light-radius", "0.3"], Refused),
+            (
+                &["--shadow-filter", "pcss", "--shadow-light-radius", "0.3"],
+                Acts,
+            ),
+            (&["--shadows=false", "--projectors", "off"], Refused),
+            (&["--filter", "nearest"], Acts),
+        ],
+    );
+    check(
+        &d,
+        "demo-projectors",
+        &Case {
+            scene: "builtin:demo",
+            size: "32x24",
+            base: &[],
+        },
+        &[(&["--projectors", "off"], Refused)],
+    );
+}

@@ -194,6 +194,10 @@ pub struct RenderArgs {
     /// [default: on].
     #[arg(long, value_enum, value_name = "on|off")]
     pub(crate) ibl: Option<Switch>,
+    /// The scene's slide projectors (`[[projectors]]`): off draws the scene without their
+    /// light [default: on].
+    #[arg(long, value_enum, value_name = "on|off")]
+    pub(crate) projectors: Option<Switch>,
     /// Reflected and refracted environment (K_R, K_T, transmission) [default: on].
     #[arg(long, value_enum, value_name = "on|off")]
     pub(crate) reflections: Option<Switch>,

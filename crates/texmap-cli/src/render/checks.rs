@@ -17,7 +17,7 @@ use texmap::shading::{MapChannel, ShadingModel};
 use texmap::texture::{Filter, LodRule, MinFilter, Sampler, Wrap};
 use texmap::Error;
 
-use super::args::{InterpArg, LodRuleArg, RenderArgs};
+use super::args::{InterpArg, LodRuleArg, RenderArgs, Switch};
 use super::Built;
 
 /// The user's sampler flags, laid over every texture read.
@@ -79,6 +79,33 @@ pub(super) fn shadow_overrides(args: &RenderArgs) -> Result<ShadowOverrides, Err
     Ok(o)
 }
 
+/// `--projectors` needs a scene with projectors and a lit surface for them to light.
+pub(super) fn check_projectors(args: &RenderArgs, built: &Built) -> Result<(), Error> {
+    if args.projectors.is_none() {
+        return Ok(());
+    }
+    let name = args.scene.as_deref().unwrap_or("builtin:demo");
+    let scene = &built.scene;
+    if scene.projectors.is_empty() {
+        return Err(Error::parameter(format!(
+            "--projectors: {name} has no projectors (a TOML scene's [[projectors]])"
+        )));
+    }
+    if args.unlit
+        || !scene.meshes.iter().any(|m| {
+            scene
+                .materials
+                .get(m.material)
+                .is_some_and(|mat| !mat.unlit)
+        })
+    {
+        return Err(Error::parameter(format!(
+            "--projectors: {name} has no lit surface for the projectors to light"
+        )));
+    }
+    Ok(())
+}
+
 /// Refuses shadow flags that cannot change `built`'s image: `--shadows` where nothing is lit,
 /// there is no light or every light already casts, `--shadows=false` where none casts, the
 /// map and filter flags where no light casts, and the PCSS light sizes without PCSS or a
@@ -93,21 +120,28 @@ fn check_shadow_flags(args: &RenderArgs, built: &Built, name: &str) -> Result<()
                 .is_some_and(|mat| !mat.unlit)
         });
     let own = ShadowOverrides::default().casters(scene);
+    let own_projectors = ShadowOverrides::default().casting_projectors(scene);
+    let projectors_on = args.projectors != Some(Switch::Off);
+    let all_cast = own.len() == scene.lights.len()
+        && (!projectors_on || own_projectors.len() == scene.projectors.len());
+    let none_casts = own.is_empty() && (!projectors_on || own_projectors.is_empty());
     match args.shadows {
         Some(true) if !lit => {
             return Err(Error::parameter(format!(
                 "--shadows: {name} is drawn unlit (no light to shadow)"
             )))
         }
-        Some(true) if scene.lights.is_empty() => {
+        Some(true)
+            if scene.lights.is_empty() && (!projectors_on || scene.projectors.is_empty()) =>
+        {
             return Err(Error::parameter(format!("--shadows: {name} has no lights")))
         }
-        Some(true) if own.len() == scene.lights.len() => {
+        Some(true) if all_cast => {
             return Err(Error::parameter(format!(
                 "--shadows: every light of {name} already casts shadows"
             )))
         }
-        Some(false) if own.is_empty() => {
+        Some(false) if none_casts => {
             return Err(Error::parameter(format!(
                 "--shadows=false: no light of {name} casts shadows"
             )))
@@ -116,12 +150,13 @@ fn check_shadow_flags(args: &RenderArgs, built: &Built, name: &str) -> Result<()
     }
     let overrides = shadow_overrides(args)?;
     let casters = overrides.casters(scene);
+    let projector_casts = projectors_on && !overrides.casting_projectors(scene).is_empty();
     let params = shadow_parameter_flags(args);
     let given: Vec<&str> = params.iter().filter(|(_, g)| *g).map(|(f, _)| *f).collect();
     if given.is_empty() {
         return Ok(());
     }
-    if casters.is_empty() || !lit {
+    if (casters.is_empty() && !projector_casts) || !lit {
         return Err(Error::parameter(format!(
             "{}: no light of {name} casts shadows{}",
             given.join(", "),
@@ -143,15 +178,16 @@ fn check_shadow_flags(args: &RenderArgs, built: &Built, name: &str) -> Result<()
             "--shadow-light-angle",
             args.shadow_light_angle.is_some(),
             directional,
-            "directional",
+            "directional light of",
         ),
         (
             "--shadow-light-radius",
             args.shadow_light_radius.is_some(),
-            kinds
-                .iter()
-                .any(|l| !matches!(l, Light::Directional { .. })),
-            "point or spot",
+            projector_casts
+                || kinds
+                    .iter()
+                    .any(|l| !matches!(l, Light::Directional { .. })),
+            "point or spot light or projector of",
         ),
     ] {
         if !given {
@@ -166,7 +202,7 @@ fn check_shadow_flags(args: &RenderArgs, built: &Built, name: &str) -> Result<()
         }
         if !kind_casts {
             return Err(Error::parameter(format!(
-                "{flag}: no {kind} light of {name} casts shadows"
+                "{flag}: no {kind} {name} casts shadows"
             )));
         }
     }

@@ -362,6 +362,10 @@ pub(super) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
         let mut built = build(args, common.texture.clone())?;
         apply_environment(args, &mut built.scene, common.env_map.clone())?;
         detail::apply(args, &mut built.scene)?;
+        checks::check_projectors(args, &built)?;
+        if args.projectors == Some(Switch::Off) {
+            built.scene.projectors.clear();
+        }
         image_out::apply_background(args, &mut built.scene, !built.volumes.is_empty())?;
         checks::check_flags(args, &built)?;
         Ok::<_, Error>(built)

@@ -107,6 +107,9 @@ pub(super) struct DrawInfo<'a> {
     pub layers: Vec<LayerRead<'a>>,
     /// The light map (any lighting path, unlit included), multiplying D.
     pub light_map: Option<MapRead<'a>>,
+    /// The frame's projectors light this draw (`projectors.rs`): its position (and, in
+    /// Gouraud shading, its normal) are interpolated for them.
+    pub projectors: bool,
 }
 
 /// The normal matrix (inverse transpose) of `m`'s upper 3×3; `m`'s own for a singular one.
@@ -343,6 +346,7 @@ impl<'a> DrawInfo<'a> {
             env: None,
             layers,
             light_map,
+            projectors: false,
         }
     }
 

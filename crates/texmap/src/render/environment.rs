@@ -242,7 +242,9 @@ impl SceneShader<'_> {
                 continue;
             }
             let s = &surfaces[j];
-            let (mut df, sp) = d.lit_factors(s, &lighting, self.viewer);
+            let (df, sp) = d.lit_factors(s, &lighting, self.viewer);
+            let (pd, ps) = self.projected(d, quad, s);
+            let (mut df, sp) = (df + pd, sp + ps);
             if let Some(l) = d.light_factor(reads, j) {
                 df *= l;
             }

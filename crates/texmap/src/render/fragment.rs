@@ -17,6 +17,7 @@ use glam::{Vec3, Vec4};
 use super::draw::{DrawInfo, LightingPath};
 use super::layers::{apply_outline, fold_layers, surface_color};
 use super::maps::{MapRead, QuadMaps, QuadReads};
+use super::projectors::Projectors;
 use super::varyings::Factors;
 use crate::pipeline::{FragmentShader, Quad, BATCH};
 use crate::shading::lanes::{phong_quad, QuadFactors};
@@ -29,6 +30,8 @@ pub(super) struct SceneShader<'a> {
     /// Every light is directional (every loader's default light): map-free Phong pixels are
     /// then lit a quad at a time ([`phong_quad`]).
     pub directional_only: bool,
+    /// The frame's slide projectors, when it has any (`projectors.rs`).
+    pub projectors: Option<&'a Projectors<'a>>,
 }
 
 impl FragmentShader for SceneShader<'_> {
@@ -101,6 +104,54 @@ impl FragmentShader for SceneShader<'_> {
 }
 
 impl SceneShader<'_> {
+    /// What the frame's projectors add at surface `s` of a quad of draw `d` (nothing when
+    /// the draw takes no projector light).
+    #[inline]
+    pub(super) fn projected(&self, d: &DrawInfo, quad: &Quad, s: &Surface) -> (Vec3, Vec3) {
+        match (self.projectors, d.layout.position) {
+            (Some(p), Some(pos)) if d.projectors => {
+                p.terms(d.model, s, pos.ddx3(quad), pos.ddy3(quad), self.viewer)
+            }
+            _ => (Vec3::ZERO, Vec3::ZERO),
+        }
+    }
+
+    /// The surface projectors light at pixel `j` of a Gouraud or flat quad: the material's
+    /// own parameters at the interpolated position, with the interpolated normal (Gouraud)
+    /// or the face's, from the position's derivatives (flat), on the viewer's side for
+    /// double-sided back faces.
+    fn interpolated_surface(&self, d: &DrawInfo, quad: &Quad, j: usize, back: bool) -> Surface {
+        let Some(pos) = d.layout.position else {
+            return d.surface;
+        };
+        let position = pos.pixel3(quad, j);
+        let normal = match d.layout.normal {
+            Some(n) => {
+                let n = n.pixel3(quad, j).normalize_or_zero();
+                if back {
+                    -n
+                } else {
+                    n
+                }
+            }
+            None => {
+                let n = pos.ddx3(quad).cross(pos.ddy3(quad)).normalize_or_zero();
+                let facing = n.dot(self.viewer.towards(position)) >= 0.0;
+                // The face's own side, or the viewer's for double-sided materials.
+                if facing == (quad.front_facing || back) {
+                    n
+                } else {
+                    -n
+                }
+            }
+        };
+        Surface {
+            position,
+            normal,
+            ..d.surface
+        }
+    }
+
     /// Whether draw `d` takes the plain path.
     #[inline]
     fn is_plain(&self, d: &DrawInfo) -> bool {
@@ -150,6 +201,7 @@ impl SceneShader<'_> {
         let back = m.double_sided && !quad.front_facing;
         // Map-free Phong under directional lights: the quad's four pixels lit in lanes.
         let lit = (d.path == LightingPath::PerPixel
+            && !d.projectors
             && maps.is_none()
             && d.model == ShadingModel::Phong
             && self.directional_only)
@@ -183,7 +235,10 @@ impl SceneShader<'_> {
                                     normal,
                                     ..d.surface
                                 };
-                                phong(&s, &self.lighting, self.viewer)
+                                add(
+                                    phong(&s, &self.lighting, self.viewer),
+                                    self.projected(d, quad, &s),
+                                )
                             }
                             Some(maps) => {
                                 let mut s = Surface {
@@ -195,7 +250,10 @@ impl SceneShader<'_> {
                                 if back {
                                     s.normal = -s.normal;
                                 }
-                                d.lit_factors(&s, &self.lighting, self.viewer)
+                                add(
+                                    d.lit_factors(&s, &self.lighting, self.viewer),
+                                    self.projected(d, quad, &s),
+                                )
                             }
                         }
                     }
@@ -218,7 +276,12 @@ impl SceneShader<'_> {
                         // The factors carry I_E; the map scales it: I_E·texel = I_E + I_E·(texel − 1).
                         sp += m.emissive * (texel[j].truncate() - Vec3::ONE);
                     }
-                    (df, sp)
+                    if d.projectors {
+                        let s = self.interpolated_surface(d, quad, j, back);
+                        add((df, sp), self.projected(d, quad, &s))
+                    } else {
+                        (df, sp)
+                    }
                 }
             };
             if let Some(l) = d.light_factor(reads, j) {
@@ -234,6 +297,12 @@ impl SceneShader<'_> {
         }
         kept
     }
+}
+
+/// The sum of two `(D, S)` pairs.
+#[inline(always)]
+fn add(a: (Vec3, Vec3), b: (Vec3, Vec3)) -> (Vec3, Vec3) {
+    (a.0 + b.0, a.1 + b.1)
 }
 
 /// Pixel `j`'s premultiplied surface colour `C`: the base colour × its texture × opacity ×

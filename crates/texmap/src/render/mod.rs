@@ -38,6 +38,7 @@ pub mod framing;
 mod layers;
 mod maps;
 mod procedural;
+mod projectors;
 mod settings;
 mod shadow;
 mod surface;
@@ -61,6 +62,7 @@ use crate::{Error, Result};
 use draw::DrawInfo;
 pub use environment::prefilter_environment;
 use fragment::SceneShader;
+use projectors::{ProjectorRead, Projectors};
 pub use settings::{Settings, ShadingMode, TextureOverrides, Visibility, MAX_SIZE};
 pub use shadow::{shadow_map_bytes, shadow_maps, ShadowOverrides, MAX_SPOT_MAP_DEG};
 use vertex::SceneVertices;
@@ -174,6 +176,7 @@ fn draw_frame(
     let clip_from_world = camera.clip_from_view(aspect) * camera.view_from_world();
     // Directions normalized once, not per pixel; lights that cannot shine are dropped.
     let lights: Vec<Light> = scene.lights.iter().filter_map(Light::normalized).collect();
+    let all_shadows = shadows;
     let shadows = (!shadows.is_empty()).then_some(shadows);
     if let Some(maps) = shadows {
         let other = |(m, l): (&Option<LightShadow>, &Light)| {
@@ -190,6 +193,25 @@ fn draw_frame(
         ambient: scene.ambient_light,
         shadows,
     };
+    let projector_maps = all_shadows.projectors.iter().any(Option::is_some);
+    if projector_maps && all_shadows.projectors.len() != scene.projectors.len() {
+        return Err(Error::parameter(
+            "the shadow maps were made for other projectors than the scene's",
+        ));
+    }
+    let projectors = Projectors {
+        reads: scene
+            .projectors
+            .iter()
+            .map(|p| ProjectorRead {
+                projector: p,
+                sampler: settings.textures.apply(p.slide.sampler),
+                view: p.view(),
+            })
+            .collect(),
+        shadows: projector_maps.then_some(all_shadows),
+    };
+    let has_projectors = !projectors.reads.is_empty();
 
     // Submission order: the pipeline draws opaque meshes, then blended ones, as submitted.
     let meshes: Vec<&Mesh> = match settings.visibility {
@@ -209,11 +231,9 @@ fn draw_frame(
         .iter()
         .map(|&mesh| {
             let material = &scene.materials[mesh.material];
-            DrawInfo::new(mesh, material, settings, &lighting, scene.uv_scale).with_environment(
-                env_light.as_ref(),
-                settings,
-                scene.uv_scale,
-            )
+            DrawInfo::new(mesh, material, settings, &lighting, scene.uv_scale)
+                .with_environment(env_light.as_ref(), settings, scene.uv_scale)
+                .with_projectors(has_projectors)
         })
         .collect();
     let vertices: Vec<SceneVertices> = meshes
@@ -237,6 +257,7 @@ fn draw_frame(
         directional_only: !lighting.needs_position(),
         lighting,
         viewer,
+        projectors: has_projectors.then_some(&projectors),
     };
     let bg = match scene.environment.as_ref().map(|e| e.background) {
         Some(Background::Environment | Background::None) => Vec4::ZERO,

@@ -15,6 +15,10 @@
 //! holds one depth per texel, no partial cover), and alpha-tested ones cast whole (the pass
 //! reads no texture).
 //!
+//! A projector that casts ([`crate::shading::Projector::shadows`]) gets the map of a spot
+//! light at its position whose cone holds its frustum: its slide does not pass through the
+//! surfaces nearest to it.
+//!
 //! The maps depend on the scene and the lights, not on the camera: a turntable makes them
 //! once ([`super::render_into_with_shadows`]).
 
@@ -30,7 +34,7 @@ use crate::shading::shadow::{
     LightExtent, LightMaps, LightShadow, MapView, ShadowFilter, ShadowMap, ShadowMaps,
     ShadowParams, MAX_SHADOW_MAP_SIZE,
 };
-use crate::shading::{AlphaMode, Light};
+use crate::shading::{AlphaMode, Light, Projector};
 use crate::Result;
 
 /// Spot lights with an outer angle above this get a cube of maps.
@@ -142,6 +146,15 @@ impl ShadowOverrides {
         }
     }
 
+    /// The scene's projectors that cast under these overrides (indices into
+    /// `scene.projectors`): `--shadows` makes every one cast, `--shadows=false` none.
+    #[must_use]
+    pub fn casting_projectors(&self, scene: &Scene) -> Vec<usize> {
+        (0..scene.projectors.len())
+            .filter(|&k| self.cast.unwrap_or(scene.projectors[k].shadows))
+            .collect()
+    }
+
     /// Checks the set values as [`ShadowParams::validate`] does.
     ///
     /// # Errors
@@ -163,8 +176,9 @@ impl ShadowOverrides {
 /// [`MAX_SHADOW_MAP_SIZE`], negative biases, …).
 pub fn shadow_maps(scene: &Scene, settings: &Settings) -> Result<ShadowMaps> {
     let casters = settings.shadows.casters(scene);
+    let projectors = settings.shadows.casting_projectors(scene);
     let params = settings.shadows.apply(scene.shadows.params);
-    if casters.is_empty() {
+    if casters.is_empty() && projectors.is_empty() {
         return Ok(ShadowMaps::default());
     }
     params.validate()?;
@@ -203,7 +217,37 @@ pub fn shadow_maps(scene: &Scene, settings: &Settings) -> Result<ShadowMaps> {
             })
         })
         .collect();
-    Ok(ShadowMaps { lights, params })
+    let projectors = scene
+        .projectors
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            projectors.contains(&k).then(|| LightShadow {
+                maps: light_maps(&projector_light(p), bounds, &params, &casting, &mut target),
+                origin: p.position,
+                extent: LightExtent::Radius {
+                    radius: params.light_radius,
+                },
+            })
+        })
+        .collect();
+    Ok(ShadowMaps {
+        lights,
+        params,
+        projectors,
+    })
+}
+
+/// A spot light with projector `p`'s position and axis whose cone holds its frustum: what its
+/// depth map is drawn for.
+fn projector_light(p: &Projector) -> Light {
+    Light::Spot {
+        position: p.position,
+        direction: p.axis(),
+        color: Vec3::ONE,
+        inner_deg: 0.0,
+        outer_deg: p.cone_half_deg().min(89.0),
+    }
 }
 
 /// The bytes [`shadow_maps`] holds for `scene` under `settings`: four per texel of every
@@ -213,13 +257,19 @@ pub fn shadow_maps(scene: &Scene, settings: &Settings) -> Result<ShadowMaps> {
 #[must_use]
 pub fn shadow_map_bytes(scene: &Scene, settings: &Settings) -> u64 {
     let casters = settings.shadows.casters(scene);
-    if casters.is_empty() || settings.unlit {
+    let projectors = settings.shadows.casting_projectors(scene);
+    if (casters.is_empty() && projectors.is_empty()) || settings.unlit {
         return 0;
     }
     let n = u64::from(settings.shadows.apply(scene.shadows.params).map_size);
     let maps: u64 = casters
         .iter()
         .filter_map(|&i| scene.lights.get(i)?.normalized())
+        .chain(
+            projectors
+                .iter()
+                .map(|&k| projector_light(&scene.projectors[k])),
+        )
         .map(|l| match l {
             Light::Directional { .. } => 1,
             Light::Spot { outer_deg, .. } if outer_deg <= MAX_SPOT_MAP_DEG => 1,

@@ -149,8 +149,13 @@ impl<'a> SceneVertices<'a> {
         if let Some(f) = self.draw.layout.factors {
             f.write(&mut varyings, lit);
         }
+        let p = self.world_position(ids[k]);
+        // Projectors read the position (the face normal comes from its derivatives).
+        if let Some(s) = self.draw.layout.position {
+            s.write(&mut varyings, p.to_array());
+        }
         ClipVertex {
-            clip: self.clip_from_world * self.world_position(ids[k]).extend(1.0),
+            clip: self.clip_from_world * p.extend(1.0),
             varyings,
         }
     }
@@ -195,6 +200,13 @@ impl VertexShader for SceneVertices<'_> {
                         ..surface
                     };
                     f.write(&mut varyings, lit(&back));
+                }
+                // Read by the frame's projectors (`projectors.rs`).
+                if let Some(s) = layout.normal {
+                    s.write(&mut varyings, surface.normal.to_array());
+                }
+                if let Some(s) = layout.position {
+                    s.write(&mut varyings, p.to_array());
                 }
             }
         }

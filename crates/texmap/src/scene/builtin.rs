@@ -418,6 +418,7 @@ pub fn demo() -> Scene {
         shadows: Shadows::casting(vec![0, 1])
             .with_params(ShadowParams::default().with_map_size(1024)),
         environment: Some(demo_sky(sun)),
+        projectors: Vec::new(),
     }
 }
 
@@ -490,6 +491,7 @@ pub fn marble() -> Scene {
         uv_scale: 1.0,
         shadows: Default::default(),
         environment: None,
+        projectors: Vec::new(),
     }
 }
 

@@ -47,8 +47,8 @@ use crate::camera::{Camera, CameraProjection};
 pub use crate::shading::ibl::Environment;
 pub use crate::shading::shadow::Shadows;
 pub use crate::shading::{
-    AlphaMode, Light, Material, Procedural, ShadingModel, SolidChannel, SolidMap, TextureSlot,
-    Viewer,
+    AlphaMode, Light, Material, Procedural, Projector, ShadingModel, SolidChannel, SolidMap,
+    TextureSlot, Viewer,
 };
 use crate::texture::{Sampler, Texture2D, VirtualTexture};
 
@@ -118,6 +118,9 @@ pub struct Scene {
     /// place of `ambient_light` and seen in their reflections and refractions
     /// ([`crate::shading::ibl`]).
     pub environment: Option<Environment>,
+    /// Slide projectors: lights whose colour passes through an image
+    /// ([`crate::shading::Projector`]).
+    pub projectors: Vec<Projector>,
 }
 
 impl Default for Scene {
@@ -134,6 +137,7 @@ impl Default for Scene {
             uv_scale: 1.0,
             shadows: Shadows::default(),
             environment: None,
+            projectors: Vec::new(),
         }
     }
 }
@@ -179,7 +183,8 @@ impl Scene {
     }
 
     /// The samplers of every image texture a mesh's material reads (base colour, maps, layers,
-    /// projected images, 3D textures), in scene order.
+    /// projected images, 3D textures; the projectors' slides when there is a mesh to light),
+    /// in scene order.
     #[must_use]
     pub fn texture_samplers(&self) -> Vec<Sampler> {
         let mut out = Vec::new();
@@ -195,6 +200,9 @@ impl Scene {
                 Some(Procedural::Texture3D { sampler, .. }) => out.push(*sampler),
                 _ => {}
             }
+        }
+        if !self.meshes.is_empty() {
+            out.extend(self.projectors.iter().map(|p| p.slide.sampler));
         }
         out
     }

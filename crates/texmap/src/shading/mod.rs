@@ -39,6 +39,7 @@ pub mod layers;
 mod light;
 mod material;
 pub mod pbr;
+mod projector;
 pub mod shadow;
 pub mod toon;
 mod viewer;
@@ -50,6 +51,7 @@ pub use material::{
     AlphaMode, MapChannel, Material, MaterialMap, Procedural, ShadingModel, SolidChannel, SolidMap,
     TextureSlot,
 };
+pub use projector::{Projector, ProjectorView};
 pub use viewer::Viewer;
 
 /// What the illumination models read at one surface point: the material's parameters after

@@ -15,6 +15,7 @@ use super::lights::{default_light, light, shadows};
 use super::materials::material;
 use super::meshes::{add_mesh, MeshMaterials};
 use super::placement::placement;
+use super::projectors::projector;
 use super::spec::SceneFile;
 use super::volumes::volume;
 use crate::scene::asset::{AssetInfo, LoadOptions, Loaded};
@@ -84,6 +85,16 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
             other => other,
         })?;
         out.scene.environment = Some(env);
+    }
+
+    for (i, p) in spec.projectors.iter().enumerate() {
+        let in_entry = |e: Error| match e {
+            Error::Parameter(msg) => err(format!("projectors[{i}]: {msg}")),
+            other => other,
+        };
+        if let Some(p) = projector(&dir, p, &mut textures).map_err(in_entry)? {
+            out.scene.projectors.push(p);
+        }
     }
 
     let mut by_name = BTreeMap::new();

@@ -18,7 +18,8 @@
 //! Files: `spec` (the tables as serde reads them), `document` (the file → [`Loaded`]),
 //! then one file per kind of table: `cameras`, `lights`, `environment`, `materials`, `textures` and
 //! `sampler` (texture tables), `procedural` (solid and projected colour sources), `meshes`,
-//! `texgen`, `placement`, `volumes`, `layers` (texture layers, light maps, toon shading).
+//! `texgen`, `placement`, `volumes`, `projectors`, `layers` (texture layers, light maps, toon
+//! shading).
 //!
 //! [`Loaded`]: crate::scene::Loaded
 
@@ -31,6 +32,7 @@ mod materials;
 mod meshes;
 mod placement;
 mod procedural;
+mod projectors;
 mod sampler;
 mod spec;
 mod texgen;

@@ -35,6 +35,41 @@ pub(super) struct SceneFile {
     pub(super) meshes: Vec<MeshSpec>,
     #[serde(default)]
     pub(super) volumes: Vec<VolumeSpec>,
+    /// Slide projectors.
+    #[serde(default)]
+    pub(super) projectors: Vec<ProjectorSpec>,
+}
+
+/// A `[[projectors]]` entry: a slide projector.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ProjectorSpec {
+    pub(super) position: [f32; 3],
+    pub(super) target: [f32; 3],
+    #[serde(default = "up")]
+    pub(super) up: [f32; 3],
+    /// Vertical field of view, degrees (default 30).
+    #[serde(default = "projector_fov")]
+    pub(super) fov: f32,
+    /// Width over height (default: the image's).
+    pub(super) aspect: Option<f32>,
+    /// The slide: a texture table (sRGB unless it says; a transparent black border unless
+    /// it names a wrap).
+    pub(super) image: TextureSpec,
+    #[serde(default = "white")]
+    pub(super) color: [f32; 3],
+    #[serde(default = "one")]
+    pub(super) intensity: f32,
+    /// Inverse-square falloff (default true).
+    #[serde(default = "yes")]
+    pub(super) falloff: bool,
+    /// Occluded by its own depth map (default false).
+    #[serde(default)]
+    pub(super) shadows: bool,
+}
+
+fn projector_fov() -> f32 {
+    30.0
 }
 
 /// A `[[cameras]]` entry.

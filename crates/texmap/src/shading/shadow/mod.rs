@@ -276,6 +276,9 @@ pub struct LightShadow {
 pub struct ShadowMaps {
     pub lights: Vec<Option<LightShadow>>,
     pub params: ShadowParams,
+    /// For each of the scene's projectors (in order), its depth map when it casts
+    /// ([`crate::shading::Projector::shadows`]); empty when none does.
+    pub projectors: Vec<Option<LightShadow>>,
 }
 
 impl ShadowMaps {
@@ -292,6 +295,17 @@ impl ShadowMaps {
     #[must_use]
     pub fn visibility(&self, i: usize, p: Vec3, n: Vec3, l: Vec3) -> f32 {
         match self.lights.get(i) {
+            Some(Some(shadow)) => self.lookup(shadow, p, n, l),
+            _ => 1.0,
+        }
+    }
+
+    /// The fraction of projector `k`'s light that reaches `p` (as [`ShadowMaps::visibility`]
+    /// for the lights): 1 for a projector without a map.
+    #[inline]
+    #[must_use]
+    pub fn projector_visibility(&self, k: usize, p: Vec3, n: Vec3, l: Vec3) -> f32 {
+        match self.projectors.get(k) {
             Some(Some(shadow)) => self.lookup(shadow, p, n, l),
             _ => 1.0,
         }
@@ -448,9 +462,14 @@ mod tests {
         let maps = ShadowMaps {
             lights: vec![None],
             params: ShadowParams::default(),
+            projectors: vec![None],
         };
         assert!(maps.is_empty());
         assert_eq!(maps.visibility(0, Vec3::ZERO, Vec3::Y, Vec3::Y), 1.0);
+        assert_eq!(
+            maps.projector_visibility(0, Vec3::ZERO, Vec3::Y, Vec3::Y),
+            1.0
+        );
         assert_eq!(maps.visibility(3, Vec3::ZERO, Vec3::Y, Vec3::Y), 1.0);
     }
 }
