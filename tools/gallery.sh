@@ -7,7 +7,7 @@ cargo build --release -q
 t=target/release/texmap
 mkdir -p docs/gallery
 "$t" render --size 320x180 --ssaa 2 -q -o docs/gallery/demo.png
-for s in environment reflect refract ibl transmission shadows projector; do
+for s in environment reflect refract ibl transmission shadows projector multitexture detail lightmap toon; do
   "$t" render "scenes/$s.toml" --size 320x180 --ssaa 2 -q -o "docs/gallery/$s.png"
 done
 ls -l docs/gallery

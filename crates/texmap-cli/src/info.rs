@@ -442,6 +442,9 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
                 maps.join(", ")
             }
         );
+        for line in crate::detail_info::describe(m) {
+            outln!(out, "      {line}");
+        }
     }
     outln!(out, "textures: {}", l.info.textures.len());
     for t in &l.info.textures {

@@ -4,6 +4,7 @@ mod animation;
 mod bake;
 mod compare;
 mod convert;
+mod detail_info;
 mod field;
 mod formats;
 mod info;

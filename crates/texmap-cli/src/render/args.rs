@@ -205,6 +205,16 @@ pub struct RenderArgs {
     /// Reflected and refracted environment (K_R, K_T, transmission) [default: on].
     #[arg(long, value_enum, value_name = "on|off")]
     pub(crate) reflections: Option<Switch>,
+    /// Texture layers (multitexturing, detail maps) of the scene's materials [default: on].
+    #[arg(long, value_enum, value_name = "on|off")]
+    pub(crate) layers: Option<Switch>,
+    /// Light maps: baked irradiance multiplying the diffuse term [default: on].
+    #[arg(long, value_enum, value_name = "on|off")]
+    pub(crate) light_maps: Option<Switch>,
+    /// Toon shading: off drops the scene's; on gives every lit material without one a ramp
+    /// of three bands (no outline) [default: the scene's].
+    #[arg(long, value_enum, value_name = "on|off")]
+    pub(crate) toon: Option<Switch>,
     /// How image textures are held in memory: `decoded` (16-bit linear premultiplied, 8
     /// bytes a texel: the fastest reads), `native` (as the file stores them: 8-bit RGBA in 4
     /// bytes, RGB in 3), `compressed` (DDS/KTX/KTX2 BC1–BC7 files stay block-compressed,

@@ -9,6 +9,7 @@ mod args;
 mod batch;
 mod checks;
 mod complete;
+mod detail;
 mod image_out;
 pub(crate) mod limits;
 mod naming;
@@ -363,6 +364,7 @@ pub(super) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
     } = pool.install(|| {
         let mut built = build(args, common.texture.clone())?;
         apply_environment(args, &mut built.scene, common.env_map.clone())?;
+        detail::apply(args, &mut built.scene)?;
         checks::check_projectors(args, &built)?;
         if args.projectors == Some(Switch::Off) {
             built.scene.projectors.clear();

@@ -9,6 +9,7 @@
 use glam::{Mat3, Mat4, Vec3, Vec4};
 
 use super::environment::EnvDraw;
+use super::layers::LayerRead;
 use super::maps::MapRead;
 use super::settings::{Settings, ShadingMode, Visibility};
 use super::varyings::VaryingLayout;
@@ -102,6 +103,10 @@ pub(super) struct DrawInfo<'a> {
     /// The environment's terms, when the frame has an environment and the material takes
     /// them (`environment.rs`).
     pub env: Option<EnvDraw<'a>>,
+    /// Texture layers, in order (`layers.rs`).
+    pub layers: Vec<LayerRead<'a>>,
+    /// The light map (any lighting path, unlit included), multiplying D.
+    pub light_map: Option<MapRead<'a>>,
     /// The frame's projectors light this draw (`projectors.rs`): its position (and, in
     /// Gouraud shading, its normal) are interpolated for them.
     pub projectors: bool,
@@ -131,7 +136,9 @@ impl<'a> DrawInfo<'a> {
         let has_normals = !mesh.normals.is_empty() && mesh.normals.len() == mesh.positions.len();
         let path = if settings.unlit || material.unlit {
             LightingPath::Unlit
-        } else if settings.shading == ShadingMode::Phong && has_normals {
+        } else if (settings.shading == ShadingMode::Phong || material.toon.is_some()) && has_normals
+        {
+            // Toon shading is per pixel whatever the shading mode (its ramp is not linear).
             LightingPath::PerPixel
         } else {
             LightingPath::Interpolated
@@ -148,7 +155,8 @@ impl<'a> DrawInfo<'a> {
                 || pbr
                 || has_bump
                 || lighting.needs_position()
-                || lighting.shadows.is_some());
+                || lighting.shadows.is_some()
+                || material.toon.is_some());
 
         // The varyings, in this order: uv 0, the lighting path's values, vertex colour, back
         // factors, object point, uv 1, tangent.
@@ -179,6 +187,7 @@ impl<'a> DrawInfo<'a> {
             .iter()
             .map(|t| t.tex_coord)
             .chain(material.maps.iter().map(|m| m.slot.tex_coord))
+            .chain(material.layers.iter().map(|l| l.slot.tex_coord))
             .any(|c| c == 1);
         if mesh.uvs1.len() == mesh.positions.len() && uses_set1 {
             layout.uv1 = Some(layout.add());
@@ -226,6 +235,16 @@ impl<'a> DrawInfo<'a> {
             phong_map(MapChannel::Shininess),
         );
         let alpha_map = map(MapChannel::Alpha);
+        let light_map = map(MapChannel::Light);
+        let layers: Vec<LayerRead> = material
+            .layers
+            .iter()
+            .map(|layer| LayerRead {
+                read: read(&layer.slot, 1.0),
+                layer,
+            })
+            .collect();
+        let toon = per_pixel && material.toon.is_some();
         let alpha_from_w = alpha_map.is_some_and(|m| m.tex.format().has_alpha());
         let bump_map = if per_pixel {
             material
@@ -287,7 +306,8 @@ impl<'a> DrawInfo<'a> {
                     || normal_map.is_some()
                     || bump_map.is_some()
                     || solid_roughness.is_some()
-                    || solid_bump.is_some()));
+                    || solid_bump.is_some()
+                    || toon));
         DrawInfo {
             material,
             path,
@@ -320,8 +340,12 @@ impl<'a> DrawInfo<'a> {
                 && layout.color.is_none()
                 && material.procedural.is_none()
                 && material.alpha_mode == AlphaMode::Opaque
+                && layers.is_empty()
+                && light_map.is_none()
                 && model == ShadingModel::Phong,
             env: None,
+            layers,
+            light_map,
             projectors: false,
         }
     }
@@ -341,6 +365,7 @@ impl<'a> DrawInfo<'a> {
             &self.shininess_map,
             &self.alpha_map,
             &self.projected,
+            &self.light_map,
         ]
         .iter()
         .filter(|m| m.is_some())
@@ -360,7 +385,8 @@ impl<'a> DrawInfo<'a> {
             texture_reads: reads
                 + 3 * u32::from(self.bump_map.is_some())
                 + u32::from(self.sampler_3d.is_some())
-                + u32::from(self.env.is_some()),
+                + u32::from(self.env.is_some())
+                + self.layers.len() as u32,
         }
     }
 }

@@ -13,7 +13,8 @@
 use glam::{Vec3, Vec4};
 
 use super::draw::{DrawInfo, LightingPath};
-use super::fragment::{pixel_color, SceneShader};
+use super::fragment::SceneShader;
+use super::layers::surface_color;
 use super::maps::{MapRead, QuadReads};
 use super::settings::Settings;
 use crate::pipeline::Quad;
@@ -21,7 +22,7 @@ use crate::scene::Scene;
 use crate::shading::ibl::{
     environment_terms, point_rays, reflect, refract, EnvLight, EnvMaterial, EnvRays,
 };
-use crate::shading::{combine, illuminate, Lighting, MapChannel, ShadingModel, Surface, Viewer};
+use crate::shading::{combine, Lighting, MapChannel, ShadingModel, Surface, Viewer};
 use crate::texture::CubeFootprint;
 
 /// What one draw takes from the frame's environment.
@@ -159,7 +160,8 @@ impl<'a> DrawInfo<'a> {
         }
     }
 
-    /// `illuminate` for a vertex or a face, with the environment's terms along its own
+    /// The factors of a vertex or a face (toon shading for toon materials, as `lit_factors`),
+    /// with the environment's terms along its own
     /// directions (no footprint) when the draw takes them.
     #[inline]
     pub(super) fn illuminate_vertex(
@@ -169,9 +171,9 @@ impl<'a> DrawInfo<'a> {
         viewer: Viewer,
     ) -> (Vec3, Vec3) {
         let Some(e) = &self.env else {
-            return illuminate(self.material.model, s, lighting, viewer);
+            return self.lit_factors(s, lighting, viewer);
         };
-        let (d, sp) = illuminate(self.model, s, &self.env_lighting(e, lighting), viewer);
+        let (d, sp) = self.lit_factors(s, &self.env_lighting(e, lighting), viewer);
         let (ed, es) = environment_terms(
             self.model,
             s,
@@ -205,7 +207,7 @@ impl SceneShader<'_> {
         let mut reflected = [Vec3::ZERO; 4];
         let mut refracted = [Vec3::ZERO; 4];
         for j in 0..4 {
-            let c = pixel_color(d, quad, &reads.texels, &reads.opacity, j);
+            let c = surface_color(d, quad, reads, j);
             let normal = d
                 .layout
                 .normal
@@ -240,9 +242,12 @@ impl SceneShader<'_> {
                 continue;
             }
             let s = &surfaces[j];
-            let (df, sp) = illuminate(d.model, s, &lighting, self.viewer);
+            let (df, sp) = d.lit_factors(s, &lighting, self.viewer);
             let (pd, ps) = self.projected(d, quad, s);
-            let (df, sp) = (df + pd, sp + ps);
+            let (mut df, sp) = (df + pd, sp + ps);
+            if let Some(l) = d.light_factor(reads, j) {
+                df *= l;
+            }
             let mut material = e.material;
             if let Some(k) = &kt {
                 material.transmission *= k[j].x;

@@ -15,12 +15,13 @@
 use glam::{Vec3, Vec4};
 
 use super::draw::{DrawInfo, LightingPath};
+use super::layers::{apply_outline, fold_layers, surface_color};
 use super::maps::{MapRead, QuadMaps, QuadReads};
 use super::projectors::Projectors;
 use super::varyings::Factors;
 use crate::pipeline::{FragmentShader, Quad, BATCH};
 use crate::shading::lanes::{phong_quad, QuadFactors};
-use crate::shading::{combine, illuminate, phong, Lighting, ShadingModel, Surface, Viewer};
+use crate::shading::{combine, phong, Lighting, ShadingModel, Surface, Viewer};
 
 pub(super) struct SceneShader<'a> {
     pub draws: &'a [DrawInfo<'a>],
@@ -188,15 +189,15 @@ impl SceneShader<'_> {
     /// The general path's colours of one quad of draw `d`, its texture reads made.
     fn shade_read(&self, d: &DrawInfo, quad: &Quad, reads: &QuadReads, out: &mut [Vec4; 4]) -> u8 {
         if let Some(e) = d.env.as_ref().filter(|_| d.path == LightingPath::PerPixel) {
-            return self.shade_env(d, e, quad, reads, out);
+            let kept = self.shade_env(d, e, quad, reads, out);
+            if let Some((weights, color)) = d.outline(quad, self.viewer) {
+                apply_outline(out, weights, color);
+            }
+            return kept;
         }
         let m = d.material;
         let mut kept = quad.mask;
-        let QuadReads {
-            texels,
-            opacity,
-            maps,
-        } = reads;
+        let maps = &reads.maps;
         let back = m.double_sided && !quad.front_facing;
         // Map-free Phong under directional lights: the quad's four pixels lit in lanes.
         let lit = (d.path == LightingPath::PerPixel
@@ -210,8 +211,8 @@ impl SceneShader<'_> {
             if quad.mask & (1 << j) == 0 {
                 continue;
             }
-            let c = pixel_color(d, quad, texels, opacity, j);
-            let (df, sp) = match d.path {
+            let c = surface_color(d, quad, reads, j);
+            let (mut df, sp) = match d.path {
                 LightingPath::Unlit => (Vec3::ONE, Vec3::ZERO),
                 LightingPath::PerPixel => match (&lit, maps) {
                     (Some(q), _) => (q.d[j].truncate(), q.s[j].truncate()),
@@ -250,7 +251,7 @@ impl SceneShader<'_> {
                                     s.normal = -s.normal;
                                 }
                                 add(
-                                    illuminate(d.model, &s, &self.lighting, self.viewer),
+                                    d.lit_factors(&s, &self.lighting, self.viewer),
                                     self.projected(d, quad, &s),
                                 )
                             }
@@ -283,10 +284,16 @@ impl SceneShader<'_> {
                     }
                 }
             };
+            if let Some(l) = d.light_factor(reads, j) {
+                df *= l;
+            }
             match combine(m.alpha_mode, c, df, sp) {
                 Some(color) => out[j] = color,
                 None => kept &= !(1 << j),
             }
+        }
+        if let Some((weights, color)) = d.outline(quad, self.viewer) {
+            apply_outline(out, weights, color);
         }
         kept
     }
@@ -378,7 +385,11 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
     if let Some(t) = &d.alpha_map {
         fill(t, &|r, v| r.opacity = Some(v));
     }
+    if let Some(t) = &d.light_map {
+        fill(t, &|r, v| r.light = Some(v));
+    }
     if !d.surface_maps {
+        fold_layers(d, quads, out);
         return;
     }
     type Field = fn(&mut QuadMaps) -> &mut Option<[Vec4; 4]>;
@@ -400,4 +411,5 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
             });
         }
     }
+    fold_layers(d, quads, out);
 }

@@ -137,6 +137,10 @@ pub(super) struct QuadReads {
     pub texels: Option<[Vec4; 4]>,
     pub opacity: Option<[Vec4; 4]>,
     pub maps: Option<QuadMaps>,
+    /// The surface colour after the texture layers (draws with layers).
+    pub layered: Option<[Vec4; 4]>,
+    /// The light map's texels.
+    pub light: Option<[Vec4; 4]>,
 }
 
 /// A quad's reads of the maps that feed the [`crate::shading::Surface`] (each `None` when the

@@ -35,6 +35,7 @@ mod draw;
 mod environment;
 mod fragment;
 pub mod framing;
+mod layers;
 mod maps;
 mod procedural;
 mod projectors;

@@ -182,7 +182,7 @@ impl Scene {
         }
     }
 
-    /// The samplers of every image texture a mesh's material reads (base colour, maps,
+    /// The samplers of every image texture a mesh's material reads (base colour, maps, layers,
     /// projected images, 3D textures; the projectors' slides when there is a mesh to light),
     /// in scene order.
     #[must_use]
@@ -194,6 +194,7 @@ impl Scene {
             };
             out.extend(mat.base_color_texture.iter().map(|s| s.sampler));
             out.extend(mat.maps.iter().map(|m| m.slot.sampler));
+            out.extend(mat.layers.iter().map(|l| l.slot.sampler));
             match &mat.procedural {
                 Some(Procedural::Projected { slot, .. }) => out.push(slot.sampler),
                 Some(Procedural::Texture3D { sampler, .. }) => out.push(*sampler),

@@ -166,6 +166,11 @@ pub struct Material {
     /// Index of refraction (`KHR_materials_ior`; 1.5, f0 = 0.04): refraction and the
     /// dielectric Fresnel.
     pub ior: f32,
+    /// Texture layers applied in order after the surface colour, with OpenGL's
+    /// texture-environment modes ([`super::layers`]).
+    pub layers: Vec<super::layers::TextureLayer>,
+    /// Toon shading in place of the reflection model ([`super::toon`]).
+    pub toon: Option<super::toon::Toon>,
 }
 
 /// What a [`MaterialMap`] feeds.
@@ -192,6 +197,10 @@ pub enum MapChannel {
     /// Transmission (R), linear: multiplies K_T or the transmission factor
     /// (`KHR_materials_transmission`'s texture).
     Transmission,
+    /// A light map: baked irradiance (RGB, sRGB-encoded unless the file is float), read on
+    /// uv set 1 by default; times `scale` (the intensity), it multiplies the diffuse factor
+    /// D (`I = C·D·L + S`), lit or unlit.
+    Light,
 }
 
 impl MapChannel {
@@ -209,6 +218,7 @@ impl MapChannel {
             MapChannel::Alpha => "alpha",
             MapChannel::Bump => "bump",
             MapChannel::Transmission => "transmission",
+            MapChannel::Light => "light",
         }
     }
 
@@ -217,7 +227,7 @@ impl MapChannel {
     pub fn is_color(self) -> bool {
         matches!(
             self,
-            MapChannel::Emissive | MapChannel::Ambient | MapChannel::Specular
+            MapChannel::Emissive | MapChannel::Ambient | MapChannel::Specular | MapChannel::Light
         )
     }
 }
@@ -280,6 +290,8 @@ impl Default for Material {
             reflection: 0.0,
             transmission: 0.0,
             ior: 1.5,
+            layers: Vec::new(),
+            toon: None,
         }
     }
 }

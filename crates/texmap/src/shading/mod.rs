@@ -29,16 +29,19 @@
 //! at a point), this file (the per-pixel [`Surface`], Phong, [`combine`]), [`pbr`] (the
 //! metallic-roughness BRDF), [`lanes`] (Phong for a quad's four pixels at once), [`bump`]
 //! (tilting normals by height gradients), [`shadow`] (shadow-map lookups and filters) and
-//! `viewer.rs` (where the viewer is).
+//! `viewer.rs` (where the viewer is), [`layers`] (texture layers: OpenGL's texture
+//! environment) and [`toon`] (ramp-shaded diffuse, outlines).
 
 pub mod bump;
 pub mod ibl;
 pub mod lanes;
+pub mod layers;
 mod light;
 mod material;
 pub mod pbr;
 mod projector;
 pub mod shadow;
+pub mod toon;
 mod viewer;
 
 use glam::{Vec3, Vec4};

@@ -134,6 +134,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
         out.info.volumes.push(sv.source.display().to_string());
         out.volumes.push(sv);
     }
+    super::layers::check_uv_sets(&out.scene, &out.info.material_names).map_err(err)?;
     out.info.default_light = spec.lights.is_none();
     for i in tangents::generate_where_needed(&mut out.scene.meshes, &out.scene.materials) {
         out.warnings.push(format!(

@@ -126,5 +126,6 @@ pub(super) fn material(
             }
         }
     }
+    super::layers::surface_detail(dir, m, &mut mat, textures)?;
     Ok(mat)
 }

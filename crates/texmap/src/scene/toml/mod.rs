@@ -18,13 +18,15 @@
 //! Files: `spec` (the tables as serde reads them), `document` (the file → [`Loaded`]),
 //! then one file per kind of table: `cameras`, `lights`, `environment`, `materials`, `textures` and
 //! `sampler` (texture tables), `procedural` (solid and projected colour sources), `meshes`,
-//! `texgen`, `placement`, `volumes`, `projectors`.
+//! `texgen`, `placement`, `volumes`, `projectors`, `layers` (texture layers, light maps, toon
+//! shading).
 //!
 //! [`Loaded`]: crate::scene::Loaded
 
 mod cameras;
 mod document;
 mod environment;
+mod layers;
 mod lights;
 mod materials;
 mod meshes;

@@ -257,6 +257,13 @@ pub(super) struct MaterialSpec {
     pub(super) roughness_procedural: Option<RoughnessProceduralSpec>,
     /// A solid texture on the bump (height) channel.
     pub(super) bump_procedural: Option<BumpProceduralSpec>,
+    /// Texture layers with OpenGL's texture-environment modes (`layers.rs`).
+    #[serde(default)]
+    pub(super) layers: Vec<super::layers::LayerSpec>,
+    /// A light map: baked irradiance multiplying the diffuse factor.
+    pub(super) light_map: Option<TextureSpec>,
+    /// Toon shading: a ramp, an outline.
+    pub(super) toon: Option<super::layers::ToonSpec>,
 }
 
 /// `roughness_procedural`: a solid texture on the roughness channel.
@@ -385,8 +392,8 @@ pub(super) struct TextureSpec {
     pub(super) transform: Option<TransformSpec>,
     #[serde(default = "one")]
     pub(super) uv_scale: f32,
-    #[serde(default)]
-    pub(super) tex_coord: u32,
+    /// 0 or 1 (default 0; a light map's default is 1).
+    pub(super) tex_coord: Option<u32>,
     #[serde(default)]
     pub(super) lod_bias: f32,
     /// Clamps of the level of detail, after `lod_bias` (default: none); min ≤ max.

@@ -41,10 +41,10 @@ pub(super) fn slot(
             ))))
         }
     };
-    if t.tex_coord > 1 {
+    let tex_coord = t.tex_coord.unwrap_or(0);
+    if tex_coord > 1 {
         return Err(in_table(Error::parameter(format!(
-            "tex_coord {} is not 0 or 1",
-            t.tex_coord
+            "tex_coord {tex_coord} is not 0 or 1"
         ))));
     }
     let storage = match t.storage.as_deref() {
@@ -70,7 +70,7 @@ pub(super) fn slot(
     };
     let mut s = TextureSlot::new(tex, sampler);
     s.uv_scale = t.uv_scale;
-    s.tex_coord = t.tex_coord;
+    s.tex_coord = tex_coord;
     if let Some(tr) = &t.transform {
         s.transform = TextureTransform {
             offset: Vec2::from(tr.offset),
