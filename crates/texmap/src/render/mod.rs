@@ -36,6 +36,7 @@ mod environment;
 mod fragment;
 pub mod framing;
 mod maps;
+mod parallax;
 mod procedural;
 mod settings;
 mod shadow;

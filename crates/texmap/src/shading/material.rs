@@ -166,6 +166,10 @@ pub struct Material {
     /// Index of refraction (`KHR_materials_ior`; 1.5, f0 = 0.04): refraction and the
     /// dielectric Fresnel.
     pub ior: f32,
+    /// Parallax mapping from a height map (`super::relief`).
+    pub parallax: Option<Box<super::relief::Parallax>>,
+    /// Displacement mapping: the meshes tessellated and moved by a height map at load.
+    pub displacement: Option<Box<super::relief::Displacement>>,
 }
 
 /// What a [`MaterialMap`] feeds.
@@ -175,6 +179,9 @@ pub enum MapChannel {
     MetallicRoughness,
     /// Tangent-space normal map, linear; `scale` scales its x and y.
     Normal,
+    /// Object-space normal map, linear: `2·rgb − 1` is the object-space normal, taken to
+    /// world space by the normal matrix (needs no tangents); `scale` is unused.
+    NormalObject,
     /// Ambient occlusion (R), linear; `scale` is the strength.
     Occlusion,
     /// Emissive colour, sRGB; multiplies `Material::emissive`.
@@ -201,6 +208,7 @@ impl MapChannel {
         match self {
             MapChannel::MetallicRoughness => "metallic_roughness",
             MapChannel::Normal => "normal",
+            MapChannel::NormalObject => "normal_object",
             MapChannel::Occlusion => "occlusion",
             MapChannel::Emissive => "emissive",
             MapChannel::Ambient => "ambient",
@@ -280,6 +288,8 @@ impl Default for Material {
             reflection: 0.0,
             transmission: 0.0,
             ior: 1.5,
+            parallax: None,
+            displacement: None,
         }
     }
 }

@@ -37,6 +37,7 @@ pub mod lanes;
 mod light;
 mod material;
 pub mod pbr;
+pub mod relief;
 pub mod shadow;
 mod viewer;
 

@@ -18,7 +18,7 @@
 //! Files: `spec` (the tables as serde reads them), `document` (the file → [`Loaded`]),
 //! then one file per kind of table: `cameras`, `lights`, `environment`, `materials`, `textures` and
 //! `sampler` (texture tables), `procedural` (solid and projected colour sources), `meshes`,
-//! `texgen`, `placement`, `volumes`.
+//! `texgen`, `placement`, `volumes`, `relief` (parallax and displacement).
 //!
 //! [`Loaded`]: crate::scene::Loaded
 
@@ -30,6 +30,7 @@ mod materials;
 mod meshes;
 mod placement;
 mod procedural;
+mod relief;
 mod sampler;
 mod spec;
 mod texgen;
