@@ -157,15 +157,39 @@ fn key(p: Vec3) -> [u32; 3] {
     p.to_array().map(f32::to_bits)
 }
 
+/// `positions` with every position within a millionth of the mesh's extent of an earlier one
+/// replaced by that one (bit for bit): generated meshes put a seam's or a pole's copies a
+/// rounding error apart (sin 2π is not 0), and those copies must split edges and move alike.
+#[must_use]
+pub fn weld(positions: &[Vec3]) -> Vec<Vec3> {
+    let (lo, hi) = positions.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
+    let cell = ((hi - lo).max_element() * 1e-6).max(f32::MIN_POSITIVE);
+    let mut first: HashMap<[i64; 3], Vec3> = HashMap::new();
+    positions
+        .iter()
+        .map(|&p| {
+            if !p.is_finite() {
+                return p;
+            }
+            let q = ((p - lo) / cell).round().as_i64vec3().to_array();
+            *first.entry(q).or_insert(p)
+        })
+        .collect()
+}
+
 /// `mesh` with every edge cut into `s` segments (`s²` triangles per triangle), and each
 /// vertex's uv footprint (one new edge along each of its first triangle's two uv edges).
-/// Tangents are dropped (the caller recomputes them).
+/// Tangents are dropped (the caller recomputes them); triangles with two corners at one
+/// position are dropped.
 #[must_use]
 pub fn tessellate(mesh: &Mesh, s: u32) -> (Mesh, Vec<[Vec2; 2]>) {
     let n = mesh.positions.len();
     let has = |len: usize| len == n;
     let mut out = Mesh {
-        positions: mesh.positions.clone(),
+        positions: weld(&mesh.positions),
         normals: if has(mesh.normals.len()) {
             mesh.normals.clone()
         } else {
@@ -226,6 +250,12 @@ pub fn tessellate(mesh: &Mesh, s: u32) -> (Mesh, Vec<[Vec2; 2]>) {
             continue;
         }
         let [i0, i1, i2] = [tri[0], tri[1], tri[2]];
+        // A triangle with two corners at one position (a uv sphere's pole) has no area; cut
+        // and displaced, its inner points would move apart and open a flap.
+        let [k0, k1, k2] = [i0, i1, i2].map(|i| key(out.positions[i as usize]));
+        if k0 == k1 || k1 == k2 || k2 == k0 {
+            continue;
+        }
         let fp = if out.uvs.is_empty() {
             [Vec2::ZERO; 2]
         } else {
