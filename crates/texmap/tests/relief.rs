@@ -467,10 +467,7 @@ fn displacement_leaves_no_cracks_across_the_uv_seam_and_the_poles() {
     // 2% inside its radius), and the normals and tangents were recomputed.
     let r = mesh.positions.iter().map(|p| p.length());
     let (lo, hi) = r.fold((f32::MAX, 0.0f32), |(a, b), x| (a.min(x), b.max(x)));
-    assert!(
-        lo > 0.97 && hi > 1.08 && hi < 1.1,
-        "radii {lo}..{hi}"
-    );
+    assert!(lo > 0.97 && hi > 1.08 && hi < 1.1, "radii {lo}..{hi}");
     assert_eq!(mesh.normals.len(), mesh.positions.len());
     assert_eq!(mesh.tangents.len(), mesh.positions.len());
 }

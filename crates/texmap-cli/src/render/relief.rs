@@ -7,9 +7,10 @@
 use clap::{Args, ValueEnum};
 use texmap::camera::Camera;
 use texmap::scene::displace::{displace_scene, DisplaceOptions, DisplaceView};
-use texmap::scene::Scene;
+use texmap::scene::{Material, Scene};
 use texmap::shading::relief::{ParallaxMode, Tessellation, MAX_DISPLACEMENT_LEVEL};
 use texmap::shading::MapChannel;
+use texmap::shading::TextureSlot;
 use texmap::Error;
 
 use super::args::Switch;
@@ -188,4 +189,34 @@ pub(super) fn displace(
             Error::Parameter(m) => Error::parameter(format!("{name}: {m}")),
             other => other,
         })
+}
+
+/// `texmap info`'s words for a material's parallax and displacement.
+pub(crate) fn describe(m: &Material) -> Vec<String> {
+    let size = |s: &TextureSlot| format!("{}x{}", s.texture.width(), s.texture.height());
+    let mut out = Vec::new();
+    if let Some(p) = &m.parallax {
+        out.push(format!(
+            "parallax {} {} scale {} base {} steps {}..{}",
+            p.mode.name(),
+            size(&p.slot),
+            p.scale,
+            p.base,
+            p.min_steps,
+            p.max_steps
+        ));
+    }
+    if let Some(d) = &m.displacement {
+        let t = match d.tessellation {
+            Tessellation::Level(l) => format!("level {l}"),
+            Tessellation::EdgePixels(e) => format!("edge {e} px"),
+        };
+        out.push(format!(
+            "displacement {} scale {} base {} {t}",
+            size(&d.slot),
+            d.scale,
+            d.base
+        ));
+    }
+    out
 }
