@@ -12,21 +12,25 @@
 //!
 //! - Offset: `z = scale·(h(uv) − base)`, the shift without the `1/(N·V)` (offset limiting).
 //! - Occlusion: layers from `z = scale·(1 − base)` down to `−scale·base`, `n` steps with `n`
-//!   lerped from `max_steps` (grazing) to `min_steps` (head-on) by `|N·V|`; the first layer
-//!   below the height field and the one before it bound the hit, refined by the secant.
+//!   lerped from `max_steps` (grazing) to `min_steps` (head-on) by `|N·V|`, but no more than
+//!   the pixel footprints the ray crosses in uv plus one (a distant pixel's filtered heights
+//!   hold nothing between); the first layer below the height field and the one before it
+//!   bound the hit, refined by the secant.
 //!
 //! Every height read goes through the sampling engine with the pixel's own footprint (its
-//! uv derivatives before the shift), four pixels of a quad at a time. The shifted uvs are
+//! uv derivatives before the shift), four pixels of a quad at a time, bilinear on the mip
+//! level the footprint picks (one level per read: the search's reads are most of its cost). The shifted uvs are
 //! written into a copy of the quad; later reads take their derivatives from the shifted
 //! values across the quad, as a GPU's would.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 use super::draw::DrawInfo;
 use super::maps::MapRead;
 use crate::pipeline::{Quad, BATCH};
 use crate::shading::relief::{Parallax, ParallaxMode};
 use crate::shading::Viewer;
+use crate::texture::{Filter, MagFilter, MinFilter};
 
 /// Grazing views are traced as if `N·V` were at least this (the shift grows as `1/(N·V)`).
 const MIN_COS: f32 = 0.05;
@@ -43,7 +47,14 @@ pub(super) struct ParallaxRead<'a> {
 }
 
 impl<'a> ParallaxRead<'a> {
-    pub fn new(p: &Parallax, map: MapRead<'a>) -> Self {
+    /// `map` read for the search bilinearly on the level its footprint picks
+    /// (`GL_LINEAR_MIPMAP_NEAREST`, whatever the map's filter: the search reads the map up to
+    /// `max_steps + 1` times per pixel, so one level per read halves its cost).
+    pub fn new(p: &Parallax, mut map: MapRead<'a>) -> Self {
+        map.sampler.filter = Filter::Gl {
+            mag: MagFilter::Linear,
+            min: MinFilter::LinearMipmapNearest,
+        };
         ParallaxRead {
             map,
             mode: p.mode,
@@ -68,6 +79,9 @@ impl DrawInfo<'_> {
         let (dx, dy) = (uv.ddx(quad), uv.ddy(quad));
         let (dp_dx, dp_dy) = (ps.ddx3(quad), ps.ddy3(quad));
         let back = self.material.double_sided && !quad.front_facing;
+        let footprint = Vec2::from_array(dx)
+            .length()
+            .max(Vec2::from_array(dy).length());
         // Per pixel: the raw uv moved per world unit of height along the ray, and the steps.
         let mut per_z = [Vec2::ZERO; 4];
         let mut steps = [0u32; 4];
@@ -100,7 +114,17 @@ impl DrawInfo<'_> {
             per_z[j] = Vec2::new(grad_u.dot(vt), grad_v.dot(vt));
             let t = cos.clamp(0.0, 1.0);
             let n_steps = p.max_steps as f32 + (p.min_steps as f32 - p.max_steps as f32) * t;
-            steps[j] = (n_steps.round() as u32).clamp(p.min_steps, p.max_steps);
+            // Never finer than the footprint: the ray's uv travel through the relief over
+            // the pixel's uv footprint, plus one (heights read at that footprint hold no
+            // detail between).
+            let travel = per_z[j].length() * p.map.scale.abs();
+            let crossed = (travel / footprint).ceil() + 1.0;
+            let n_steps = if crossed.is_finite() {
+                n_steps.min(crossed.max(2.0))
+            } else {
+                n_steps
+            };
+            steps[j] = (n_steps.round() as u32).clamp(1, p.max_steps);
         }
         if mask == 0 {
             return *quad;
@@ -116,42 +140,38 @@ impl DrawInfo<'_> {
                 }
             }
             ParallaxMode::Occlusion => {
+                // The four lanes in vectors; the read skips finished lanes.
                 let top = scale * (1.0 - p.base);
+                let inv = Vec4::from_array(steps.map(|n| scale / n.max(1) as f32));
+                let (pzx, pzy) = (
+                    Vec4::from_array(per_z.map(|p| p.x)),
+                    Vec4::from_array(per_z.map(|p| p.y)),
+                );
                 let mut prev = [(top, 0.0f32); 4];
                 let mut active = mask;
                 let most = steps.iter().copied().max().unwrap_or(0);
                 for i in 0..=most {
-                    let mut lu = u;
-                    let mut lv = v;
-                    let mut z = [0.0f32; 4];
+                    let z = Vec4::splat(top) - inv * i as f32;
+                    let h = p.map.read_raw(quad, u + pzx * z, v + pzy * z, active);
+                    let hv = Vec4::new(h[0].x, h[1].x, h[2].x, h[3].x);
+                    let gap = (z - (hv - Vec4::splat(p.base)) * scale).to_array();
+                    let z = z.to_array();
                     for j in 0..4 {
                         if active & (1 << j) == 0 {
                             continue;
                         }
-                        z[j] = top - scale * i as f32 / steps[j] as f32;
-                        lu[j] += per_z[j].x * z[j];
-                        lv[j] += per_z[j].y * z[j];
-                    }
-                    let h = p.map.read_raw(quad, lu, lv, active);
-                    for j in 0..4 {
-                        if active & (1 << j) == 0 {
-                            continue;
-                        }
-                        let surface = z_of(h[j].x);
-                        let gap = z[j] - surface;
-                        if gap <= 0.0 || i >= steps[j] {
+                        if gap[j] <= 0.0 || i >= steps[j] {
                             // The ray is at or below the height field: secant between the
                             // previous layer (above it) and this one.
                             let (pz, pgap) = prev[j];
-                            z_hit[j] = if i == 0 || gap > 0.0 {
+                            z_hit[j] = if i == 0 || gap[j] > 0.0 {
                                 z[j]
                             } else {
-                                let t = pgap / (pgap - gap);
-                                pz + (z[j] - pz) * t
+                                pz + (z[j] - pz) * (pgap / (pgap - gap[j]))
                             };
                             active &= !(1 << j);
                         } else {
-                            prev[j] = (z[j], gap);
+                            prev[j] = (z[j], gap[j]);
                         }
                     }
                     if active == 0 {
