@@ -69,7 +69,7 @@ fn each_relief_flag_changes_the_image_of_a_scene_that_has_it() {
             &[
                 &["--parallax", "off"][..],
                 &["--parallax", "offset"],
-                &["--bump-maps", "off"],
+                &["--normal-maps", "off"],
             ][..],
         ),
         (
