@@ -10,4 +10,7 @@ mkdir -p docs/gallery
 for s in environment reflect refract ibl transmission shadows projector multitexture detail lightmap toon; do
   "$t" render "scenes/$s.toml" --size 320x180 --ssaa 2 -q -o "docs/gallery/$s.png"
 done
+for s in parallax displacement normal bump; do
+  "$t" render "scenes/$s.toml" --size 320x180 --ssaa 2 -q -o "docs/gallery/$s.png"
+done
 ls -l docs/gallery

@@ -406,6 +406,7 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
                 }
             });
         }
+        maps.extend(crate::render::relief::describe(m));
         let mut env_terms = String::new();
         if m.reflection > 0.0 {
             env_terms += &format!(", reflection K_R {}", m.reflection);

@@ -273,6 +273,8 @@ pub struct RenderArgs {
     pub volume: Box<crate::volume::VolumeArgs>,
     #[command(flatten)]
     pub field: Box<crate::field::FieldArgs>,
+    #[command(flatten)]
+    pub relief: Box<super::relief::ReliefArgs>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]

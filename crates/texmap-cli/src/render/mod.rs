@@ -14,6 +14,7 @@ mod image_out;
 pub(crate) mod limits;
 mod naming;
 mod plan;
+pub(crate) mod relief;
 mod shard;
 
 pub(crate) use args::parse_storage;
@@ -384,6 +385,8 @@ pub(super) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
     if let Some(s) = args.uv_scale {
         scene.uv_scale = s;
     }
+    let name = args.scene.as_deref().unwrap_or("builtin:demo");
+    relief::apply_maps(&args.relief, name, &mut scene)?;
     let virtual_bytes: u64 = scene
         .virtual_textures()
         .iter()
@@ -425,6 +428,7 @@ pub(super) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
         ViewArg::Iso => StandardView::Iso,
     });
     let camera = choose_camera(&scene, &volumes, &request).map_err(|e| camera_error(args, e))?;
+    pool.install(|| relief::displace(&args.relief, name, &mut scene, &camera, args.size))?;
     // Per-volume structures (VTK builds its own in its first frame): outside the frame times.
     pool.install(|| {
         for v in &volumes {

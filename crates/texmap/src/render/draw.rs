@@ -11,6 +11,7 @@ use glam::{Mat3, Mat4, Vec3, Vec4};
 use super::environment::EnvDraw;
 use super::layers::LayerRead;
 use super::maps::MapRead;
+use super::parallax::ParallaxRead;
 use super::settings::{Settings, ShadingMode, Visibility};
 use super::varyings::VaryingLayout;
 use crate::geometry::Projection;
@@ -67,6 +68,12 @@ pub(super) struct DrawInfo<'a> {
     pub texture: Option<MapRead<'a>>,
     /// Tangent-space normal map (Phong shading with mesh tangents only).
     pub normal_map: Option<MapRead<'a>>,
+    /// Object-space normal map (Phong shading), and the normal matrix taking its normals to
+    /// world space.
+    pub normal_object_map: Option<MapRead<'a>>,
+    pub normal_from_object: Mat3,
+    /// Parallax mapping (Phong shading): every map read at the shifted uv.
+    pub parallax: Option<ParallaxRead<'a>>,
     /// Ambient occlusion: scales the ambient term by 1 + strength·(R − 1).
     pub occlusion_map: Option<MapRead<'a>>,
     /// Emissive colour map: multiplies the material's emissive factor.
@@ -148,7 +155,7 @@ impl<'a> DrawInfo<'a> {
         let model = material.model;
         let pbr = model == ShadingModel::MetallicRoughness;
         let per_pixel = path == LightingPath::PerPixel;
-        let has_bump = material.map(MapChannel::Bump).is_some();
+        let has_bump = material.map(MapChannel::Bump).is_some() || material.parallax.is_some();
         // Shadow lookups read the position too.
         let needs_position = per_pixel
             && (material.specular > 0.0
@@ -254,6 +261,12 @@ impl<'a> DrawInfo<'a> {
             None
         };
         let normal_from_object = normal_matrix(mesh.world_from_object);
+        let normal_object_map = per_pixel.then(|| map(MapChannel::NormalObject)).flatten();
+        let parallax = material
+            .parallax
+            .as_deref()
+            .filter(|_| per_pixel)
+            .map(|p| ParallaxRead::new(p, read(&p.slot, p.scale * mean_scale)));
         let solid_roughness =
             material
                 .solid_roughness()
@@ -304,6 +317,8 @@ impl<'a> DrawInfo<'a> {
                     || specular_map.is_some()
                     || shininess_map.is_some()
                     || normal_map.is_some()
+                    || normal_object_map.is_some()
+                    || parallax.is_some()
                     || bump_map.is_some()
                     || solid_roughness.is_some()
                     || solid_bump.is_some()
@@ -320,6 +335,9 @@ impl<'a> DrawInfo<'a> {
             base: (b.truncate() * b.w).extend(b.w),
             texture,
             normal_map,
+            normal_object_map,
+            normal_from_object,
+            parallax,
             occlusion_map,
             emissive_map,
             metal_rough_map,
@@ -357,6 +375,7 @@ impl<'a> DrawInfo<'a> {
         let reads = [
             &self.texture,
             &self.normal_map,
+            &self.normal_object_map,
             &self.occlusion_map,
             &self.emissive_map,
             &self.metal_rough_map,
@@ -384,6 +403,7 @@ impl<'a> DrawInfo<'a> {
             // A bump map reads three times (at the pixel and one footprint along x and y).
             texture_reads: reads
                 + 3 * u32::from(self.bump_map.is_some())
+                + u32::from(self.parallax.is_some())
                 + u32::from(self.sampler_3d.is_some())
                 + u32::from(self.env.is_some())
                 + self.layers.len() as u32,

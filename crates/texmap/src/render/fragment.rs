@@ -17,6 +17,7 @@ use glam::{Vec3, Vec4};
 use super::draw::{DrawInfo, LightingPath};
 use super::layers::{apply_outline, fold_layers, surface_color};
 use super::maps::{MapRead, QuadMaps, QuadReads};
+use super::parallax;
 use super::projectors::Projectors;
 use super::varyings::Factors;
 use crate::pipeline::{FragmentShader, Quad, BATCH};
@@ -71,11 +72,18 @@ impl FragmentShader for SceneShader<'_> {
             // Every texture read of the batch first, map by map, then each quad's colours.
             None => {
                 let mut reads = [QuadReads::default(); BATCH];
+                // Parallax's moved copies of a batch (only for draws with parallax).
+                let mut moved = quads
+                    .first()
+                    .filter(|_| d.parallax.is_some())
+                    .map(|q| [*q; BATCH]);
                 for ((quads, out), kept) in quads
                     .chunks(BATCH)
                     .zip(out.chunks_mut(BATCH))
                     .zip(kept.chunks_mut(BATCH))
                 {
+                    // Parallax moves the uvs before any map is read.
+                    let quads = parallax::shifted(d, quads, self.viewer, moved.as_mut());
                     read_batch(d, quads, &mut reads[..quads.len()]);
                     for (((quad, o), k), r) in quads
                         .iter()
@@ -98,6 +106,7 @@ impl FragmentShader for SceneShader<'_> {
             return quad.mask;
         }
         let mut reads = [QuadReads::default()];
+        let quad = &d.parallax_quad(quad, self.viewer);
         read_batch(d, std::slice::from_ref(quad), &mut reads);
         self.shade_read(d, quad, &reads[0], out)
     }
@@ -393,8 +402,9 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
         return;
     }
     type Field = fn(&mut QuadMaps) -> &mut Option<[Vec4; 4]>;
-    let maps: [(Option<&MapRead>, Field); 7] = [
+    let maps: [(Option<&MapRead>, Field); 8] = [
         (d.normal_map.as_ref(), |m| &mut m.normals),
+        (d.normal_object_map.as_ref(), |m| &mut m.object_normals),
         (d.occlusion_map.as_ref(), |m| &mut m.occlusion),
         (d.emissive_map.as_ref(), |m| &mut m.emission),
         (d.metal_rough_map.as_ref(), |m| &mut m.metal_rough),

@@ -108,6 +108,20 @@ impl<'a> MapRead<'a> {
         }
     }
 
+    /// The quad's reads at raw (untransformed) uvs `u`, `v` of the pixels in `mask`, each with
+    /// the pixel's own footprint (the derivatives of the quad's uv set): parallax mapping's
+    /// height reads along the view ray.
+    pub fn read_raw(&self, quad: &Quad, u: Vec4, v: Vec4, mask: u8) -> [Vec4; 4] {
+        let m = self.linear;
+        let c = self.coords(quad);
+        let c = QuadCoords {
+            u: u * m.x_axis.x + v * m.y_axis.x + self.offset.x,
+            v: u * m.x_axis.y + v * m.y_axis.y + self.offset.y,
+            ..c
+        };
+        self.read_lanes(&c, mask)
+    }
+
     /// A height map's screen derivatives `(∂h/∂x, ∂h/∂y)` per pixel, times `scale`: the red
     /// channel read at uv, one pixel footprint further along x (uv + ∂uv/∂x) and along y,
     /// each with the pixel's own footprint (three quad reads).
@@ -148,6 +162,7 @@ pub(super) struct QuadReads {
 #[derive(Clone, Copy, Default)]
 pub(super) struct QuadMaps {
     pub normals: Option<[Vec4; 4]>,
+    pub object_normals: Option<[Vec4; 4]>,
     pub occlusion: Option<[Vec4; 4]>,
     pub emission: Option<[Vec4; 4]>,
     pub metal_rough: Option<[Vec4; 4]>,

@@ -37,6 +37,7 @@ mod fragment;
 pub mod framing;
 mod layers;
 mod maps;
+mod parallax;
 mod procedural;
 mod projectors;
 mod settings;

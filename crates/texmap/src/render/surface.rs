@@ -37,6 +37,13 @@ impl DrawInfo<'_> {
                 *n = mapped;
             }
         }
+        if let Some(texel) = &maps.object_normals {
+            // Object space → world: the normal matrix; the vertex normal is replaced.
+            let object = texel[j].truncate() * 2.0 - Vec3::ONE;
+            if let Some(mapped) = (self.normal_from_object * object).try_normalize() {
+                *n = mapped;
+            }
+        }
         if let (Some(slopes), Some(p)) = (&maps.bumps, self.layout.position) {
             *n = bump::tilt_screen_space(*n, p.ddx3(quad), p.ddy3(quad), slopes[j]);
         }

@@ -44,6 +44,12 @@ impl<const N: usize> Slot<N> {
         std::array::from_fn(|c| v[c])
     }
 
+    /// Replaces the quad's values (one lane per pixel).
+    #[inline]
+    pub fn set_lanes(self, quad: &mut Quad, values: [Vec4; N]) {
+        quad.varyings[self.at..self.at + N].copy_from_slice(&values);
+    }
+
     /// ∂/∂x of each value (coarse, the quad's top row).
     #[inline(always)]
     pub fn ddx(self, quad: &Quad) -> [f32; N] {

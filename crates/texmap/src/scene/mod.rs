@@ -15,6 +15,7 @@
 
 mod asset;
 pub mod builtin;
+pub mod displace;
 mod files;
 mod format;
 pub mod gltf;

@@ -171,6 +171,10 @@ pub struct Material {
     pub layers: Vec<super::layers::TextureLayer>,
     /// Toon shading in place of the reflection model ([`super::toon`]).
     pub toon: Option<super::toon::Toon>,
+    /// Parallax mapping from a height map (`super::relief`).
+    pub parallax: Option<Box<super::relief::Parallax>>,
+    /// Displacement mapping: the meshes tessellated and moved by a height map at load.
+    pub displacement: Option<Box<super::relief::Displacement>>,
 }
 
 /// What a [`MaterialMap`] feeds.
@@ -180,6 +184,9 @@ pub enum MapChannel {
     MetallicRoughness,
     /// Tangent-space normal map, linear; `scale` scales its x and y.
     Normal,
+    /// Object-space normal map, linear: `2·rgb − 1` is the object-space normal, taken to
+    /// world space by the normal matrix (needs no tangents); `scale` is unused.
+    NormalObject,
     /// Ambient occlusion (R), linear; `scale` is the strength.
     Occlusion,
     /// Emissive colour, sRGB; multiplies `Material::emissive`.
@@ -210,6 +217,7 @@ impl MapChannel {
         match self {
             MapChannel::MetallicRoughness => "metallic_roughness",
             MapChannel::Normal => "normal",
+            MapChannel::NormalObject => "normal_object",
             MapChannel::Occlusion => "occlusion",
             MapChannel::Emissive => "emissive",
             MapChannel::Ambient => "ambient",
@@ -292,6 +300,8 @@ impl Default for Material {
             ior: 1.5,
             layers: Vec::new(),
             toon: None,
+            parallax: None,
+            displacement: None,
         }
     }
 }

@@ -40,6 +40,7 @@ mod light;
 mod material;
 pub mod pbr;
 mod projector;
+pub mod relief;
 pub mod shadow;
 pub mod toon;
 mod viewer;

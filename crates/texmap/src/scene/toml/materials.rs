@@ -102,6 +102,11 @@ pub(super) fn material(
             &maps.metallic_roughness,
         ),
         (MapChannel::Normal, "maps.normal", &maps.normal),
+        (
+            MapChannel::NormalObject,
+            "maps.normal_object",
+            &maps.normal_object,
+        ),
         (MapChannel::Occlusion, "maps.occlusion", &maps.occlusion),
         (MapChannel::Emissive, "maps.emissive", &maps.emissive),
         (MapChannel::Ambient, "maps.ambient", &maps.ambient),
@@ -127,5 +132,11 @@ pub(super) fn material(
         }
     }
     super::layers::surface_detail(dir, m, &mut mat, textures)?;
+    if let Some(p) = &m.parallax {
+        mat.parallax = Some(super::relief::parallax(dir, p, textures)?);
+    }
+    if let Some(d) = &m.displacement {
+        mat.displacement = Some(super::relief::displacement(dir, d, textures)?);
+    }
     Ok(mat)
 }

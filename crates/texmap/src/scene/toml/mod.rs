@@ -19,7 +19,7 @@
 //! then one file per kind of table: `cameras`, `lights`, `environment`, `materials`, `textures` and
 //! `sampler` (texture tables), `procedural` (solid and projected colour sources), `meshes`,
 //! `texgen`, `placement`, `volumes`, `projectors`, `layers` (texture layers, light maps, toon
-//! shading).
+//! shading), `relief` (parallax and displacement).
 //!
 //! [`Loaded`]: crate::scene::Loaded
 
@@ -33,6 +33,7 @@ mod meshes;
 mod placement;
 mod procedural;
 mod projectors;
+mod relief;
 mod sampler;
 mod spec;
 mod texgen;

@@ -264,6 +264,10 @@ pub(super) struct MaterialSpec {
     pub(super) light_map: Option<TextureSpec>,
     /// Toon shading: a ramp, an outline.
     pub(super) toon: Option<super::layers::ToonSpec>,
+    /// Parallax mapping from a height map.
+    pub(super) parallax: Option<super::relief::ParallaxSpec>,
+    /// Displacement mapping from a height map.
+    pub(super) displacement: Option<super::relief::DisplacementSpec>,
 }
 
 /// `roughness_procedural`: a solid texture on the roughness channel.
@@ -364,6 +368,8 @@ fn yes() -> bool {
 pub(super) struct MapsSpec {
     pub(super) metallic_roughness: Option<TextureSpec>,
     pub(super) normal: Option<TextureSpec>,
+    /// An object-space normal map.
+    pub(super) normal_object: Option<TextureSpec>,
     pub(super) occlusion: Option<TextureSpec>,
     pub(super) emissive: Option<TextureSpec>,
     pub(super) ambient: Option<TextureSpec>,

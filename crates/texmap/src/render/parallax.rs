@@ -1,0 +1,211 @@
+//! Parallax mapping in the fragment stage: each pixel's texture coordinates moved to where
+//! its view ray meets the height field, before any map is read, so every map of the material
+//! (base colour, normal, bump, …) is read at the shifted uv.
+//!
+//! The per-pixel frame needs no mesh tangents: the uv's gradient along the surface comes from
+//! the screen derivatives of the position and of the uv (the surface-gradient rule of
+//! `shading/bump.rs`), `∇u = (R1·∂u/∂x + R2·∂u/∂y)/det` with `R1 = σy × N`, `R2 = N × σx`,
+//! `det = σx·R1`. With `V` the unit vector to the eye (per pixel, perspective-correct) and
+//! `Vt = V − N(N·V)` its part along the surface, a point of the height field `z` object units
+//! above the mesh that the ray sees at the pixel lies at `P + Vt·z/(N·V)`, so its uv is
+//! `uv + (∇u·Vt, ∇v·Vt)·z/(N·V)`.
+//!
+//! - Offset: `z = scale·(h(uv) − base)`, the shift without the `1/(N·V)` (offset limiting).
+//! - Occlusion: layers from `z = scale·(1 − base)` down to `−scale·base`, `n` steps with `n`
+//!   lerped from `max_steps` (grazing) to `min_steps` (head-on) by `|N·V|`, but no more than
+//!   the pixel footprints the ray crosses in uv plus one (a distant pixel's filtered heights
+//!   hold nothing between); the first layer below the height field and the one before it
+//!   bound the hit, refined by the secant.
+//!
+//! Every height read goes through the sampling engine with the pixel's own footprint (its
+//! uv derivatives before the shift), four pixels of a quad at a time, bilinear on the mip
+//! level the footprint picks (one level per read: the search's reads are most of its cost). The shifted uvs are
+//! written into a copy of the quad; later reads take their derivatives from the shifted
+//! values across the quad, as a GPU's would.
+
+use glam::{Vec2, Vec3, Vec4};
+
+use super::draw::DrawInfo;
+use super::maps::MapRead;
+use crate::pipeline::{Quad, BATCH};
+use crate::shading::relief::{Parallax, ParallaxMode};
+use crate::shading::Viewer;
+use crate::texture::{Filter, MagFilter, MinFilter};
+
+/// Grazing views are traced as if `N·V` were at least this (the shift grows as `1/(N·V)`).
+const MIN_COS: f32 = 0.05;
+
+/// A draw's parallax mapping, resolved.
+#[derive(Clone, Copy)]
+pub(super) struct ParallaxRead<'a> {
+    /// The height map; its `scale` is the relief in world units (object scale included).
+    pub map: MapRead<'a>,
+    pub mode: ParallaxMode,
+    pub base: f32,
+    pub min_steps: u32,
+    pub max_steps: u32,
+}
+
+impl<'a> ParallaxRead<'a> {
+    /// `map` read for the search bilinearly on the level its footprint picks
+    /// (`GL_LINEAR_MIPMAP_NEAREST`, whatever the map's filter: the search reads the map up to
+    /// `max_steps + 1` times per pixel, so one level per read halves its cost).
+    pub fn new(p: &Parallax, mut map: MapRead<'a>) -> Self {
+        map.sampler.filter = Filter::Gl {
+            mag: MagFilter::Linear,
+            min: MinFilter::LinearMipmapNearest,
+        };
+        ParallaxRead {
+            map,
+            mode: p.mode,
+            base: p.base,
+            min_steps: p.min_steps.max(1),
+            max_steps: p.max_steps.max(p.min_steps.max(1)),
+        }
+    }
+}
+
+impl DrawInfo<'_> {
+    /// `quad` with its height map's uv set moved by parallax mapping (the quad itself when the
+    /// draw has no parallax or no per-pixel normal and position).
+    pub(super) fn parallax_quad(&self, quad: &Quad, viewer: Viewer) -> Quad {
+        let (Some(p), Some(ns), Some(ps)) =
+            (&self.parallax, self.layout.normal, self.layout.position)
+        else {
+            return *quad;
+        };
+        let uv = p.map.uv;
+        let [u, v] = uv.lanes(quad);
+        let (dx, dy) = (uv.ddx(quad), uv.ddy(quad));
+        let (dp_dx, dp_dy) = (ps.ddx3(quad), ps.ddy3(quad));
+        let back = self.material.double_sided && !quad.front_facing;
+        let footprint = Vec2::from_array(dx)
+            .length()
+            .max(Vec2::from_array(dy).length());
+        // Per pixel: the raw uv moved per world unit of height along the ray, and the steps.
+        let mut per_z = [Vec2::ZERO; 4];
+        let mut steps = [0u32; 4];
+        let mut mask = quad.mask;
+        for j in 0..4 {
+            if quad.mask & (1 << j) == 0 {
+                continue;
+            }
+            let mut n = ns.pixel3(quad, j).normalize_or_zero();
+            if back {
+                n = -n;
+            }
+            let view = viewer.towards(ps.pixel3(quad, j));
+            let r1 = dp_dy.cross(n);
+            let r2 = n.cross(dp_dx);
+            let det = dp_dx.dot(r1);
+            let cos = view.dot(n);
+            if !(det.abs() > f32::MIN_POSITIVE && det.is_finite()) || n == Vec3::ZERO || cos <= 0.0
+            {
+                mask &= !(1 << j);
+                continue;
+            }
+            let grad_u = (r1 * dx[0] + r2 * dy[0]) / det;
+            let grad_v = (r1 * dx[1] + r2 * dy[1]) / det;
+            let vt = view - n * cos;
+            let vt = match p.mode {
+                ParallaxMode::Offset => vt,
+                ParallaxMode::Occlusion => vt / cos.max(MIN_COS),
+            };
+            per_z[j] = Vec2::new(grad_u.dot(vt), grad_v.dot(vt));
+            let t = cos.clamp(0.0, 1.0);
+            let n_steps = p.max_steps as f32 + (p.min_steps as f32 - p.max_steps as f32) * t;
+            // Never finer than the footprint: the ray's uv travel through the relief over
+            // the pixel's uv footprint, plus one (heights read at that footprint hold no
+            // detail between).
+            let travel = per_z[j].length() * p.map.scale.abs();
+            let crossed = (travel / footprint).ceil() + 1.0;
+            let n_steps = if crossed.is_finite() {
+                n_steps.min(crossed.max(2.0))
+            } else {
+                n_steps
+            };
+            steps[j] = (n_steps.round() as u32).clamp(1, p.max_steps);
+        }
+        if mask == 0 {
+            return *quad;
+        }
+        let scale = p.map.scale;
+        let z_of = |h: f32| scale * (h - p.base);
+        let mut z_hit = [0.0f32; 4];
+        match p.mode {
+            ParallaxMode::Offset => {
+                let h = p.map.read_raw(quad, u, v, mask);
+                for j in 0..4 {
+                    z_hit[j] = z_of(h[j].x);
+                }
+            }
+            ParallaxMode::Occlusion => {
+                // The four lanes in vectors; the read skips finished lanes.
+                let top = scale * (1.0 - p.base);
+                let inv = Vec4::from_array(steps.map(|n| scale / n.max(1) as f32));
+                let (pzx, pzy) = (
+                    Vec4::from_array(per_z.map(|p| p.x)),
+                    Vec4::from_array(per_z.map(|p| p.y)),
+                );
+                let mut prev = [(top, 0.0f32); 4];
+                let mut active = mask;
+                let most = steps.iter().copied().max().unwrap_or(0);
+                for i in 0..=most {
+                    let z = Vec4::splat(top) - inv * i as f32;
+                    let h = p.map.read_raw(quad, u + pzx * z, v + pzy * z, active);
+                    let hv = Vec4::new(h[0].x, h[1].x, h[2].x, h[3].x);
+                    let gap = (z - (hv - Vec4::splat(p.base)) * scale).to_array();
+                    let z = z.to_array();
+                    for j in 0..4 {
+                        if active & (1 << j) == 0 {
+                            continue;
+                        }
+                        if gap[j] <= 0.0 || i >= steps[j] {
+                            // The ray is at or below the height field: secant between the
+                            // previous layer (above it) and this one.
+                            let (pz, pgap) = prev[j];
+                            z_hit[j] = if i == 0 || gap[j] > 0.0 {
+                                z[j]
+                            } else {
+                                pz + (z[j] - pz) * (pgap / (pgap - gap[j]))
+                            };
+                            active &= !(1 << j);
+                        } else {
+                            prev[j] = (z[j], gap[j]);
+                        }
+                    }
+                    if active == 0 {
+                        break;
+                    }
+                }
+            }
+        }
+        let mut out = *quad;
+        let mut nu = u;
+        let mut nv = v;
+        for j in 0..4 {
+            if mask & (1 << j) != 0 {
+                nu[j] += per_z[j].x * z_hit[j];
+                nv[j] += per_z[j].y * z_hit[j];
+            }
+        }
+        uv.set_lanes(&mut out, [nu, nv]);
+        out
+    }
+}
+
+/// The quads of a batch, each moved by the draw's parallax into `buf` when it has one.
+pub(super) fn shifted<'q>(
+    d: &DrawInfo,
+    quads: &'q [Quad],
+    viewer: Viewer,
+    buf: Option<&'q mut [Quad; BATCH]>,
+) -> &'q [Quad] {
+    let Some(buf) = buf.filter(|_| d.parallax.is_some()) else {
+        return quads;
+    };
+    for (b, q) in buf.iter_mut().zip(quads) {
+        *b = d.parallax_quad(q, viewer);
+    }
+    &buf[..quads.len()]
+}
