@@ -70,6 +70,7 @@ fn each_relief_flag_changes_the_image_of_a_scene_that_has_it() {
                 &["--parallax", "off"][..],
                 &["--parallax", "offset"],
                 &["--normal-maps", "off"],
+                &["--parallax-shadows", "on"],
             ][..],
         ),
         (
@@ -121,6 +122,19 @@ fn relief_flags_are_refused_where_the_scene_has_nothing_to_switch() {
         &scene("parallax"),
         &["--displacement", "on"],
         &["--displacement"],
+    );
+    // parallax.toml's material is not self-shadowed: off changes nothing.
+    refused(
+        &d,
+        &scene("parallax"),
+        &["--parallax-shadows", "off"],
+        &["--parallax-shadows", "already"],
+    );
+    refused(
+        &d,
+        &scene("normal"),
+        &["--parallax-shadows", "on"],
+        &["--parallax-shadows", "parallax"],
     );
     refused(
         &d,

@@ -300,6 +300,7 @@ fn parallax_occlusion_at_a_grazing_angle_matches_the_displaced_mesh() {
                     base: 1.0,
                     min_steps: 16,
                     max_steps: 64,
+                    shadows: false,
                 })
             });
         });
@@ -323,6 +324,80 @@ fn parallax_occlusion_at_a_grazing_angle_matches_the_displaced_mesh() {
         offset > none,
         "offset {offset:.2} dB must beat none {none:.2} dB"
     );
+}
+
+#[test]
+fn parallax_self_shadowing_darkens_the_pit_behind_a_wall_and_nothing_under_a_light_overhead() {
+    // A step in the height map: the left half (u < ½, x < 0) at the top, the right half a pit
+    // 0.1 deep (carved in, base 1). Seen from straight above (orthographic, x to the right).
+    let step = slot(texture(|u, _| {
+        Vec4::new(if u < 0.5 { 1.0 } else { 0.0 }, 0.0, 0.0, 1.0)
+    }));
+    let cam = Camera {
+        eye: Vec3::new(0.0, 4.0, 0.0),
+        target: Vec3::ZERO,
+        up: -Vec3::Z,
+        projection: CameraProjection::Orthographic { half_height: 1.0 },
+        near: 0.1,
+        far: 10.0,
+    };
+    let (w, h) = (128u32, 64u32);
+    let shot_with = |towards_light: Vec3, shadows: bool| {
+        let material = Material {
+            base_color: Vec4::ONE,
+            ambient: 0.0,
+            specular: 0.0,
+            parallax: Some(Box::new(Parallax {
+                slot: step.clone(),
+                mode: ParallaxMode::Occlusion,
+                scale: 0.1,
+                base: 1.0,
+                min_steps: 16,
+                max_steps: 32,
+                shadows,
+            })),
+            ..Default::default()
+        };
+        let mut s = scene(plane(1, Mat4::IDENTITY), material);
+        s.lights = vec![Light::Directional {
+            direction: towards_light.normalize(),
+            color: Vec3::ONE,
+        }];
+        shot(&s, &cam, w, h)
+    };
+    // Pixel column of world x, middle row.
+    let at = |f: &Frame, x: f32| {
+        let i = (((x + 2.0) / 4.0) * w as f32) as u32;
+        f.color[((h / 2) * w + i) as usize].x
+    };
+    // A low light from −x (tan of its elevation 0.3): the wall at x = 0 shadows the pit out
+    // to x ≈ 0.1 / 0.3 = 0.33.
+    let low = Vec3::new(-1.0, 0.3, 0.0);
+    let (on, off) = (shot_with(low, true), shot_with(low, false));
+    let near_wall = 0.12;
+    eprintln!(
+        "pit near the wall: {:.3} shadowed, {:.3} without; far: {:.3} / {:.3}; top {:.3} / {:.3}",
+        at(&on, near_wall),
+        at(&off, near_wall),
+        at(&on, 0.8),
+        at(&off, 0.8),
+        at(&on, -0.5),
+        at(&off, -0.5)
+    );
+    assert!(at(&off, near_wall) > 0.2, "lit without shadows");
+    assert!(
+        at(&on, near_wall) < 0.25 * at(&off, near_wall),
+        "the wall shadows the pit"
+    );
+    for x in [0.8, -0.5] {
+        assert!(
+            (at(&on, x) - at(&off, x)).abs() < 1e-3,
+            "x {x}: nothing stands between it and the light"
+        );
+    }
+    // A light straight above: the march stays over its own texel, nothing is shadowed.
+    let (on, off) = (shot_with(Vec3::Y, true), shot_with(Vec3::Y, false));
+    assert_eq!(on.color, off.color);
 }
 
 // ---- cracks --------------------------------------------------------------------------------

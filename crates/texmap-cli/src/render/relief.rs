@@ -36,6 +36,10 @@ pub struct ReliefArgs {
     /// occlusion (parallax occlusion mapping) [default: each material's mode].
     #[arg(long, value_enum, value_name = "off|offset|occlusion")]
     pub(crate) parallax: Option<ParallaxArg>,
+    /// Parallax self-shadowing towards the lights, for every material with parallax mapping
+    /// [default: each material's `shadows`].
+    #[arg(long, value_enum, value_name = "on|off")]
+    pub(crate) parallax_shadows: Option<Switch>,
     /// Displacement mapping of the materials that have it (meshes tessellated and moved by
     /// the height map at load) [default: on].
     #[arg(long, value_enum, value_name = "on|off")]
@@ -107,6 +111,37 @@ pub(super) fn apply_maps(r: &ReliefArgs, name: &str, scene: &mut Scene) -> Resul
                         x.mode = ParallaxMode::Occlusion;
                     }
                 }
+            }
+        }
+    }
+    if let Some(on) = r.parallax_shadows {
+        let on = on == Switch::On;
+        let parallax: Vec<&mut Material> = scene
+            .materials
+            .iter_mut()
+            .filter(|m| m.parallax.is_some())
+            .collect();
+        if parallax.is_empty() {
+            return Err(Error::parameter(format!(
+                "--parallax-shadows: no material of {name} has parallax mapping"
+            )));
+        }
+        if parallax
+            .iter()
+            .all(|m| m.parallax.as_ref().is_some_and(|p| p.shadows == on))
+        {
+            return Err(Error::parameter(format!(
+                "--parallax-shadows: every parallax material of {name} is already {}",
+                if on {
+                    "self-shadowed"
+                } else {
+                    "without self-shadowing"
+                }
+            )));
+        }
+        for m in parallax {
+            if let Some(p) = m.parallax.as_mut() {
+                p.shadows = on;
             }
         }
     }
@@ -197,13 +232,14 @@ pub(crate) fn describe(m: &Material) -> Vec<String> {
     let mut out = Vec::new();
     if let Some(p) = &m.parallax {
         out.push(format!(
-            "parallax {} {} scale {} base {} steps {}..{}",
+            "parallax {} {} scale {} base {} steps {}..{}{}",
             p.mode.name(),
             size(&p.slot),
             p.scale,
             p.base,
             p.min_steps,
-            p.max_steps
+            p.max_steps,
+            if p.shadows { ", self-shadowed" } else { "" }
         ));
     }
     if let Some(d) = &m.displacement {

@@ -17,12 +17,12 @@ use glam::{Vec3, Vec4};
 use super::draw::{DrawInfo, LightingPath};
 use super::layers::{apply_outline, fold_layers, surface_color};
 use super::maps::{MapRead, QuadMaps, QuadReads};
-use super::parallax;
+use super::parallax::{self, SelfShadow, SELF_SHADOW_LIGHTS};
 use super::projectors::Projectors;
 use super::varyings::Factors;
 use crate::pipeline::{FragmentShader, Quad, BATCH};
 use crate::shading::lanes::{phong_quad, QuadFactors};
-use crate::shading::{combine, phong, Lighting, ShadingModel, Surface, Viewer};
+use crate::shading::{combine, phong, Light, Lighting, ShadingModel, Surface, Viewer};
 
 pub(super) struct SceneShader<'a> {
     pub draws: &'a [DrawInfo<'a>],
@@ -83,15 +83,17 @@ impl FragmentShader for SceneShader<'_> {
                     .zip(kept.chunks_mut(BATCH))
                 {
                     // Parallax moves the uvs before any map is read.
-                    let quads = parallax::shifted(d, quads, self.viewer, moved.as_mut());
-                    read_batch(d, quads, &mut reads[..quads.len()]);
-                    for (((quad, o), k), r) in quads
+                    let shifted = parallax::shifted(d, quads, self.viewer, moved.as_mut());
+                    read_batch(d, shifted, &mut reads[..shifted.len()]);
+                    for ((((quad, o), k), r), orig) in shifted
                         .iter()
                         .zip(out.iter_mut())
                         .zip(kept.iter_mut())
                         .zip(&reads)
+                        .zip(quads)
                     {
-                        *k = self.shade_read(d, quad, r, o);
+                        let ss = self.self_shadow(d, orig, quad);
+                        *k = self.shade_read(d, quad, r, o, ss.as_ref());
                     }
                 }
             }
@@ -106,13 +108,23 @@ impl FragmentShader for SceneShader<'_> {
             return quad.mask;
         }
         let mut reads = [QuadReads::default()];
-        let quad = &d.parallax_quad(quad, self.viewer);
-        read_batch(d, std::slice::from_ref(quad), &mut reads);
-        self.shade_read(d, quad, &reads[0], out)
+        let moved = &d.parallax_quad(quad, self.viewer);
+        read_batch(d, std::slice::from_ref(moved), &mut reads);
+        let ss = self.self_shadow(d, quad, moved);
+        self.shade_read(d, moved, &reads[0], out, ss.as_ref())
     }
 }
 
 impl SceneShader<'_> {
+    /// Parallax self-shadowing of a quad lit per pixel (`quad` as rasterized, `moved` its
+    /// parallax-moved copy).
+    #[inline]
+    fn self_shadow(&self, d: &DrawInfo, quad: &Quad, moved: &Quad) -> Option<SelfShadow> {
+        (d.path == LightingPath::PerPixel)
+            .then(|| d.parallax_self_shadow(quad, moved, self.lighting.lights))
+            .flatten()
+    }
+
     /// What the frame's projectors add at surface `s` of a quad of draw `d` (nothing when
     /// the draw takes no projector light).
     #[inline]
@@ -196,9 +208,16 @@ impl SceneShader<'_> {
     }
 
     /// The general path's colours of one quad of draw `d`, its texture reads made.
-    fn shade_read(&self, d: &DrawInfo, quad: &Quad, reads: &QuadReads, out: &mut [Vec4; 4]) -> u8 {
+    fn shade_read(
+        &self,
+        d: &DrawInfo,
+        quad: &Quad,
+        reads: &QuadReads,
+        out: &mut [Vec4; 4],
+        self_shadow: Option<&SelfShadow>,
+    ) -> u8 {
         if let Some(e) = d.env.as_ref().filter(|_| d.path == LightingPath::PerPixel) {
-            let kept = self.shade_env(d, e, quad, reads, out);
+            let kept = self.shade_env(d, e, quad, reads, out, self_shadow);
             if let Some((weights, color)) = d.outline(quad, self.viewer) {
                 apply_outline(out, weights, color);
             }
@@ -208,9 +227,12 @@ impl SceneShader<'_> {
         let mut kept = quad.mask;
         let maps = &reads.maps;
         let back = m.double_sided && !quad.front_facing;
+        // Parallax self-shadowing: each light scaled per pixel by what the relief lets through.
+        let mut light_buf = [NO_LIGHT; SELF_SHADOW_LIGHTS];
         // Map-free Phong under directional lights: the quad's four pixels lit in lanes.
         let lit = (d.path == LightingPath::PerPixel
             && !d.projectors
+            && self_shadow.is_none()
             && maps.is_none()
             && d.model == ShadingModel::Phong
             && self.directional_only)
@@ -221,6 +243,13 @@ impl SceneShader<'_> {
                 continue;
             }
             let c = surface_color(d, quad, reads, j);
+            let lighting = match self_shadow {
+                Some(ss) => Lighting {
+                    lights: ss.lights(self.lighting.lights, j, &mut light_buf),
+                    ..self.lighting
+                },
+                None => self.lighting,
+            };
             let (mut df, sp) = match d.path {
                 LightingPath::Unlit => (Vec3::ONE, Vec3::ZERO),
                 LightingPath::PerPixel => match (&lit, maps) {
@@ -245,7 +274,7 @@ impl SceneShader<'_> {
                                     ..d.surface
                                 };
                                 add(
-                                    phong(&s, &self.lighting, self.viewer),
+                                    phong(&s, &lighting, self.viewer),
                                     self.projected(d, quad, &s),
                                 )
                             }
@@ -260,7 +289,7 @@ impl SceneShader<'_> {
                                     s.normal = -s.normal;
                                 }
                                 add(
-                                    d.lit_factors(&s, &self.lighting, self.viewer),
+                                    d.lit_factors(&s, &lighting, self.viewer),
                                     self.projected(d, quad, &s),
                                 )
                             }
@@ -307,6 +336,12 @@ impl SceneShader<'_> {
         kept
     }
 }
+
+/// A light that lights nothing: the filler of a self-shadowed pixel's light buffer.
+const NO_LIGHT: Light = Light::Directional {
+    direction: Vec3::Y,
+    color: Vec3::ZERO,
+};
 
 /// The sum of two `(D, S)` pairs.
 #[inline(always)]

@@ -29,7 +29,7 @@ use super::draw::DrawInfo;
 use super::maps::MapRead;
 use crate::pipeline::{Quad, BATCH};
 use crate::shading::relief::{Parallax, ParallaxMode};
-use crate::shading::Viewer;
+use crate::shading::{Light, Viewer};
 use crate::texture::{Filter, MagFilter, MinFilter};
 
 /// Grazing views are traced as if `N·V` were at least this (the shift grows as `1/(N·V)`).
@@ -44,6 +44,8 @@ pub(super) struct ParallaxRead<'a> {
     pub base: f32,
     pub min_steps: u32,
     pub max_steps: u32,
+    /// Self-shadowing towards the lights.
+    pub shadows: bool,
 }
 
 impl<'a> ParallaxRead<'a> {
@@ -61,6 +63,7 @@ impl<'a> ParallaxRead<'a> {
             base: p.base,
             min_steps: p.min_steps.max(1),
             max_steps: p.max_steps.max(p.min_steps.max(1)),
+            shadows: p.shadows,
         }
     }
 }
@@ -191,6 +194,141 @@ impl DrawInfo<'_> {
         }
         uv.set_lanes(&mut out, [nu, nv]);
         out
+    }
+}
+
+/// The most lights parallax self-shadowing scales: a scene with more is lit without it.
+pub(super) const SELF_SHADOW_LIGHTS: usize = 8;
+
+/// Of the height field's relief, the height standing above the ray to a light that shadows
+/// fully (the shadow's softness): 10%.
+const SHADOW_SOFTNESS: f32 = 0.1;
+
+/// What parallax self-shadowing lets through: per light (in the frame's order) and pixel of
+/// a quad, the fraction of the light that reaches the point the view ray met.
+pub(super) struct SelfShadow {
+    pub lit: [Vec4; SELF_SHADOW_LIGHTS],
+    pub count: usize,
+}
+
+impl SelfShadow {
+    /// `lights` at pixel `j`, each scaled by what the relief lets through, in `buf`.
+    #[inline]
+    pub fn lights<'b>(
+        &self,
+        lights: &[Light],
+        j: usize,
+        buf: &'b mut [Light; SELF_SHADOW_LIGHTS],
+    ) -> &'b [Light] {
+        for (i, (b, l)) in buf.iter_mut().zip(lights).take(self.count).enumerate() {
+            *b = l.scaled(self.lit[i][j]);
+        }
+        &buf[..self.count]
+    }
+}
+
+impl DrawInfo<'_> {
+    /// Parallax self-shadowing of `quad` (already moved by [`DrawInfo::parallax_quad`]) under
+    /// `lights`: from the point each pixel's view ray met, at height `z0`, a march of up to
+    /// 16 steps towards each light through the relief (its uv travel per unit of height from
+    /// the same surface gradient as the view ray's), reading the height map with the pixel's
+    /// footprint. A step where the height field stands `a` above the ray shadows by
+    /// `a / (0.1·scale) · (1 − t)` (`t` the fraction of the way out of the relief: farther
+    /// occluders soften the shadow); the light gets 1 minus the largest, and nothing where it
+    /// is below the mesh's surface. `None` when the draw has no self-shadowing, there is no
+    /// light, or more than [`SELF_SHADOW_LIGHTS`].
+    ///
+    /// The surface frame and the reads' footprints come from the quad as rasterized
+    /// (`quad`), the starting uvs from its moved copy (`moved`): the moved uvs' derivatives
+    /// jump where the search crosses a step of the relief, and would scatter the march.
+    pub(super) fn parallax_self_shadow(
+        &self,
+        quad: &Quad,
+        moved: &Quad,
+        lights: &[Light],
+    ) -> Option<SelfShadow> {
+        let p = self.parallax.as_ref().filter(|p| p.shadows)?;
+        if lights.is_empty() || lights.len() > SELF_SHADOW_LIGHTS {
+            return None;
+        }
+        let (ns, ps) = (self.layout.normal?, self.layout.position?);
+        let uv = p.map.uv;
+        let [u, v] = uv.lanes(moved);
+        let (dx, dy) = (uv.ddx(quad), uv.ddy(quad));
+        let (dp_dx, dp_dy) = (ps.ddx3(quad), ps.ddy3(quad));
+        let back = self.material.double_sided && !quad.front_facing;
+        let scale = p.map.scale;
+        let top = scale * (1.0 - p.base);
+        let h0 = p.map.read_raw(quad, u, v, quad.mask);
+        let z0: [f32; 4] = std::array::from_fn(|j| scale * (h0[j].x - p.base));
+        let steps = p.max_steps.clamp(4, 16);
+        let soft = 1.0 / (SHADOW_SOFTNESS * scale.abs()).max(f32::MIN_POSITIVE);
+        let mut out = SelfShadow {
+            lit: [Vec4::ONE; SELF_SHADOW_LIGHTS],
+            count: lights.len(),
+        };
+        for (i, light) in lights.iter().enumerate() {
+            let mut per_z = [Vec2::ZERO; 4];
+            let mut lit = [1.0f32; 4];
+            let mut mask = 0u8;
+            for j in 0..4 {
+                if quad.mask & (1 << j) == 0 {
+                    continue;
+                }
+                let mut n = ns.pixel3(quad, j).normalize_or_zero();
+                if back {
+                    n = -n;
+                }
+                let Some((l, _)) = light.incidence(ps.pixel3(quad, j)) else {
+                    continue;
+                };
+                let cos = n.dot(l);
+                if cos <= 0.0 {
+                    // Below the mesh's own surface: the relief stands in the way.
+                    lit[j] = 0.0;
+                    continue;
+                }
+                let r1 = dp_dy.cross(n);
+                let r2 = n.cross(dp_dx);
+                let det = dp_dx.dot(r1);
+                if !(det.abs() > f32::MIN_POSITIVE && det.is_finite()) || z0[j] >= top {
+                    continue;
+                }
+                let grad_u = (r1 * dx[0] + r2 * dy[0]) / det;
+                let grad_v = (r1 * dx[1] + r2 * dy[1]) / det;
+                let lt = (l - n * cos) / cos.max(MIN_COS);
+                per_z[j] = Vec2::new(grad_u.dot(lt), grad_v.dot(lt));
+                mask |= 1 << j;
+            }
+            let mut shadow = [0.0f32; 4];
+            for k in 1..=steps {
+                if mask == 0 {
+                    break;
+                }
+                let t = k as f32 / steps as f32;
+                let z: [f32; 4] = std::array::from_fn(|j| z0[j] + (top - z0[j]) * t);
+                let du = Vec4::from_array(std::array::from_fn(|j| per_z[j].x * (z[j] - z0[j])));
+                let dv = Vec4::from_array(std::array::from_fn(|j| per_z[j].y * (z[j] - z0[j])));
+                let h = p.map.read_raw(quad, u + du, v + dv, mask);
+                for j in 0..4 {
+                    if mask & (1 << j) == 0 {
+                        continue;
+                    }
+                    let above = scale * (h[j].x - p.base) - z[j];
+                    if above > 0.0 {
+                        shadow[j] = shadow[j].max(above * soft * (1.0 - t));
+                        if shadow[j] >= 1.0 {
+                            mask &= !(1 << j);
+                        }
+                    }
+                }
+            }
+            for j in 0..4 {
+                lit[j] *= 1.0 - shadow[j].min(1.0);
+            }
+            out.lit[i] = Vec4::from_array(lit);
+        }
+        Some(out)
     }
 }
 

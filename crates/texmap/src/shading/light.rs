@@ -94,6 +94,19 @@ impl Light {
             .ok_or_else(|| "direction must be a finite, non-zero vector".to_string())
     }
 
+    /// The light with its colour times `k` (what reaches a point a fraction `k` of it
+    /// reaches).
+    #[inline]
+    #[must_use]
+    pub fn scaled(mut self, k: f32) -> Light {
+        match &mut self {
+            Light::Directional { color, .. }
+            | Light::Point { color, .. }
+            | Light::Spot { color, .. } => *color *= k,
+        }
+        self
+    }
+
     /// The light's direction `L` (unit, towards the light) and `S·I` at world point `p`, or
     /// `None` when it does not reach `p`.
     #[inline(always)]

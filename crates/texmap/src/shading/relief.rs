@@ -47,6 +47,10 @@ pub struct Parallax {
     /// Occlusion: the steps head-on and at grazing views.
     pub min_steps: u32,
     pub max_steps: u32,
+    /// Self-shadowing: each light's contribution scaled by how much of the height field
+    /// stands between the point the view ray meets and the light (a march towards it,
+    /// softened by the distance along it; `render/parallax.rs`).
+    pub shadows: bool,
 }
 
 /// How finely a displaced mesh is tessellated.

@@ -29,6 +29,9 @@ pub(super) struct ParallaxSpec {
     /// Occlusion: steps head-on (default 8) and at grazing views (default 32).
     pub(super) min_steps: Option<u32>,
     pub(super) max_steps: Option<u32>,
+    /// Self-shadowing towards the lights (default false).
+    #[serde(default)]
+    pub(super) shadows: bool,
 }
 
 /// `[materials.NAME.displacement]`.
@@ -78,6 +81,7 @@ pub(super) fn parallax(
         base: p.base.unwrap_or(1.0),
         min_steps: p.min_steps.unwrap_or(8),
         max_steps: p.max_steps.unwrap_or(32),
+        shadows: p.shadows,
     };
     out.validate()
         .map_err(|e| Error::parameter(format!("parallax: {e}")))?;
