@@ -10,7 +10,8 @@ use super::varyings::Slot;
 use crate::pipeline::{Quad, BATCH};
 use crate::shading::TextureSlot;
 use crate::texture::{
-    sample_quad_lanes, sample_quads_lanes, QuadCoords, Sampler, Texture2D, VirtualTexture,
+    quad_mip_choice, sample_quad_lanes, sample_quad_lanes_at, sample_quads_lanes, MipChoice,
+    QuadCoords, Sampler, Texture2D, VirtualTexture,
 };
 
 /// A texture the fragment stage reads: image, sampler (command-line overrides applied), the
@@ -122,6 +123,21 @@ impl<'a> MapRead<'a> {
         self.read_lanes(&c, mask)
     }
 
+    /// A reader of this map at raw uvs with `quad`'s footprint, its level chosen once
+    /// ([`MapRead::read_raw`] per call chooses it again): the parallax search's reads.
+    pub fn raw_reader(&self, quad: &Quad) -> RawReader<'_, 'a> {
+        let coords = self.coords(quad);
+        let choice = match self.virt {
+            Some(_) => None,
+            None => quad_mip_choice(self.tex, &self.sampler, coords.duv_dx, coords.duv_dy),
+        };
+        RawReader {
+            map: self,
+            coords,
+            choice,
+        }
+    }
+
     /// A height map's screen derivatives `(∂h/∂x, ∂h/∂y)` per pixel, times `scale`: the red
     /// channel read at uv, one pixel footprint further along x (uv + ∂uv/∂x) and along y,
     /// each with the pixel's own footprint (three quad reads).
@@ -171,4 +187,31 @@ pub(super) struct QuadMaps {
     pub ambient: Option<[Vec4; 4]>,
     pub specular: Option<[Vec4; 4]>,
     pub shininess: Option<[Vec4; 4]>,
+}
+
+/// [`MapRead::raw_reader`]: one quad's footprint and level choice, read at any raw uvs.
+pub(super) struct RawReader<'r, 'a> {
+    map: &'r MapRead<'a>,
+    coords: QuadCoords,
+    choice: Option<MipChoice>,
+}
+
+impl RawReader<'_, '_> {
+    /// The reads at raw (untransformed) uvs `u`, `v` of the pixels in `mask`: as
+    /// [`MapRead::read_raw`], the same values.
+    #[inline]
+    pub fn read(&self, u: Vec4, v: Vec4, mask: u8) -> [Vec4; 4] {
+        let m = self.map.linear;
+        let c = QuadCoords {
+            u: u * m.x_axis.x + v * m.y_axis.x + self.map.offset.x,
+            v: u * m.x_axis.y + v * m.y_axis.y + self.map.offset.y,
+            ..self.coords
+        };
+        match self.choice {
+            Some(choice) => {
+                sample_quad_lanes_at(self.map.tex, &self.map.sampler, (c.u, c.v), choice, mask)
+            }
+            None => self.map.read_lanes(&c, mask),
+        }
+    }
 }

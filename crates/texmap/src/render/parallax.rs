@@ -152,10 +152,11 @@ impl DrawInfo<'_> {
                 );
                 let mut prev = [(top, 0.0f32); 4];
                 let mut active = mask;
+                let heights = p.map.raw_reader(quad);
                 let most = steps.iter().copied().max().unwrap_or(0);
                 for i in 0..=most {
                     let z = Vec4::splat(top) - inv * i as f32;
-                    let h = p.map.read_raw(quad, u + pzx * z, v + pzy * z, active);
+                    let h = heights.read(u + pzx * z, v + pzy * z, active);
                     let hv = Vec4::new(h[0].x, h[1].x, h[2].x, h[3].x);
                     let gap = (z - (hv - Vec4::splat(p.base)) * scale).to_array();
                     let z = z.to_array();
@@ -259,7 +260,8 @@ impl DrawInfo<'_> {
         let back = self.material.double_sided && !quad.front_facing;
         let scale = p.map.scale;
         let top = scale * (1.0 - p.base);
-        let h0 = p.map.read_raw(quad, u, v, quad.mask);
+        let heights = p.map.raw_reader(quad);
+        let h0 = heights.read(u, v, quad.mask);
         let z0: [f32; 4] = std::array::from_fn(|j| scale * (h0[j].x - p.base));
         let steps = p.max_steps.clamp(4, 16);
         let soft = 1.0 / (SHADOW_SOFTNESS * scale.abs()).max(f32::MIN_POSITIVE);
@@ -309,7 +311,7 @@ impl DrawInfo<'_> {
                 let z: [f32; 4] = std::array::from_fn(|j| z0[j] + (top - z0[j]) * t);
                 let du = Vec4::from_array(std::array::from_fn(|j| per_z[j].x * (z[j] - z0[j])));
                 let dv = Vec4::from_array(std::array::from_fn(|j| per_z[j].y * (z[j] - z0[j])));
-                let h = p.map.read_raw(quad, u + du, v + dv, mask);
+                let h = heights.read(u + du, v + dv, mask);
                 for j in 0..4 {
                     if mask & (1 << j) == 0 {
                         continue;

@@ -32,7 +32,8 @@ mod wrap;
 pub use cube::{sample_cube, CubeFace, TextureCube};
 pub use environment::{load_environment, EnvironmentKind, EnvironmentMap};
 pub use filter::{
-    sample, sample_batch, sample_quad, sample_quad_lanes, sample_quads_lanes, QuadCoords,
+    quad_mip_choice, sample, sample_batch, sample_quad, sample_quad_lanes, sample_quad_lanes_at,
+    sample_quads_lanes, QuadCoords,
 };
 pub use footprint::{CubeFootprint, Footprint, Footprint3, LodRule};
 pub use format::{f16_to_f32, f32_to_f16, ColorSpace, Format};

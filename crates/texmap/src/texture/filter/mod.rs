@@ -102,6 +102,38 @@ pub fn sample_quad_lanes(
     gl_read(texture, sampler, uv, choice, mask)
 }
 
+/// The level choice [`sample_quad_lanes`] makes for a quad with derivatives `duv_dx`,
+/// `duv_dy` under an OpenGL filter (`None` for the others): made once, it serves reads of the
+/// same footprint at other coordinates ([`sample_quad_lanes_at`]).
+#[must_use]
+pub fn quad_mip_choice(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    duv_dx: Vec2,
+    duv_dy: Vec2,
+) -> Option<MipChoice> {
+    let Filter::Gl { mag, min } = sampler.filter else {
+        return None;
+    };
+    let size = Vec2::new(texture.width() as f32, texture.height() as f32);
+    let lod = sampler.adjust_lod(sampler.lod_rule.lod(duv_dx * size, duv_dy * size));
+    Some(MipChoice::gl(lod, texture.levels().len(), mag, min))
+}
+
+/// [`sample_quad_lanes`] on a level choice made before ([`quad_mip_choice`]): what a search
+/// reading one footprint at many coordinates (parallax occlusion mapping) calls per step.
+#[inline]
+#[must_use]
+pub fn sample_quad_lanes_at(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    uv: (Vec4, Vec4),
+    choice: MipChoice,
+    mask: u8,
+) -> [Vec4; 4] {
+    gl_read(texture, sampler, uv, choice, mask)
+}
+
 /// A quad's OpenGL reads on the chosen levels: the default storage's fast path
 /// ([`fixed16::read_quad`]) when it serves, else the float filters for the format.
 #[inline]
