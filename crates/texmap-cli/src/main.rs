@@ -13,6 +13,7 @@ mod output;
 mod progress;
 mod render;
 mod sdf;
+mod section;
 mod signals;
 mod volume;
 

@@ -267,6 +267,15 @@ fn texture_flags_are_refused_where_nothing_reads_an_image() {
     volume.push((&["--crop", "0,23,0,47,0,39"], Acts));
     volume.push((&["--crop", "30,20,0,47,0,39"], Refused));
     volume.push((&["--tf", "ct-bone"], Acts));
+    volume.push((&["--slice", "axial"], Acts));
+    volume.push((&["--slice", "coronal", "--index", "3"], Acts));
+    volume.push((
+        &["--slice", "sagittal", "--window", "200", "--level", "100"],
+        Acts,
+    ));
+    volume.push((&["--slice", "axial", "--index", "99"], Refused));
+    volume.push((&["--slice", "axial", "--eye", "1,2,3"], Refused));
+    volume.push((&["--window", "100"], Refused));
     check(
         &d,
         "cell",
@@ -442,7 +451,10 @@ fn projector_flags_act_or_are_refused() {
             size: "32x24",
             base: &[],
         },
-        &[(&["--projectors", "off"], Refused)],
+        &[
+            (&["--projectors", "off"], Refused),
+            (&["--slice", "axial"], Refused),
+        ],
     );
 }
 

@@ -275,6 +275,8 @@ pub struct RenderArgs {
     pub field: Box<crate::field::FieldArgs>,
     #[command(flatten)]
     pub relief: Box<super::relief::ReliefArgs>,
+    #[command(flatten)]
+    pub section: Box<crate::section::SectionArgs>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]

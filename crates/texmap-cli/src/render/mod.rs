@@ -38,6 +38,7 @@ use texmap::texture::load::{load_texture_with, Limits};
 use texmap::texture::{
     load_environment, ColorSpace, EnvironmentMap, Filter, Texture2D, TextureOptions,
 };
+use texmap::volume::section::render_section;
 use texmap::volume::SceneVolume;
 use texmap::Error;
 
@@ -354,6 +355,8 @@ pub(super) struct Prepared {
     pub setup_ms: f64,
     /// `--still`: frames animate the hypertexture, the camera stays.
     still: bool,
+    /// `--slice`: one plane of the scan drawn flat instead of the 3D view.
+    section: Option<crate::section::Section>,
 }
 
 /// Loads `args.scene` and makes everything its frames share.
@@ -406,6 +409,31 @@ pub(super) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
                 .map_err(|e| Error::parameter(format!("--vt-budget: {e}")))?;
         }
     }
+    let section = {
+        let v = &args.volume;
+        let others: Vec<&str> = [
+            ("--eye", args.eye.is_some()),
+            ("--target", args.target.is_some()),
+            ("--up", args.up.is_some()),
+            ("--fov", args.fov.is_some()),
+            ("--ortho", args.ortho.is_some()),
+            ("--view", args.view.is_some()),
+            ("--frames", args.frames > 1),
+            ("--mode", v.mode.is_some()),
+            ("--method", v.method.is_some()),
+            ("--shade", v.shade.is_some()),
+            ("--step", v.step.is_some()),
+            ("--crop", v.crop.is_some()),
+            ("--classification", v.classification.is_some()),
+            ("--gradient-opacity", v.gradient_opacity.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(f, g)| g.then_some(f))
+        .collect();
+        let name = args.scene.as_deref().unwrap_or("builtin:demo");
+        args.section
+            .resolve(name, &volumes, scene.meshes.len(), &others)?
+    };
     let projection = match (args.ortho, args.fov) {
         (Some(height), _) => ProjectionRequest::Orthographic { height },
         (None, Some(fov_y_deg)) => ProjectionRequest::Perspective { fov_y_deg },
@@ -498,6 +526,7 @@ pub(super) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
         prefilter_ms: prefiltered.then_some(prefilter_ms),
         setup_ms: setup_start.elapsed().as_secs_f64() * 1e3,
         still: args.field.still,
+        section,
     })
 }
 
@@ -519,6 +548,19 @@ impl Prepared {
             self.camera
                 .orbit(std::f32::consts::TAU * (k - 1) as f32 / n as f32)
         };
+        if let (Some(s), Some(v)) = (&self.section, self.volumes.first()) {
+            *frame = pool.install(|| {
+                render_section(
+                    &v.volume,
+                    s.axis,
+                    s.index,
+                    &s.look,
+                    self.settings.width,
+                    self.settings.height,
+                )
+            })?;
+            return Ok(());
+        }
         pool.install(|| {
             if self.volumes.is_empty() {
                 render_into_with_shadows(

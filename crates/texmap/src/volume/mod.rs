@@ -23,6 +23,7 @@
 //!   mode (`composite`, `intensity`, `iso`) and the frame loop (`raymarch`);
 //! - the other method, view-aligned slices ([`slice`](mod@slice)), and a volume as a scene
 //!   holds it ([`scene_volume`]).
+//! - orthogonal slice views ([`section`]): one plane of voxels drawn flat.
 //! - signed distance fields ([`sdf`]): built from meshes, scans and analytic shapes, written
 //!   as files the loaders read back; a field becomes a [`Volume`] to be rendered.
 
@@ -43,6 +44,7 @@ mod rays;
 mod scalar_type;
 pub mod scene_volume;
 pub mod sdf;
+pub mod section;
 mod shade;
 pub mod slice;
 pub mod transfer;
