@@ -17,7 +17,8 @@ use texmap::Error;
 #[derive(Args, Clone, Debug)]
 pub struct VolumeArgs {
     /// Volume transfer function: a preset (ct-bone, ct-skin, ct-muscle, mri, synth), a file,
-    /// or inline `value:r,g,b,a;…` points [default: synth].
+    /// or inline `value:r,g,b,a;…` points [default for a scan file: chosen from its values —
+    /// ct-bone for Hounsfield units, else from its histogram; in a scene: synth].
     #[arg(long, allow_hyphen_values = true)]
     pub tf: Option<String>,
     /// Volume mode [default: composite].
@@ -205,6 +206,9 @@ pub fn volume_file_scene(
 ) -> Result<(Scene, SceneVolume), Error> {
     let vol = load_volume_with(path, v.raw.desc().as_ref(), &options.volume_options())?;
     let mut sv = SceneVolume::new(vol, path);
+    if v.tf.is_none() {
+        sv.set_auto_transfer();
+    }
     if v.ignore_orientation {
         sv.place(Mat4::IDENTITY, true)?;
     }

@@ -17,7 +17,8 @@
 //!   (`normals`), rays from the camera and the samples along them (`rays`), empty-space
 //!   skipping (`bricks`), the camera that frames a box (`framing`), the [`Volume`] itself
 //!   (`grid`) and its loaders ([`load`]);
-//! - the options: [`transfer`] functions, how a sample reflects light (`shade`), the
+//! - the options: [`transfer`] functions (and [`auto_transfer`], one chosen from a scan's
+//!   values), how a sample reflects light (`shade`), the
 //!   [`MarchParams`] (`params`), and what both methods share at the frame's edges (`output`);
 //! - the ray marcher: the per-frame state and per-sample reads (`marcher`), the loops per
 //!   mode (`composite`, `intensity`, `iso`) and the frame loop (`raymarch`);
@@ -27,6 +28,7 @@
 //! - signed distance fields ([`sdf`]): built from meshes, scans and analytic shapes, written
 //!   as files the loaders read back; a field becomes a [`Volume`] to be rendered.
 
+pub mod auto_transfer;
 mod bricks;
 mod cell;
 mod composite;

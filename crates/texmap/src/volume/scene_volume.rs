@@ -117,6 +117,15 @@ impl SceneVolume {
         Ok(())
     }
 
+    /// Sets the transfer function chosen from the scan's own values
+    /// ([`super::auto_transfer::transfer_for`]: `ct-bone` for Hounsfield units, else from the
+    /// histogram).
+    pub fn set_auto_transfer(&mut self) {
+        let (tf, name) = super::auto_transfer::transfer_for(&self.volume);
+        self.transfer = tf;
+        self.transfer_name = name;
+    }
+
     /// What is wrong with the transfer function for this scan's values, if anything a user
     /// should hear before looking at the image (composite rendering of a scan, not of a
     /// distance field): it is transparent over every value the scan holds (nothing would be
