@@ -131,7 +131,7 @@ impl SceneShader<'_> {
     pub(super) fn projected(&self, d: &DrawInfo, quad: &Quad, s: &Surface) -> (Vec3, Vec3) {
         match (self.projectors, d.layout.position) {
             (Some(p), Some(pos)) if d.projectors => {
-                p.terms(d.model, s, pos.ddx3(quad), pos.ddy3(quad), self.viewer)
+                p.terms(d, s, pos.ddx3(quad), pos.ddy3(quad), self.viewer)
             }
             _ => (Vec3::ZERO, Vec3::ZERO),
         }

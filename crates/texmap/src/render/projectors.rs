@@ -13,9 +13,7 @@ use glam::Vec3;
 
 use super::draw::{DrawInfo, LightingPath};
 use crate::shading::shadow::ShadowMaps;
-use crate::shading::{
-    illuminate, Light, Lighting, Projector, ProjectorView, ShadingModel, Surface, Viewer,
-};
+use crate::shading::{Light, Lighting, Projector, ProjectorView, Surface, Viewer};
 use crate::texture::{sample, Sampler};
 
 /// One projector of a frame: the scene's, its sampler with the user's overrides.
@@ -34,13 +32,14 @@ pub(super) struct Projectors<'a> {
 }
 
 impl Projectors<'_> {
-    /// The factors `(D, S)` every projector adds at surface `s` (its maps applied, its
-    /// normal facing the viewer's side), `dp_dx` and `dp_dy` being the position's
+    /// The factors `(D, S)` every projector adds at surface `s` of draw `d` (its maps
+    /// applied, its normal facing the viewer's side; lit as the draw lights: its model or
+    /// its toon ramp), `dp_dx` and `dp_dy` being the position's
     /// derivatives across the pixel.
     #[inline]
     pub fn terms(
         &self,
-        model: ShadingModel,
+        d: &DrawInfo,
         s: &Surface,
         dp_dx: Vec3,
         dp_dy: Vec3,
@@ -89,8 +88,9 @@ impl Projectors<'_> {
                 ambient: Vec3::ZERO,
                 shadows: None,
             };
-            let (d, sp) = illuminate(model, &lit, &lighting, viewer);
-            sum.0 += d;
+            // The draw's own lighting: its model, or its toon ramp.
+            let (df, sp) = d.lit_factors(&lit, &lighting, viewer);
+            sum.0 += df;
             sum.1 += sp;
         }
         sum
