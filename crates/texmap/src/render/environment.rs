@@ -16,14 +16,14 @@ use super::draw::{DrawInfo, LightingPath};
 use super::fragment::SceneShader;
 use super::layers::surface_color;
 use super::maps::{MapRead, QuadReads};
-use super::parallax::{SelfShadow, SELF_SHADOW_LIGHTS};
+use super::parallax::{light_buffer, self_shadowed, SelfShadow};
 use super::settings::Settings;
 use crate::pipeline::Quad;
 use crate::scene::Scene;
 use crate::shading::ibl::{
     environment_terms, point_rays, reflect, refract, EnvLight, EnvMaterial, EnvRays,
 };
-use crate::shading::{combine, Light, Lighting, MapChannel, ShadingModel, Surface, Viewer};
+use crate::shading::{combine, Lighting, MapChannel, ShadingModel, Surface, Viewer};
 use crate::texture::CubeFootprint;
 
 /// What one draw takes from the frame's environment.
@@ -203,10 +203,7 @@ impl SceneShader<'_> {
         let back = m.double_sided && !quad.front_facing;
         let lighting = d.env_lighting(e, &self.lighting);
         // Parallax self-shadowing, as in the general path.
-        let mut light_buf = [Light::Directional {
-            direction: Vec3::Y,
-            color: Vec3::ZERO,
-        }; SELF_SHADOW_LIGHTS];
+        let mut light_buf = light_buffer(self_shadow);
         let kt = e.transmission_map.as_ref().map(|t| t.quad(quad));
         // Every pixel's surface, helpers included: their directions give the derivatives.
         let mut colors = [Vec4::ZERO; 4];
@@ -249,13 +246,7 @@ impl SceneShader<'_> {
                 continue;
             }
             let s = &surfaces[j];
-            let lit = match self_shadow {
-                Some(ss) => Lighting {
-                    lights: ss.lights(lighting.lights, j, &mut light_buf),
-                    ..lighting
-                },
-                None => lighting,
-            };
+            let lit = self_shadowed(self_shadow, lighting, j, &mut light_buf);
             let (df, sp) = d.lit_factors(s, &lit, self.viewer);
             let (pd, ps) = self.projected(d, quad, s);
             let (mut df, sp) = (df + pd, sp + ps);

@@ -17,12 +17,12 @@ use glam::{Vec3, Vec4};
 use super::draw::{DrawInfo, LightingPath};
 use super::layers::{apply_outline, fold_layers, surface_color};
 use super::maps::{MapRead, QuadMaps, QuadReads};
-use super::parallax::{self, SelfShadow, SELF_SHADOW_LIGHTS};
+use super::parallax::{self, SelfShadow};
 use super::projectors::Projectors;
 use super::varyings::Factors;
 use crate::pipeline::{FragmentShader, Quad, BATCH};
 use crate::shading::lanes::{phong_quad, QuadFactors};
-use crate::shading::{combine, phong, Light, Lighting, ShadingModel, Surface, Viewer};
+use crate::shading::{combine, phong, Lighting, ShadingModel, Surface, Viewer};
 
 pub(super) struct SceneShader<'a> {
     pub draws: &'a [DrawInfo<'a>],
@@ -228,7 +228,7 @@ impl SceneShader<'_> {
         let maps = &reads.maps;
         let back = m.double_sided && !quad.front_facing;
         // Parallax self-shadowing: each light scaled per pixel by what the relief lets through.
-        let mut light_buf = [NO_LIGHT; SELF_SHADOW_LIGHTS];
+        let mut light_buf = parallax::light_buffer(self_shadow);
         // Map-free Phong under directional lights: the quad's four pixels lit in lanes.
         let lit = (d.path == LightingPath::PerPixel
             && !d.projectors
@@ -243,13 +243,7 @@ impl SceneShader<'_> {
                 continue;
             }
             let c = surface_color(d, quad, reads, j);
-            let lighting = match self_shadow {
-                Some(ss) => Lighting {
-                    lights: ss.lights(self.lighting.lights, j, &mut light_buf),
-                    ..self.lighting
-                },
-                None => self.lighting,
-            };
+            let lighting = parallax::self_shadowed(self_shadow, self.lighting, j, &mut light_buf);
             let (mut df, sp) = match d.path {
                 LightingPath::Unlit => (Vec3::ONE, Vec3::ZERO),
                 LightingPath::PerPixel => match (&lit, maps) {
@@ -336,12 +330,6 @@ impl SceneShader<'_> {
         kept
     }
 }
-
-/// A light that lights nothing: the filler of a self-shadowed pixel's light buffer.
-const NO_LIGHT: Light = Light::Directional {
-    direction: Vec3::Y,
-    color: Vec3::ZERO,
-};
 
 /// The sum of two `(D, S)` pairs.
 #[inline(always)]

@@ -29,7 +29,7 @@ use super::draw::DrawInfo;
 use super::maps::MapRead;
 use crate::pipeline::{Quad, BATCH};
 use crate::shading::relief::{Parallax, ParallaxMode};
-use crate::shading::{Light, Viewer};
+use crate::shading::{Light, Lighting, Viewer};
 use crate::texture::{Filter, MagFilter, MinFilter};
 
 /// Grazing views are traced as if `N·V` were at least this (the shift grows as `1/(N·V)`).
@@ -210,6 +210,36 @@ const SHADOW_SOFTNESS: f32 = 0.1;
 pub(super) struct SelfShadow {
     pub lit: [Vec4; SELF_SHADOW_LIGHTS],
     pub count: usize,
+}
+
+/// A light that lights nothing: the filler of a self-shadowed pixel's light buffer.
+const NO_LIGHT: Light = Light::Directional {
+    direction: Vec3::Y,
+    color: Vec3::ZERO,
+};
+
+/// The light buffer [`self_shadowed`] fills: only a quad with self-shadowing gets one.
+#[inline]
+pub(super) fn light_buffer(ss: Option<&SelfShadow>) -> Option<[Light; SELF_SHADOW_LIGHTS]> {
+    ss.map(|_| [NO_LIGHT; SELF_SHADOW_LIGHTS])
+}
+
+/// `base` at pixel `j` of a quad under parallax self-shadowing `ss` (its lights scaled in
+/// `buf`, from [`light_buffer`]), or `base` itself without.
+#[inline]
+pub(super) fn self_shadowed<'c>(
+    ss: Option<&SelfShadow>,
+    base: Lighting<'c>,
+    j: usize,
+    buf: &'c mut Option<[Light; SELF_SHADOW_LIGHTS]>,
+) -> Lighting<'c> {
+    match (ss, buf) {
+        (Some(ss), Some(buf)) => Lighting {
+            lights: ss.lights(base.lights, j, buf),
+            ..base
+        },
+        _ => base,
+    }
 }
 
 impl SelfShadow {
