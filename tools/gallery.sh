@@ -13,4 +13,17 @@ done
 for s in parallax displacement normal bump; do
   "$t" render "scenes/$s.toml" --size 320x180 --ssaa 2 -q -o "docs/gallery/$s.png"
 done
+# Real models and scans from the shared corpus, when it is present.
+a=../shared/assets
+if [ -d "$a" ]; then
+  "$t" render "$a/gltf/DamagedHelmet/glTF-Binary/DamagedHelmet.glb" \
+    --env "$a/env/equirect/venice_sunset_1k.hdr" --size 320x180 --ssaa 2 -q -o docs/gallery/helmet.png
+  "$t" render "$a/volumes/tooth_ct/tooth.nhdr" --shade --size 320x180 -q -o docs/gallery/tooth_ct.png
+  mni="$a/volumes/mni152_t1/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz"
+  "$t" render "$mni" --shade --size 320x180 -q -o docs/gallery/mni_mri.png
+  "$t" render "$mni" --slice sagittal --window 255 --level 128 --size 320x180 -q \
+    -o docs/gallery/mni_sagittal.png
+else
+  echo "../shared/assets is absent: the real models' images are kept as they are" >&2
+fi
 ls -l docs/gallery

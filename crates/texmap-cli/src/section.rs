@@ -26,8 +26,9 @@ pub struct SectionArgs {
     #[arg(long, value_name = "K")]
     pub index: Option<u32>,
     /// Window width for --slice: grey from level − W/2 (black) to level + W/2 (white), in the
-    /// file's units [default: the scan's value range]; without --window or --level the
-    /// transfer function colours the plane.
+    /// file's units [default: the scan's value range]; without --window or --level a given
+    /// transfer function colours the plane, and without --tf either the window spans the
+    /// 0.5th to 99.5th percentile of the scan's values.
     #[arg(long, value_name = "W")]
     pub window: Option<f32>,
     /// Window level (centre) for --slice [default: the middle of the scan's values].
@@ -121,6 +122,10 @@ impl SectionArgs {
                 level: self.level.unwrap_or(0.5 * (lo + hi)),
                 width: self.window.unwrap_or((hi - lo).max(f32::MIN_POSITIVE)),
             }
+        } else if sv.transfer_was_chosen() {
+            // No --tf: grey, as a radiology viewer opens a scan (the chosen function's faint
+            // opacities would leave the plane dark).
+            SectionLook::auto_window(vol)
         } else {
             SectionLook::Transfer(sv.transfer.clone())
         };

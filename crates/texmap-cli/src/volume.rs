@@ -59,10 +59,11 @@ pub struct VolumeArgs {
     /// vtk_volume.py does). For a volume file; scenes set `ignore_orientation`.
     #[arg(long)]
     pub ignore_orientation: bool,
-    /// Camera distance divisor after framing the bounding sphere (vtk_volume.py's --dolly),
-    /// for the default camera of a scene with volumes.
-    #[arg(long, default_value_t = 1.6)]
-    pub dolly: f32,
+    /// Camera distance divisor after framing the bounding sphere, for the default camera of
+    /// a scene with volumes (vtk_volume.py's --dolly; default 1.6 with --auto-camera, the
+    /// peers' framing, and 1, the whole scene in frame, otherwise).
+    #[arg(long)]
+    pub dolly: Option<f32>,
     /// Turn the default camera of a scene with volumes about z by this many degrees
     /// (vtk_volume.py's --azimuth).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
@@ -274,7 +275,7 @@ impl VolumeArgs {
     /// The framing flags given (they move the default camera of a scene with volumes).
     pub fn given_framing_flags(&self) -> Vec<&'static str> {
         [
-            ("--dolly", self.dolly != 1.6),
+            ("--dolly", self.dolly.is_some()),
             ("--azimuth", self.azimuth != 0.0),
         ]
         .into_iter()
@@ -290,7 +291,7 @@ impl VolumeArgs {
                  apply to a volume file; a scene sets them in its [[volumes]] tables",
             ));
         }
-        if !(self.dolly.is_finite() && self.dolly > 0.0) {
+        if self.dolly.is_some_and(|d| !(d.is_finite() && d > 0.0)) {
             return Err(Error::parameter("--dolly must be > 0"));
         }
         Ok(())

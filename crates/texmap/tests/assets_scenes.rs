@@ -7,6 +7,9 @@
 //! regenerates the goldens; review each by eye against the model's `screenshot/` before
 //! committing. Without the corpus the test prints `SKIPPED` and passes.
 
+mod common;
+
+use common::assets;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -19,16 +22,6 @@ use texmap::texture::{ColorSpace, Sampler};
 const WIDTH: u32 = 320;
 const HEIGHT: u32 = 240;
 const MIN_PSNR_DB: f64 = 40.0;
-
-fn assets() -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/assets");
-    if p.is_dir() {
-        Some(p)
-    } else {
-        eprintln!("SKIPPED: the asset corpus {} is absent", p.display());
-        None
-    }
-}
 
 /// Files with one of `exts` in `dir`, down to `depth` folders below, sorted.
 fn find(dir: &Path, depth: usize, exts: &[&str], out: &mut Vec<PathBuf>) {

@@ -2,7 +2,9 @@
 //! the texture engine: PNG, JPEG, Radiance HDR, OpenEXR and the six JPEG faces of a cube map.
 //! Skipped, with a message, when the corpus is absent.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::assets;
 
 use glam::{Vec2, Vec3, Vec4};
 use texmap::texture::load::{load_texture, Limits};
@@ -10,16 +12,6 @@ use texmap::texture::{
     sample, sample_cube, ColorSpace, CubeFootprint, Filter, Footprint, Format, Sampler,
     TextureCube, Wrap,
 };
-
-fn assets() -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/assets");
-    if p.is_dir() {
-        Some(p)
-    } else {
-        eprintln!("SKIPPED: the asset corpus {} is absent", p.display());
-        None
-    }
-}
 
 fn mean_of_last_level(t: &texmap::texture::Texture2D) -> Vec4 {
     let last = t.levels().len() - 1;

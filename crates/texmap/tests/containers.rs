@@ -3,6 +3,9 @@
 //! SOURCES.md line gives; cube map files make the same environment as their faces written out
 //! and loaded through the folder loader; the file's own mip chain is kept.
 
+mod common;
+
+use common::assets;
 use std::path::{Path, PathBuf};
 
 use glam::{Vec3, Vec4};
@@ -14,16 +17,6 @@ use texmap::texture::{
     load_environment, ColorSpace, CubeFootprint, EnvironmentKind, EnvironmentMap, Filter, Sampler,
     Wrap,
 };
-
-fn assets() -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/assets");
-    if p.is_dir() {
-        Some(p)
-    } else {
-        eprintln!("SKIPPED: the asset corpus {} is absent", p.display());
-        None
-    }
-}
 
 fn scratch(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("texmap-containers-{}", std::process::id()));

@@ -33,7 +33,10 @@ pub struct RenderArgs {
     /// Let a file's references leave its folder (`..`, absolute paths).
     #[arg(long)]
     pub(crate) allow_outside_paths: bool,
-    /// Ignore the file's own camera: frame the bounding box as `gl_render.py` does.
+    /// Ignore the file's own camera and frame what is drawn as the peer scripts do, so their
+    /// images line up: meshes from +z as `gl_render.py`, volumes along +y as
+    /// `vtk_volume.py` (without it, a file without a camera is seen in a three-quarter view,
+    /// a scan facing its patient).
     #[arg(long)]
     pub(crate) auto_camera: bool,
     /// A standard view of everything drawn, in place of the file's camera: from +z (front),

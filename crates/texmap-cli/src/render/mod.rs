@@ -442,7 +442,8 @@ pub(super) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
     let mut request = CameraRequest::default()
         .with_projection(projection)
         .with_auto(args.auto_camera)
-        .with_volume_framing(args.volume.dolly, args.volume.azimuth);
+        .with_volume_framing(args.volume.dolly, args.volume.azimuth)
+        .with_aspect(args.size.0 as f32 / args.size.1 as f32);
     request.eye = args.eye;
     request.target = args.target;
     request.up = args.up;

@@ -2,13 +2,21 @@
 //! user's overrides laid over it — the rule the command line follows, so a library user
 //! frames a scene exactly as `texmap render` does.
 //!
-//! - A scene's own camera is used unless [`CameraRequest::auto`] is set.
-//! - Without one, meshes alone are framed as the peers frame a mesh
-//!   ([`Scene::framing_camera`]: the bounding sphere at 1.1 radii in a 60° view, or the
-//!   requested field of view); with volumes, as `vtk_volume.py` frames its box
-//!   ([`vtk_camera_for_bounds`] over every mesh and volume, turned by the azimuth and moved in
-//!   by the dolly), and the near and far planes then enclose everything wherever the eye was
-//!   moved.
+//! - A scene's own camera is used unless [`CameraRequest::auto`] or a view is asked for.
+//! - Without one, the automatic framing ([`CameraRequest::default`]): meshes alone are seen
+//!   in a three-quarter view (from the front, [`THREE_QUARTER_AZIMUTH_DEG`] to the right and
+//!   [`THREE_QUARTER_ELEVATION_DEG`] above, +y up) in a 60° view; with volumes, the eye faces
+//!   the patient when a scan states its anatomical frame (the face toward the camera, the
+//!   head up: [`crate::volume::Volume::patient_front_and_top`]), otherwise it looks along +y
+//!   with z up as VTK does, in a 30° view. Either way the bounding sphere of the meshes and
+//!   of what the volumes show ([`SceneVolume::visible_world_bounds`]: the bricks their
+//!   transfer functions make visible) fills the frame with a 10% margin on the tighter side
+//!   for the request's aspect ratio, and near and far enclose everything.
+//! - [`CameraRequest::auto`] (`--auto-camera`) frames as the peer scripts do, so their images
+//!   line up: meshes as `gl_render.py` ([`Scene::framing_camera`]: from +z, the bounding
+//!   sphere at 1.1 radii in a 60° view, or the requested field of view); with volumes as
+//!   `vtk_volume.py` ([`vtk_camera_for_bounds`] over every mesh and volume, turned by the
+//!   azimuth and moved in by the dolly, default 1.6).
 //! - A [`StandardView`] (`--view`) replaces both: the eye on an axis (or the diagonal) of
 //!   the bounding box of everything drawn, the bounding sphere in frame, near and far
 //!   enclosing it.
@@ -86,8 +94,13 @@ impl StandardView {
     }
 }
 
+/// The automatic three-quarter view of meshes: degrees the eye turns from +z toward +x.
+pub const THREE_QUARTER_AZIMUTH_DEG: f32 = 35.0;
+/// The automatic three-quarter view of meshes: degrees the eye rises above the centre.
+pub const THREE_QUARTER_ELEVATION_DEG: f32 = 25.0;
+
 /// What the user asks of the camera (the command line's `--eye`, `--target`, `--up`, `--fov`,
-/// `--ortho`, `--auto-camera`, `--dolly`, `--azimuth`).
+/// `--ortho`, `--auto-camera`, `--dolly`, `--azimuth`, `--view`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct CameraRequest {
@@ -95,13 +108,17 @@ pub struct CameraRequest {
     pub target: Option<Vec3>,
     pub up: Option<Vec3>,
     pub projection: ProjectionRequest,
-    /// Ignore the scene's own camera and frame what is drawn.
+    /// Ignore the scene's own camera and frame what is drawn as the peer scripts do.
     pub auto: bool,
     /// Volume framing: the distance divisor after framing the bounding sphere
-    /// (`vtk_volume.py`'s `--dolly`, default 1.6).
-    pub dolly: f32,
+    /// (`vtk_volume.py`'s `--dolly`; `None` is 1.6 in the peers' framing, 1 in the automatic
+    /// one).
+    pub dolly: Option<f32>,
     /// Volume framing: degrees the eye turns about the view-up (`--azimuth`, default 0).
     pub azimuth_deg: f32,
+    /// The image's width over its height, which the automatic framing and the standard views
+    /// fit the scene into (`None`: 4:3).
+    pub aspect: Option<f32>,
     /// A standard view of everything drawn, in place of the scene's camera and the
     /// automatic framing (`--view`).
     pub view: Option<StandardView>,
@@ -115,8 +132,9 @@ impl Default for CameraRequest {
             up: None,
             projection: ProjectionRequest::Keep,
             auto: false,
-            dolly: 1.6,
+            dolly: None,
             azimuth_deg: 0.0,
+            aspect: None,
             view: None,
         }
     }
@@ -154,8 +172,14 @@ impl CameraRequest {
         self
     }
     #[must_use]
-    pub fn with_volume_framing(mut self, dolly: f32, azimuth_deg: f32) -> Self {
+    pub fn with_volume_framing(mut self, dolly: Option<f32>, azimuth_deg: f32) -> Self {
         (self.dolly, self.azimuth_deg) = (dolly, azimuth_deg);
+        self
+    }
+    /// The image's width over its height (`width / height`).
+    #[must_use]
+    pub fn with_aspect(mut self, aspect: f32) -> Self {
+        self.aspect = Some(aspect);
         self
     }
 }
@@ -186,23 +210,41 @@ pub fn choose_camera(
         .camera
         .filter(|_| !request.auto && request.view.is_none());
     let with_volumes = own.is_none() && !volumes.is_empty();
-    let fov = match request.projection {
-        ProjectionRequest::Perspective { fov_y_deg } => fov_y_deg,
-        _ => 60.0,
+    let requested_fov = match request.projection {
+        ProjectionRequest::Perspective { fov_y_deg } => Some(fov_y_deg),
+        _ => None,
     };
+    let fov = requested_fov.unwrap_or(60.0);
+    let aspect = request
+        .aspect
+        .filter(|a| a.is_finite() && *a > 0.0)
+        .unwrap_or(4.0 / 3.0);
     let anything = !scene.meshes.is_empty() || !volumes.is_empty();
+    let automatic = own.is_none() && !request.auto && request.view.is_none() && anything;
+    let (lo, hi) = bounds(scene, volumes);
+    // What the automatic framing and the standard views fit: the meshes and what the
+    // volumes show (the peers' framings fit the volumes' whole boxes, as VTK does).
+    let fitted = if automatic || request.view.is_some() {
+        visible_bounds(scene, volumes)
+    } else {
+        (lo, hi)
+    };
     let base = match own {
         Some(c) => c,
-        None if request.view.is_some() && anything => {
-            let (lo, hi) = bounds(scene, volumes);
-            standard_view(request.view.unwrap_or(StandardView::Front), lo, hi, fov)
-        }
+        None if request.view.is_some() && anything => standard_view(
+            request.view.unwrap_or(StandardView::Front),
+            fitted.0,
+            fitted.1,
+            fov,
+            aspect,
+        ),
+        None if automatic => automatic_camera(scene, volumes, request, requested_fov, aspect),
         None if with_volumes => {
-            let (lo, hi) = bounds(scene, volumes);
-            vtk_camera_for_bounds(lo, hi, request.dolly, request.azimuth_deg)
+            vtk_camera_for_bounds(lo, hi, request.dolly.unwrap_or(1.6), request.azimuth_deg)
         }
         None => scene.framing_camera(fov),
     };
+    let radius = ((hi - lo) * 0.5).length().max(1e-3);
     let projection = match request.projection {
         ProjectionRequest::Keep => base.projection,
         ProjectionRequest::Perspective { fov_y_deg } => CameraProjection::Perspective { fov_y_deg },
@@ -211,17 +253,23 @@ pub fn choose_camera(
         } => CameraProjection::Orthographic {
             half_height: 0.5 * height,
         },
-        // VTK's parallel scale: the bounding radius over the dolly.
-        ProjectionRequest::Orthographic { height: None } if request.view.is_some() && anything => {
-            let (lo, hi) = bounds(scene, volumes);
+        // The bounding sphere with a 10% margin, in both directions.
+        ProjectionRequest::Orthographic { height: None }
+            if (request.view.is_some() || automatic) && anything =>
+        {
+            let r = if automatic && volumes.is_empty() {
+                scene.bounding_sphere().1
+            } else {
+                ((fitted.1 - fitted.0) * 0.5).length().max(1e-3)
+            };
             CameraProjection::Orthographic {
-                half_height: 1.1 * ((hi - lo) * 0.5).length().max(1e-3),
+                half_height: 1.1 * r / aspect.min(1.0) / request.dolly.unwrap_or(1.0),
             }
         }
+        // VTK's parallel scale: the bounding radius over the dolly.
         ProjectionRequest::Orthographic { height: None } if with_volumes => {
-            let (lo, hi) = bounds(scene, volumes);
             CameraProjection::Orthographic {
-                half_height: ((hi - lo) * 0.5).length().max(1e-3) / request.dolly,
+                half_height: radius / request.dolly.unwrap_or(1.6),
             }
         }
         ProjectionRequest::Orthographic { height: None } => {
@@ -237,18 +285,84 @@ pub fn choose_camera(
     };
     camera.validate()?;
     // A pose the user moved keeps everything between near and far from where it now looks,
-    // as a volume framing always does (a chosen camera's planes were fitted to its own eye).
+    // as a framing of volumes or the automatic one always does (a chosen camera's planes were
+    // fitted to its own eye).
     let moved = request.eye.is_some() || request.target.is_some() || request.view.is_some();
-    Ok(if anything && (with_volumes || moved) {
-        let (lo, hi) = bounds(scene, volumes);
+    Ok(if anything && (with_volumes || automatic || moved) {
         enclose(camera, lo, hi)
     } else {
         camera
     })
 }
 
-/// World bounds of the meshes and volumes together.
+/// The automatic framing (see the module docs): a three-quarter view of meshes, or the view
+/// that faces a scan's patient (VTK's along +y when no scan states its frame); the bounding
+/// sphere fitted to `fov_y_deg` (60° for meshes, 30° with volumes) and `aspect` with a 10%
+/// margin, moved in by the dolly and turned by the azimuth. Near and far are fitted by the
+/// caller.
+fn automatic_camera(
+    scene: &Scene,
+    volumes: &[SceneVolume],
+    request: &CameraRequest,
+    fov_y_deg: Option<f32>,
+    aspect: f32,
+) -> Camera {
+    let (centre, radius, toward_eye, up, fov) = if volumes.is_empty() {
+        let (c, r) = scene.bounding_sphere();
+        let (az, el) = (
+            THREE_QUARTER_AZIMUTH_DEG.to_radians(),
+            THREE_QUARTER_ELEVATION_DEG.to_radians(),
+        );
+        let dir = Vec3::new(az.sin() * el.cos(), el.sin(), az.cos() * el.cos());
+        (c, r, dir, Vec3::Y, fov_y_deg.unwrap_or(60.0))
+    } else {
+        let (lo, hi) = visible_bounds(scene, volumes);
+        let facing = volumes
+            .iter()
+            .find_map(|v| v.volume.patient_front_and_top())
+            .filter(|(a, s)| a.length() > 0.5 && s.length() > 0.5);
+        let (dir, up) = facing.unwrap_or((-Vec3::Y, Vec3::Z));
+        let r = ((hi - lo) * 0.5).length().max(1e-3);
+        ((lo + hi) * 0.5, r, dir, up, fov_y_deg.unwrap_or(30.0))
+    };
+    let distance = fit_distance(radius, fov, aspect) / request.dolly.unwrap_or(1.0);
+    Camera {
+        eye: centre + toward_eye * distance,
+        target: centre,
+        up,
+        projection: CameraProjection::Perspective { fov_y_deg: fov },
+        near: 0.1,
+        far: 1.0,
+    }
+    .orbit(request.azimuth_deg.to_radians())
+}
+
+/// The distance at which a sphere of `radius` fills a perspective view of `fov_y_deg` and
+/// `aspect` with a 10% margin on the tighter side.
+fn fit_distance(radius: f32, fov_y_deg: f32, aspect: f32) -> f32 {
+    let half_v = fov_y_deg.clamp(1.0, 179.0).to_radians() * 0.5;
+    let half_h = (half_v.tan() * aspect).atan();
+    1.1 * radius.max(1e-3) / half_v.min(half_h).sin()
+}
+
+/// World bounds of the meshes and volumes together (a unit box about the origin when there
+/// is nothing).
 fn bounds(scene: &Scene, volumes: &[SceneVolume]) -> (Vec3, Vec3) {
+    bounds_of(scene, volumes, |v| v.volume.world_bounds())
+}
+
+/// World bounds of the meshes and of what the volumes show
+/// ([`SceneVolume::visible_world_bounds`]): what the automatic framing and the standard views
+/// fit.
+fn visible_bounds(scene: &Scene, volumes: &[SceneVolume]) -> (Vec3, Vec3) {
+    bounds_of(scene, volumes, SceneVolume::visible_world_bounds)
+}
+
+fn bounds_of(
+    scene: &Scene,
+    volumes: &[SceneVolume],
+    volume_bounds: impl Fn(&SceneVolume) -> (Vec3, Vec3),
+) -> (Vec3, Vec3) {
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
     if !scene.meshes.is_empty() {
         let (a, b) = scene.bounds();
@@ -256,23 +370,26 @@ fn bounds(scene: &Scene, volumes: &[SceneVolume]) -> (Vec3, Vec3) {
         hi = hi.max(b);
     }
     for v in volumes {
-        let (a, b) = v.volume.world_bounds();
+        let (a, b) = volume_bounds(v);
         lo = lo.min(a);
         hi = hi.max(b);
     }
-    (lo, hi)
+    if lo.cmple(hi).all() {
+        (lo, hi)
+    } else {
+        (-Vec3::ONE, Vec3::ONE)
+    }
 }
 
 /// The camera of `view` over the box `lo..hi`: aimed at its centre from the view's direction,
 /// at the distance where its bounding sphere (the box's half-diagonal) fills a `fov_y_deg`
-/// view with a 10% margin (near and far are fitted by the caller).
-fn standard_view(view: StandardView, lo: Vec3, hi: Vec3, fov_y_deg: f32) -> Camera {
+/// view of `aspect` with a 10% margin (near and far are fitted by the caller).
+fn standard_view(view: StandardView, lo: Vec3, hi: Vec3, fov_y_deg: f32, aspect: f32) -> Camera {
     let (dir, up) = view.direction_and_up();
     let centre = (lo + hi) * 0.5;
     let radius = ((hi - lo) * 0.5).length().max(1e-3);
-    let half = (fov_y_deg.clamp(1.0, 179.0).to_radians() * 0.5).sin();
     Camera {
-        eye: centre + dir * (1.1 * radius / half),
+        eye: centre + dir * fit_distance(radius, fov_y_deg, aspect),
         target: centre,
         up,
         projection: CameraProjection::Perspective { fov_y_deg },
@@ -348,8 +465,8 @@ mod tests {
             );
             assert!(cam.far >= d + r, "{eye}: {cam:?}");
         }
-        // Untouched, the automatic framing keeps its own planes.
-        let auto = choose_camera(&scene, &[], &CameraRequest::default()).unwrap();
-        assert_eq!(auto, scene.framing_camera(60.0));
+        // The peers' framing keeps its own planes.
+        let peer = choose_camera(&scene, &[], &CameraRequest::default().with_auto(true));
+        assert_eq!(peer.unwrap(), scene.framing_camera(60.0));
     }
 }

@@ -303,7 +303,7 @@ impl Scene {
 
     /// The bounding-box centre and the largest vertex distance from it (1 for an empty or
     /// point-like scene).
-    fn bounding_sphere(&self) -> (Vec3, f32) {
+    pub(crate) fn bounding_sphere(&self) -> (Vec3, f32) {
         let (lo, hi) = self.bounds();
         let c = (lo + hi) * 0.5;
         let r = self

@@ -14,13 +14,17 @@ use glam::Vec4;
 use super::grid::Volume;
 use super::transfer::TransferFunction;
 
-/// The transfer function for `vol` (see the module docs) and a name for listings.
+/// How the names of chosen transfer functions begin.
+pub const CHOSEN_PREFIX: &str = "chosen: ";
+
+/// The transfer function for `vol` (see the module docs) and a name for listings (beginning
+/// with [`CHOSEN_PREFIX`]).
 #[must_use]
 pub fn transfer_for(vol: &Volume) -> (TransferFunction, String) {
     let (lo, hi) = vol.range();
     if lo <= -500.0 && hi >= 300.0 {
         if let Some(tf) = TransferFunction::preset("ct-bone") {
-            return (tf, "ct-bone (chosen: Hounsfield units)".into());
+            return (tf, format!("{CHOSEN_PREFIX}ct-bone (Hounsfield units)"));
         }
     }
     let mut bins = [0u64; 256];
@@ -55,7 +59,7 @@ pub fn transfer_for(vol: &Volume) -> (TransferFunction, String) {
     let tf = TransferFunction::new(points).expect("finite, sorted points");
     (
         tf,
-        format!("auto (histogram: threshold {t:.4}, 99th percentile {p:.4})"),
+        format!("{CHOSEN_PREFIX}auto (histogram: threshold {t:.4}, 99th percentile {p:.4})"),
     )
 }
 
@@ -105,7 +109,7 @@ mod tests {
             }
         });
         let (tf, name) = transfer_for(&ct);
-        assert!(name.starts_with("ct-bone"), "{name}");
+        assert!(name.starts_with("chosen: ct-bone"), "{name}");
         assert_eq!(tf, TransferFunction::preset("ct-bone").unwrap());
     }
 
@@ -121,7 +125,7 @@ mod tests {
             }
         });
         let (tf, name) = transfer_for(&scan);
-        assert!(name.starts_with("auto"), "{name}");
+        assert!(name.starts_with("chosen: auto"), "{name}");
         for v in [5.0, 12.0, 17.0] {
             assert_eq!(tf.eval(v).w, 0.0, "background {v}");
         }

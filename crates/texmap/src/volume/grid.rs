@@ -20,6 +20,7 @@ use super::bricks::Bricks;
 use super::cell::trilinear;
 use super::framing::vtk_camera_for_bounds;
 use super::normals::voxel_normals;
+use super::patient::PatientAxes;
 use super::scalar_type::ScalarType;
 use crate::texture::{ColorSpace, Format, Texture3D};
 use crate::{Error, Result};
@@ -43,6 +44,8 @@ pub struct Volume {
     normals: std::sync::OnceLock<Vec<[i8; 4]>>,
     /// The file's voxel type, when a loader made the volume.
     scalar_type: Option<ScalarType>,
+    /// Which way the patient faces, when the file states an anatomical frame.
+    patient: Option<PatientAxes>,
 }
 
 impl Volume {
@@ -119,6 +122,7 @@ impl Volume {
             bricks: std::sync::OnceLock::new(),
             normals: std::sync::OnceLock::new(),
             scalar_type: None,
+            patient: None,
         })
     }
 
@@ -150,6 +154,16 @@ impl Volume {
     /// Records the voxel type of the source data (for listings; the values are unchanged).
     pub fn set_scalar_type(&mut self, ty: ScalarType) {
         self.scalar_type = Some(ty);
+    }
+    /// Records which way the patient faces (a loader does, from the file's frame).
+    pub fn set_patient_axes(&mut self, axes: Option<PatientAxes>) {
+        self.patient = axes;
+    }
+    /// The patient's front and top as world directions under the current placement, when
+    /// the file stated an anatomical frame.
+    #[must_use]
+    pub fn patient_front_and_top(&self) -> Option<(Vec3, Vec3)> {
+        self.patient.map(|p| p.world(self.world_from_voxel))
     }
     /// The values as a 3D texture (`R16`, linear: level/65535; texel centres at the voxels).
     #[must_use]

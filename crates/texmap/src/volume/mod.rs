@@ -16,7 +16,7 @@
 //! - the grid: the voxel types of files (`scalar_type`), trilinear reads (`cell`), normals
 //!   (`normals`), rays from the camera and the samples along them (`rays`), empty-space
 //!   skipping (`bricks`), the camera that frames a box (`framing`), the [`Volume`] itself
-//!   (`grid`) and its loaders ([`load`]);
+//!   (`grid`), which way a scan's patient faces ([`patient`]) and its loaders ([`load`]);
 //! - the options: [`transfer`] functions (and [`auto_transfer`], one chosen from a scan's
 //!   values), how a sample reflects light (`shade`), the
 //!   [`MarchParams`] (`params`), and what both methods share at the frame's edges (`output`);
@@ -41,6 +41,7 @@ mod marcher;
 mod normals;
 mod output;
 mod params;
+pub mod patient;
 mod raymarch;
 mod rays;
 mod scalar_type;

@@ -6,10 +6,11 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 
+use super::bricks::BRICK;
 use super::grid::Volume;
 use super::params::{Classification, MarchParams, Mode};
 use super::sdf::{Hypertexture, SurfaceLook};
-use super::transfer::TransferFunction;
+use super::transfer::{TransferFunction, TransferLut};
 use crate::{Error, Result};
 
 /// How a volume is drawn.
@@ -126,6 +127,14 @@ impl SceneVolume {
         self.transfer_name = name;
     }
 
+    /// Whether the transfer function was chosen from the scan's values
+    /// ([`Self::set_auto_transfer`]) rather than given.
+    #[must_use]
+    pub fn transfer_was_chosen(&self) -> bool {
+        self.transfer_name
+            .starts_with(super::auto_transfer::CHOSEN_PREFIX)
+    }
+
     /// What is wrong with the transfer function for this scan's values, if anything a user
     /// should hear before looking at the image (composite rendering of a scan, not of a
     /// distance field): it is transparent over every value the scan holds (nothing would be
@@ -160,6 +169,57 @@ impl SceneVolume {
         None
     }
 
+    /// The world box of what the volume shows: the bricks its transfer function makes
+    /// visible (composite rays and slices), or that reach the iso-value (iso-surfaces), within
+    /// the crop box. MIP, X-ray and distance fields, and a volume that shows nothing, give the
+    /// whole (cropped) box. The automatic framing fits this box, so a brain inside a mostly
+    /// empty scan fills the frame.
+    #[must_use]
+    pub fn visible_world_bounds(&self) -> (Vec3, Vec3) {
+        let vol = &*self.volume;
+        let dims = vol.dims();
+        let (lo, hi) = self.params.voxel_box(dims);
+        let whole = |lo: Vec3, hi: Vec3| corners_bounds(&vol.world_corners_of((lo, hi)));
+        let p = &self.params;
+        let visible: Box<dyn Fn(f32, f32) -> bool> = match (self.method.is_distance_field(), p.mode)
+        {
+            (false, Mode::Composite) => {
+                let lut = TransferLut::new(&self.transfer, vol.range(), p.step);
+                Box::new(move |a, b| !lut.is_transparent(vol.value_of(a), vol.value_of(b)))
+            }
+            (false, Mode::Iso) => {
+                let Some(iso) = p.iso.or_else(|| self.transfer.first_opaque_value()) else {
+                    return whole(lo, hi);
+                };
+                Box::new(move |_, b| vol.value_of(b) >= iso)
+            }
+            _ => return whole(lo, hi),
+        };
+        let bricks = vol.bricks();
+        let n = bricks.counts;
+        let top = Vec3::from_array(dims.map(|d| d.saturating_sub(1) as f32));
+        let (mut vlo, mut vhi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for (i, &(a, b)) in bricks.min_max.iter().enumerate() {
+            if !visible(a, b) {
+                continue;
+            }
+            let i = i as u32;
+            let c = Vec3::new(
+                (i % n[0]) as f32,
+                ((i / n[0]) % n[1]) as f32,
+                (i / (n[0] * n[1])) as f32,
+            ) * BRICK as f32;
+            vlo = vlo.min(c);
+            vhi = vhi.max((c + Vec3::splat(BRICK as f32)).min(top));
+        }
+        let (vlo, vhi) = (vlo.max(lo), vhi.min(hi));
+        if vlo.cmple(vhi).all() {
+            whole(vlo, vhi)
+        } else {
+            whole(lo, hi)
+        }
+    }
+
     /// Places the volume: `world_from_object` applied after the file's own placement, or
     /// after its spacing alone when `ignore_orientation` (as `vtk_volume.py` places scans).
     ///
@@ -191,7 +251,7 @@ impl SceneVolume {
         p.check_crop(self.volume.dims()).map_err(Error::Parameter)?;
         if p.crop.is_some() && self.method.is_distance_field() {
             return Err(Error::parameter(
-                "crop applies to a scan drawn by rays or slices, not to a distance field's                  surface",
+                "crop applies to a scan drawn by rays or slices, not to a distance field's surface",
             ));
         }
         if self.method == Method::Slices
@@ -228,6 +288,14 @@ impl SceneVolume {
         let (lo, hi) = self.volume.world_bounds();
         (lo + hi) * 0.5
     }
+}
+
+/// The axis-aligned box of `corners`.
+fn corners_bounds(corners: &[Vec3; 8]) -> (Vec3, Vec3) {
+    corners.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), &c| (lo.min(c), hi.max(c)),
+    )
 }
 
 #[cfg(test)]

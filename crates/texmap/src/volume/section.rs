@@ -7,9 +7,9 @@
 //! held at `index`, the coronal the one nearest world y, the sagittal the one nearest world
 //! x. On screen, world +x runs to the right in axial and coronal views and world +y in
 //! sagittal ones; world +z is up in coronal and sagittal views and world +y in axial ones.
-//! For a NIfTI file (RAS+: x to the patient's left, y anterior, z superior) that is the
-//! radiological convention — the patient's right on the image's left, the face up in axial
-//! views, the head up otherwise.
+//! For a NIfTI file (RAS+: x to the patient's right, y anterior, z superior) that is the
+//! neurological convention — the patient's right on the image's right — with the face up in
+//! axial views and the head up otherwise.
 //!
 //! The plane's physical extent (voxel counts × spacing) is fitted into the image, aspect kept,
 //! centred; voxels are read bilinearly within the plane (voxel centres at integers, as
@@ -59,6 +59,35 @@ pub enum SectionLook {
     Transfer(TransferFunction),
     /// Grey: `level − width/2` black to `level + width/2` white (display values).
     Window { level: f32, width: f32 },
+}
+
+impl SectionLook {
+    /// A grey window over the scan's own values, as a radiology viewer opens a scan: from the
+    /// 0.5th to the 99.5th percentile of its voxels (so a few outliers do not wash it out).
+    #[must_use]
+    pub fn auto_window(vol: &Volume) -> SectionLook {
+        let mut bins = vec![0u64; 4096];
+        for &q in vol.quantized() {
+            bins[usize::from(q >> 4)] += 1;
+        }
+        let total: u64 = bins.iter().sum();
+        let percentile = |p: u64| {
+            let mut seen = 0u64;
+            for (k, &n) in bins.iter().enumerate() {
+                seen += n;
+                if seen * 1000 >= total * p {
+                    return vol.value_of((k as f32 + 0.5) * 16.0);
+                }
+            }
+            vol.range().1
+        };
+        let (a, b) = (percentile(5), percentile(995));
+        let (lo, hi) = if b > a { (a, b) } else { vol.range() };
+        SectionLook::Window {
+            level: 0.5 * (lo + hi),
+            width: (hi - lo).max(f32::MIN_POSITIVE),
+        }
+    }
 }
 
 /// The voxel axes of `vol` that `axis` uses, with the signs that make them run right and up:
@@ -194,6 +223,21 @@ pub fn render_section(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_automatic_window_spans_the_bulk_of_the_values_not_the_outliers() {
+        // 10,000 voxels from 0 to 99.99, 47 more at 0 and one outlier at 10,000.
+        let mut v: Vec<f32> = (0..10_000).map(|i| i as f32 * 0.01).collect();
+        v.push(10_000.0);
+        v.extend([0.0; 47]);
+        let vol = Volume::from_scalars([8, 8, 157], Mat4::IDENTITY, v).unwrap();
+        let SectionLook::Window { level, width } = SectionLook::auto_window(&vol) else {
+            panic!("not a window");
+        };
+        let (lo, hi) = (level - 0.5 * width, level + 0.5 * width);
+        // The outlier's bins are 2.4 value units wide: the window is 0..100 within them.
+        assert!(lo.abs() < 3.0 && (hi - 100.0).abs() < 3.0, "{lo} .. {hi}");
+    }
 
     /// A 4 × 6 × 8 grid with value 100·i + 10·j + k, spacing 1, identity placement.
     fn grid() -> Volume {

@@ -1,4 +1,5 @@
-//! Golden-image comparison shared by the integration tests.
+//! What the integration tests share: golden-image comparison, the asset corpus's folder,
+//! meshes made in code.
 //!
 //! Policy: an image matches its reference when its PSNR against it (8-bit sRGB, RGB) is at
 //! least the test's stated threshold. On a mismatch the actual image and a difference image
@@ -11,6 +12,18 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 use texmap::metrics::compare_rgb8;
+
+/// The shared asset corpus (`../shared/assets`), or `None` after printing `SKIPPED` when it
+/// is absent (tests over it then pass without running).
+pub fn assets() -> Option<PathBuf> {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/assets");
+    if p.is_dir() {
+        Some(p)
+    } else {
+        eprintln!("SKIPPED: the asset corpus {} is absent", p.display());
+        None
+    }
+}
 
 fn golden_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden")

@@ -19,6 +19,7 @@ use std::path::Path;
 use glam::{Mat4, Vec3};
 
 use super::grid::Volume;
+use super::patient::{AnatomicalSpace, PatientAxes};
 use super::scalar_type::ScalarType;
 use crate::{Error, Result};
 
@@ -224,6 +225,8 @@ pub struct ScalarGrid {
     pub values: Vec<f32>,
     /// The file's voxel type.
     pub scalar_type: ScalarType,
+    /// The anatomical frame the file states its world in (NIfTI's is RAS+), if any.
+    pub space: Option<AnatomicalSpace>,
 }
 
 impl ScalarGrid {
@@ -271,6 +274,7 @@ fn checked_grid(
     m: Mat4,
     values: Vec<f32>,
     ty: ScalarType,
+    space: Option<AnatomicalSpace>,
 ) -> Result<ScalarGrid> {
     let n = dims.map(|d| d.saturating_sub(1) as f32);
     let mut reach = 0.0f32;
@@ -296,6 +300,7 @@ fn checked_grid(
         world_from_voxel: m,
         values,
         scalar_type: ty,
+        space,
     })
 }
 
@@ -303,6 +308,9 @@ fn make_volume(path: &Path, grid: ScalarGrid) -> Result<Volume> {
     let mut v = Volume::from_scalars(grid.dims, grid.world_from_voxel, grid.values)
         .map_err(|e| Error::decode(path, e.to_string()))?;
     v.set_scalar_type(grid.scalar_type);
+    if let Some(space) = grid.space {
+        v.set_patient_axes(PatientAxes::new(space, grid.world_from_voxel));
+    }
     Ok(v)
 }
 

@@ -5,6 +5,7 @@ use std::path::Path;
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 
 use super::super::grid::Volume;
+use super::super::patient::AnatomicalSpace;
 use super::super::scalar_type::ScalarType;
 use super::{
     check_budget, check_dims, checked_grid, decode_voxels, gunzip, make_volume, ScalarGrid,
@@ -175,7 +176,8 @@ pub(super) fn read_nifti(path: &Path, options: &VolumeOptions) -> Result<ScalarG
         options.max_bytes,
     )?;
     let values = decode_voxels(path, &bytes[off..], ty, big, count, slope, inter)?;
-    checked_grid(path, dims, m, values, ty)
+    // NIfTI's world is RAS+ by definition (the spacing-only placement too).
+    checked_grid(path, dims, m, values, ty, Some(AnatomicalSpace::Ras))
 }
 
 /// From a NIfTI-1 header alone: the voxel count, type, and where the first volume's data

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Vec3, Vec4};
 
 use super::super::grid::Volume;
+use super::super::patient::AnatomicalSpace;
 use super::super::scalar_type::ScalarType;
 use super::{
     check_budget, check_dims, checked_grid, decode_voxels, gunzip, make_volume, ScalarGrid,
@@ -235,5 +236,6 @@ pub(super) fn read_nrrd(path: &Path, options: &VolumeOptions) -> Result<ScalarGr
         ));
     }
     let values = decode_voxels(&data_path, data, ty, big, count, 1.0, 0.0)?;
-    checked_grid(path, dims, m, values, ty)
+    let space = get("space").and_then(AnatomicalSpace::from_nrrd);
+    checked_grid(path, dims, m, values, ty, space)
 }

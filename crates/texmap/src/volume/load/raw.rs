@@ -75,5 +75,5 @@ pub(super) fn read_raw(path: &Path, desc: &RawDesc, options: &VolumeOptions) -> 
         return Err(Error::parameter(format!("--spacing {s} must be positive")));
     }
     let values = decode_voxels(path, data, desc.scalar, desc.big_endian, count, 1.0, 0.0)?;
-    checked_grid(path, dims, Mat4::from_scale(s), values, desc.scalar)
+    checked_grid(path, dims, Mat4::from_scale(s), values, desc.scalar, None)
 }
