@@ -11,7 +11,7 @@ use texmap::texture::{Filter, Storage, Wrap};
 use super::limits;
 use crate::formats::OutputFormat;
 
-#[derive(Args)]
+#[derive(Args, Clone)]
 pub struct RenderArgs {
     /// `builtin:demo` (default), `builtin:plane`, `builtin:sphere`, `builtin:marble`, a scene
     /// file (`.gltf`, `.glb`, `.obj` or `.toml`), a volume (`.nii`, `.nii.gz`, `.nrrd`,
