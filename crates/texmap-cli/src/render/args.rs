@@ -295,7 +295,7 @@ pub(crate) enum ViewArg {
     Bottom,
     Iso,
 }
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+#[derive(Clone, Copy, PartialEq, Eq, Debug, ValueEnum)]
 pub(crate) enum Switch {
     On,
     Off,
