@@ -1,7 +1,7 @@
 //! `texmap view` as a user runs it: in a real X server (its own Xvfb on a free display,
-//! driven by xdotool), F12's screenshot is `texmap render`'s image (PSNR ≥ 40 dB), `f` and
-//! `s` change the next one, Escape ends the process with exit 0; without a display it is one
-//! line and exit 1. Without Xvfb or xdotool installed the window test prints SKIPPED (CI
+//! driven by xdotool), F12's screenshot is `texmap render`'s image (PSNR ≥ 40 dB); `f`, `s`
+//! and `1` change the next ones into the render's with those settings; Escape ends the
+//! process with exit 0. Without a display it is one line and exit 1. Without Xvfb or xdotool installed the window test prints SKIPPED (CI
 //! installs both: `.ci/run`).
 
 use std::io::{BufRead, BufReader};
@@ -107,19 +107,27 @@ fn the_window_shows_the_renders_image_switches_techniques_and_quits_on_escape() 
         }
     }
     let dir = scratch("viewer-window");
-    let reference = dir.join("reference.png");
-    let r = texmap(&[
-        "render",
-        "builtin:demo",
-        "--size",
-        "640x360",
-        "--quiet",
-        "-o",
-    ])
-    .arg(&reference)
-    .output()
-    .unwrap();
-    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    // `texmap render` with the settings the keys below reach: none; `f` (the first filter
+    // after each texture's own) and `s` (Phong to flat); `s` twice more (back to Phong)
+    // and `1` (shadows off).
+    let render = |name: &str, flags: &[&str]| {
+        let path = dir.join(name);
+        let r = texmap(&["render", "builtin:demo", "--size", "640x360", "--quiet"])
+            .args(flags)
+            .arg("-o")
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        path
+    };
+    let reference = render("reference.png", &[]);
+    let flat = render("flat.png", &["--filter", "nearest", "--shading", "flat"]);
+    let nearest = render("nearest.png", &["--filter", "nearest"]);
+    let unshadowed = render(
+        "unshadowed.png",
+        &["--filter", "nearest", "--shadows=false"],
+    );
 
     let (_server, display) = xvfb();
     let mut view = Reaped(
@@ -174,6 +182,22 @@ fn the_window_shows_the_renders_image_switches_techniques_and_quits_on_escape() 
     assert!(
         changed < 40.0,
         "f and s changed nothing: PSNR {changed:.2} dB"
+    );
+    let same = psnr(&flat, &second);
+    assert!(same >= 40.0, "after f and s vs render: PSNR {same:.2} dB");
+
+    // A texture application's key prepares the scene again with the render's flag.
+    key("s");
+    key("s");
+    key("1");
+    key("F12");
+    let third = shot(3);
+    let changed = psnr(&nearest, &third);
+    assert!(changed < 40.0, "1 changed nothing: PSNR {changed:.2} dB");
+    let same = psnr(&unshadowed, &third);
+    assert!(
+        same >= 40.0,
+        "after 1 vs render --shadows=false: PSNR {same:.2} dB"
     );
 
     key("Escape");

@@ -246,7 +246,6 @@ pub(crate) struct Common {
     ssaa: u32,
     max_memory: u64,
     frame_buffers: limits::FrameBuffers,
-    shadows: texmap::render::ShadowOverrides,
     textures: texmap::render::TextureOverrides,
     texture: Option<Arc<Texture2D>>,
     env_map: Option<EnvironmentMap>,
@@ -283,7 +282,8 @@ impl Common {
         if !(1..=8).contains(&ssaa) {
             return Err(Error::parameter(format!("--ssaa {ssaa} is outside 1..8")));
         }
-        let shadows = checks::shadow_overrides(args)?;
+        // Checked before anything is loaded; `prepare` lays them over the scene.
+        checks::shadow_overrides(args)?;
         let textures = checks::texture_overrides(args);
         textures.validate().map_err(|e| match e {
             Error::Parameter(m) => Error::parameter(format!("texture flags: {m}")),
@@ -338,7 +338,6 @@ impl Common {
             ssaa,
             max_memory,
             frame_buffers,
-            shadows,
             textures,
             texture,
             env_map,
@@ -496,7 +495,9 @@ pub(crate) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
         .with_ssaa(common.ssaa)
         .with_unlit(args.unlit)
         .with_textures(common.textures)
-        .with_shadows(common.shadows);
+        // From `args`, not `common`: the viewer prepares the scene again with `--shadows`
+        // switched (the same values as `common`'s for a render).
+        .with_shadows(checks::shadow_overrides(args)?);
     settings.validate()?;
     limits::check_shadow_maps(
         shadow_map_bytes(&scene, &settings),
