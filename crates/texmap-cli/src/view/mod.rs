@@ -24,7 +24,7 @@ use crate::render::{limits, RenderArgs, Switch};
 
 /// The keys, as `--help` and the window's `h` show them.
 pub const KEYS: &str = "\
-Mouse: left drag orbits, right or middle drag (or shift + left) pans, the wheel zooms.
+Mouse: left drag orbits; right/middle (or shift+left) drag pans; wheel zooms.
 Keys:
   arrows      orbit                  + / -     zoom in / out
   r, Home     reset the view         o         overlay on/off
@@ -34,9 +34,9 @@ Keys:
   e           environment on/off     h         this help
   1 shadows   2 normal maps   3 bump maps   4 parallax   5 displacement
   6 layers    7 light maps    8 toon        9 projectors 0 reflections
-  b           A/B split: two settings left and right of a divider (drag it); keys act
-              on the side under the mouse
-  F12         screenshot texmap-SCENE-N.png (no overlay; texmap render's image)
+  b           A/B split (drag the divider); keys act on the side under
+              the mouse
+  F12         screenshot texmap-SCENE-N.png (no overlay: render's image)
   Escape      quit
 A part the scene does not have is shown as n/a in the overlay.";
 
@@ -120,4 +120,22 @@ pub fn run(args: ViewArgs) -> Result<(), Error> {
     let common = crate::render::Common::new(&render, OutputFormat::Png, threads)?;
     let preview = args.preview != Some(Switch::Off);
     window::run(&render, &common, &display, preview)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_keys_help_fits_a_640_pixel_window_and_names_every_key() {
+        for line in KEYS.lines() {
+            assert!(overlay::text_width(line) + 2 <= 640, "{line}");
+        }
+        for (c, _, _) in look::PARTS {
+            assert!(KEYS.contains(&format!("{c} ")), "{c}");
+        }
+        for key in ["F12", "Escape", "Home", "A/B"] {
+            assert!(KEYS.contains(key), "{key}");
+        }
+    }
 }
