@@ -91,7 +91,7 @@ pub fn run(args: &RenderArgs, common: &Common, display: &str, preview: bool) -> 
         sides: [side; 2],
         split: None,
         camera: ViewCamera::new(first.camera, bounds),
-        na: not_applicable(args, &first),
+        na: not_applicable(args, &first, &stem),
         status: String::new(),
         overlay: true,
         help: false,
@@ -266,21 +266,22 @@ fn bounds(p: &Prepared) -> Option<(glam::Vec3, glam::Vec3)> {
     b
 }
 
-/// The keys of settings `p`'s scene does not have, with the reason the overlay shows.
-fn not_applicable(args: &RenderArgs, p: &Prepared) -> HashMap<char, String> {
+/// The keys of settings `p`'s scene (`name`) does not have, with the reason the overlay
+/// shows.
+fn not_applicable(args: &RenderArgs, p: &Prepared, name: &str) -> HashMap<char, String> {
     let mut na = HashMap::new();
     if p.scene.meshes.is_empty() || p.section.is_some() {
         for c in ['s', 'i', 'v', 'm'] {
-            na.insert(c, "no meshes to draw".to_string());
+            na.insert(c, format!("{name} has no meshes to draw"));
         }
     } else if args.unlit {
         na.insert('s', "--unlit: nothing is shaded".to_string());
     }
     if p.scene.texture_samplers().is_empty() && p.scene.environment.is_none() {
-        na.insert('f', "reads no image texture".to_string());
+        na.insert('f', format!("{name} reads no image texture"));
     }
     if p.scene.environment.is_none() {
-        na.insert('e', "has no environment".to_string());
+        na.insert('e', format!("{name} has no environment"));
     }
     na
 }
@@ -320,7 +321,7 @@ impl Viewer<'_> {
     /// A setting key pressed over side `s`: true when the frame changes.
     fn press(&mut self, c: char, s: usize) -> bool {
         if let Some(why) = self.na.get(&c) {
-            self.status = format!("{c}: n/a: {} {why}", self.stem);
+            self.status = format!("{c}: n/a: {why}");
             return false;
         }
         let side = &mut self.sides[s];
@@ -346,7 +347,7 @@ impl Viewer<'_> {
                     Ok(_) => self.sides[s].parts = parts,
                     Err(e) => {
                         self.status = format!("{c}: n/a: {e}");
-                        self.na.insert(c, format!("({e})"));
+                        self.na.insert(c, e.to_string());
                         return false;
                     }
                 }
