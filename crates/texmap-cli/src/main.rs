@@ -15,6 +15,7 @@ mod render;
 mod sdf;
 mod section;
 mod signals;
+mod view;
 mod volume;
 
 use std::process::ExitCode;
@@ -33,6 +34,10 @@ struct Cli {
 enum Command {
     /// Render a scene (default: the embedded demo) to an image.
     Render(Box<render::RenderArgs>),
+    /// Open a window drawing a scene live (the render's scenes and flags): orbit, pan, zoom,
+    /// switch each technique, compare two settings side by side, take screenshots.
+    #[command(after_help = view::KEYS)]
+    View(Box<view::ViewArgs>),
     /// Write a procedural texture to an image (on a plane, or unwrapped from a cylinder or sphere).
     Bake(bake::BakeArgs),
     /// Compare two images: PSNR, RMSE and SSIM, and optionally a false-colour difference image.
@@ -52,6 +57,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(*args).map(Some),
+        Command::View(args) => view::run(*args).map(|()| None),
         Command::Manifest(args) => manifest::verify::run(args).map(|ok| {
             Some(if ok {
                 ExitCode::SUCCESS

@@ -11,7 +11,7 @@ use texmap::texture::{Filter, Storage, Wrap};
 use super::limits;
 use crate::formats::OutputFormat;
 
-#[derive(Args)]
+#[derive(Args, Clone)]
 pub struct RenderArgs {
     /// `builtin:demo` (default), `builtin:plane`, `builtin:sphere`, `builtin:marble`, a scene
     /// file (`.gltf`, `.glb`, `.obj` or `.toml`), a volume (`.nii`, `.nii.gz`, `.nrrd`,
@@ -298,7 +298,7 @@ pub(crate) enum ViewArg {
     Bottom,
     Iso,
 }
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+#[derive(Clone, Copy, PartialEq, Eq, Debug, ValueEnum)]
 pub(crate) enum Switch {
     On,
     Off,

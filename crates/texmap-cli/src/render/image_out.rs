@@ -95,7 +95,7 @@ pub(super) fn output_format(args: &RenderArgs) -> Result<OutputFormat, Error> {
 }
 
 /// How every output of a render is written.
-pub(super) struct ImageOut {
+pub(crate) struct ImageOut {
     pub format: OutputFormat,
     pub store: Store,
 }

@@ -10,16 +10,16 @@ mod batch;
 mod checks;
 mod complete;
 mod detail;
-mod image_out;
+pub(crate) mod image_out;
 pub(crate) mod limits;
 mod naming;
-mod plan;
+pub(crate) mod plan;
 pub(crate) mod relief;
 mod shard;
 
-pub(crate) use args::parse_storage;
 pub use args::{parse_size, RenderArgs};
-use args::{ColorSpaceArg, CullArg, InterpArg, ShadingArg, Switch, ViewArg, VisibilityArg};
+pub(crate) use args::{parse_storage, Switch};
+use args::{ColorSpaceArg, CullArg, InterpArg, ShadingArg, ViewArg, VisibilityArg};
 
 use std::path::Path;
 use std::sync::Arc;
@@ -239,14 +239,13 @@ pub fn run(args: RenderArgs) -> Result<std::process::ExitCode, Error> {
 
 /// What every input of a batch shares: checked flags, the thread pool, `--texture` and
 /// `--env`, read once.
-pub(super) struct Common {
+pub(crate) struct Common {
     pub pool: rayon::ThreadPool,
     pub format: OutputFormat,
     msaa: u32,
     ssaa: u32,
     max_memory: u64,
     frame_buffers: limits::FrameBuffers,
-    shadows: texmap::render::ShadowOverrides,
     textures: texmap::render::TextureOverrides,
     texture: Option<Arc<Texture2D>>,
     env_map: Option<EnvironmentMap>,
@@ -267,7 +266,11 @@ fn check_common(args: &RenderArgs) -> Result<(), Error> {
 impl Common {
     /// The shared flags checked and the shared files read (`format` is the plan's,
     /// `threads` from [`limits::frames_and_threads`]).
-    fn new(args: &RenderArgs, format: OutputFormat, threads: usize) -> Result<Common, Error> {
+    pub(crate) fn new(
+        args: &RenderArgs,
+        format: OutputFormat,
+        threads: usize,
+    ) -> Result<Common, Error> {
         let max_memory = args.max_memory.unwrap_or(texmap::files::DEFAULT_MAX_BYTES);
         let msaa = args.msaa.unwrap_or(1);
         if ![1, 2, 4, 8, 16].contains(&msaa) {
@@ -279,7 +282,8 @@ impl Common {
         if !(1..=8).contains(&ssaa) {
             return Err(Error::parameter(format!("--ssaa {ssaa} is outside 1..8")));
         }
-        let shadows = checks::shadow_overrides(args)?;
+        // Checked before anything is loaded; `prepare` lays them over the scene.
+        checks::shadow_overrides(args)?;
         let textures = checks::texture_overrides(args);
         textures.validate().map_err(|e| match e {
             Error::Parameter(m) => Error::parameter(format!("texture flags: {m}")),
@@ -334,7 +338,6 @@ impl Common {
             ssaa,
             max_memory,
             frame_buffers,
-            shadows,
             textures,
             texture,
             env_map,
@@ -344,11 +347,11 @@ impl Common {
 
 /// One input made ready to render: its scene, camera, settings, shadow maps and the
 /// environment's prefiltering, which every frame shares.
-pub(super) struct Prepared {
-    scene: Scene,
-    volumes: Vec<SceneVolume>,
-    camera: texmap::camera::Camera,
-    settings: Settings,
+pub(crate) struct Prepared {
+    pub(crate) scene: Scene,
+    pub(crate) volumes: Vec<SceneVolume>,
+    pub(crate) camera: texmap::camera::Camera,
+    pub(crate) settings: Settings,
     shadow_maps: texmap::shading::shadow::ShadowMaps,
     shadow_ms: f64,
     prefilter_ms: Option<f64>,
@@ -356,11 +359,11 @@ pub(super) struct Prepared {
     /// `--still`: frames animate the hypertexture, the camera stays.
     still: bool,
     /// `--slice`: one plane of the scan drawn flat instead of the 3D view.
-    section: Option<crate::section::Section>,
+    pub(crate) section: Option<crate::section::Section>,
 }
 
 /// Loads `args.scene` and makes everything its frames share.
-pub(super) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Error> {
+pub(crate) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Error> {
     let setup_start = Instant::now();
     let pool = &common.pool;
     let Built {
@@ -493,7 +496,9 @@ pub(super) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
         .with_ssaa(common.ssaa)
         .with_unlit(args.unlit)
         .with_textures(common.textures)
-        .with_shadows(common.shadows);
+        // From `args`, not `common`: the viewer prepares the scene again with `--shadows`
+        // switched (the same values as `common`'s for a render).
+        .with_shadows(checks::shadow_overrides(args)?);
     settings.validate()?;
     limits::check_shadow_maps(
         shadow_map_bytes(&scene, &settings),
@@ -549,6 +554,20 @@ impl Prepared {
             self.camera
                 .orbit(std::f32::consts::TAU * (k - 1) as f32 / n as f32)
         };
+        self.render_view(pool, volumes, &cam, &self.settings, frame)
+    }
+
+    /// Renders `volumes` (the prepared ones, or a hypertexture's frame of them) and the
+    /// scene from `cam` with `settings` into `frame`: [`Prepared::render`]'s frame, and the
+    /// viewer's, whose camera and settings are the user's.
+    pub(crate) fn render_view(
+        &self,
+        pool: &rayon::ThreadPool,
+        volumes: &[SceneVolume],
+        cam: &texmap::camera::Camera,
+        settings: &Settings,
+        frame: &mut Frame,
+    ) -> Result<(), Error> {
         if let (Some(s), Some(v)) = (&self.section, self.volumes.first()) {
             *frame = pool.install(|| {
                 render_section(
@@ -556,30 +575,24 @@ impl Prepared {
                     s.axis,
                     s.index,
                     &s.look,
-                    self.settings.width,
-                    self.settings.height,
+                    settings.width,
+                    settings.height,
                 )
             })?;
             return Ok(());
         }
         pool.install(|| {
-            if self.volumes.is_empty() {
-                render_into_with_shadows(
-                    &self.scene,
-                    &cam,
-                    &self.settings,
-                    &self.shadow_maps,
-                    frame,
-                )
+            if volumes.is_empty() {
+                render_into_with_shadows(&self.scene, cam, settings, &self.shadow_maps, frame)
             } else {
-                *frame = render_with_volumes(&self.scene, volumes, &cam, &self.settings)?;
+                *frame = render_with_volumes(&self.scene, volumes, cam, settings)?;
                 Ok(())
             }
         })
     }
 
     /// `--stats`' JSON for this input: `times` are its frames' ms, `frame` the last.
-    pub fn stats(
+    pub(crate) fn stats(
         &self,
         args: &RenderArgs,
         common: &Common,
@@ -655,7 +668,7 @@ impl Prepared {
 }
 
 /// Min, median and max of `times` (zeros when empty).
-pub(super) fn spread(times: &[f64]) -> (f64, f64, f64) {
+pub(crate) fn spread(times: &[f64]) -> (f64, f64, f64) {
     if times.is_empty() {
         return (0.0, 0.0, 0.0);
     }

@@ -186,7 +186,7 @@ fn parse_range(s: &str, frames: u32) -> Result<RangeInclusive<u32>, Error> {
 }
 
 /// The `{scene}` name of an input.
-fn stem(name: &str) -> String {
+pub(crate) fn stem(name: &str) -> String {
     if let Some(b) = name.strip_prefix("builtin:") {
         return b.to_string();
     }

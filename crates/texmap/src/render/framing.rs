@@ -398,8 +398,11 @@ fn standard_view(view: StandardView, lo: Vec3, hi: Vec3, fov_y_deg: f32, aspect:
     }
 }
 
-/// `camera` with near and far around the box `lo..hi`, wherever the eye was moved.
-fn enclose(camera: Camera, lo: Vec3, hi: Vec3) -> Camera {
+/// `camera` with near and far around the box `lo..hi` (its bounding sphere), wherever the
+/// eye was moved: what [`choose_camera`] does to a moved eye, and what an interactive
+/// camera does after each move.
+#[must_use]
+pub fn enclose(camera: Camera, lo: Vec3, hi: Vec3) -> Camera {
     let centre = (lo + hi) * 0.5;
     let radius = ((hi - lo) * 0.5).length().max(1e-3);
     let dist = (camera.eye - centre).length();
