@@ -30,7 +30,7 @@ use super::look::{texture_from_world, SurfaceLook};
 use super::reader::FieldReader;
 use crate::camera::{Camera, CameraProjection};
 use crate::frame::{Frame, FrameStats};
-use crate::texture::procedural::perlin::octaves3f;
+use crate::texture::procedural::perlin::{noise3f, octaves3f, NOISE_BOUND};
 use crate::Result;
 
 /// Most steps one ray takes.
@@ -64,8 +64,12 @@ struct Tracer<'a> {
     lipschitz: f32,
     /// Step inside the reach, world.
     step: f32,
+    /// The octaves' weights summed (the fBm's largest value over [`NOISE_BOUND`]).
+    noise_weight: f32,
     /// Bias and gain of the density ramp, tabulated.
     shape: Vec<f32>,
+    /// The opacity of one shell step at each entry of `shape`: `1 − exp(−opacity·D·step/T)`.
+    alpha: Vec<f32>,
     /// Pixel footprint: texture units per unit of distance (perspective) and constant.
     footprint: (f32, f32),
     early: f32,
@@ -118,6 +122,13 @@ pub fn render_distance_field(
             .collect(),
         None => Vec::new(),
     };
+    let alpha = match hyper {
+        Some(h) => shape
+            .iter()
+            .map(|&dens| 1.0 - (-h.opacity * dens * step / shell).exp())
+            .collect(),
+        None => Vec::new(),
+    };
     let footprint = match camera.projection {
         CameraProjection::Perspective { fov_y_deg } => (
             2.0 * (fov_y_deg.to_radians() * 0.5).tan() / height as f32 / size,
@@ -148,7 +159,9 @@ pub fn render_distance_field(
         reach,
         lipschitz,
         step,
+        noise_weight: hyper.map_or(0.0, |h| octave_weight(h.octaves)),
         shape,
+        alpha,
         footprint,
         early: params.early_termination,
         jitter: params.jitter,
@@ -184,6 +197,11 @@ impl Tracer<'_> {
         let mut jittered = false;
         let min_step = self.field.voxel * 0.05;
         let mut at_end = false;
+        // Only the material reads the gradient; sphere-traced steps read the distance alone.
+        let medium = self
+            .hyper
+            .is_some_and(|h| h.amplitude > 0.0 && h.opacity > 0.0);
+        let mut in_reach = false;
         for _ in 0..MAX_STEPS {
             if t > span.t1 {
                 // The last sample sits on the span's end, so a crossing just before a stop
@@ -196,10 +214,15 @@ impl Tracer<'_> {
             }
             let q = ray.at(t);
             let p = eye + dir * t;
-            let (d, g) = self.field.distance_and_gradient(q);
+            let (mut d, mut g) = if in_reach {
+                self.field.distance_and_gradient(q)
+            } else {
+                (self.field.distance(q), Vec3::ZERO)
+            };
             reads += 1;
             if d > self.reach {
                 // Sphere tracing to the reach.
+                in_reach = false;
                 t_prev = Some(t);
                 // Inside a shell, stepping less than a shell step gains nothing.
                 let least = if self.reach > 0.0 {
@@ -210,13 +233,14 @@ impl Tracer<'_> {
                 t += ((d - self.reach) * 0.9).max(least);
                 continue;
             }
-            let medium = self
-                .hyper
-                .is_some_and(|h| h.amplitude > 0.0 && h.opacity > 0.0);
+            if medium && !in_reach {
+                in_reach = true;
+                (d, g) = self.field.distance_and_gradient(q);
+            }
             if !medium && self.reach.is_finite() {
                 // No material: sphere tracing of the (melted, displaced) core itself.
                 let e = if self.warped() {
-                    self.core_distance(p)
+                    self.core_step_distance(p)
                 } else {
                     d
                 };
@@ -318,6 +342,27 @@ impl Tracer<'_> {
         }
     }
 
+    /// [`Self::core_distance`] where it is near; far from the core, a lower bound of it
+    /// without the displacement's noise (`d − displacement`, at most 1/5 below it there),
+    /// which sphere tracing may step by just as safely.
+    #[inline]
+    fn core_step_distance(&self, p: Vec3) -> f32 {
+        let Some(h) = self.hyper.filter(|h| h.core_displacement != 0.0) else {
+            return self.core_distance(p);
+        };
+        let pm = p + self.sag(h, p);
+        let d = self
+            .field
+            .distance(self.field.voxel_from_world.transform_point3(pm));
+        // The noise is in [0, 1]: the displacement is at most this.
+        let most = h.core_displacement.max(0.0) * self.shell;
+        if h.core_displacement > 0.0 && d - most > 4.0 * most {
+            d - most
+        } else {
+            d - h.core_displacement * self.shell * self.noise(h, p)
+        }
+    }
+
     /// The crossing between `lo` (outside) and `hi` (inside) along the ray, to 1/100 voxel,
     /// and the reads it took.
     fn bisect(&self, eye: Vec3, dir: Vec3, lo: f32, hi: f32) -> (f32, u32) {
@@ -361,22 +406,53 @@ impl Tracer<'_> {
     /// The hypertexture's noise at world point `p`, in `[0, 1]`.
     #[inline(always)]
     fn noise(&self, h: &Hypertexture, p: Vec3) -> f32 {
+        self.noise_above(h, p, f32::NEG_INFINITY).unwrap_or(0.0)
+    }
+
+    /// [`Self::noise`] when it may exceed `floor`; `None` once the octaves summed so far and
+    /// a bound on the rest (each octave's weight × [`NOISE_BOUND`]) show it cannot. The sum
+    /// is `octaves3f`'s, term by term in the same order, so a value returned is the same.
+    #[inline(always)]
+    fn noise_above(&self, h: &Hypertexture, p: Vec3, floor: f32) -> Option<f32> {
         let x = self.texture_from_world.transform_point3(p) * h.frequency;
         let up = self.up;
         let x = x + up * (x.dot(up) * (h.stretch - 1.0) - h.rise * h.time);
-        match h.noise {
-            NoiseKind::Fbm => 0.5 + 0.7 * octaves3f(x, h.octaves, 2.0, 0.5, false),
-            NoiseKind::Turbulence => octaves3f(x, h.octaves, 2.0, 0.5, true) * 1.2,
+        let absolute = h.noise == NoiseKind::Turbulence;
+        let (offset, scale) = if absolute { (0.0, 1.2) } else { (0.5, 0.7) };
+        // N = offset + scale · S ≤ floor  ⇔  S ≤ (floor − offset) / scale.
+        let s_floor = (floor - offset) / scale;
+        let octaves = h.octaves.clamp(0.0, 32.0);
+        let whole = octaves.floor() as u32;
+        let (mut sum, mut amp, mut freq) = (0.0f32, 1.0f32, 1.0f32);
+        let mut rest = self.noise_weight * NOISE_BOUND;
+        for i in 0..=whole {
+            let weight = if i < whole {
+                amp
+            } else {
+                (octaves - whole as f32) * amp
+            };
+            if weight == 0.0 {
+                break;
+            }
+            let q = x * freq;
+            let n = noise3f(q.x, q.y, q.z);
+            sum += weight * if absolute { n.abs() } else { n };
+            amp *= 0.5;
+            freq *= 2.0;
+            rest -= weight * NOISE_BOUND;
+            if sum + rest < s_floor {
+                return None;
+            }
         }
-        .clamp(0.0, 1.0)
+        Some((offset + scale * sum).clamp(0.0, 1.0))
     }
 
     /// The density at world point `p` with field distance `d` and gradient `g`, in `[0, 1]`,
-    /// and its ramp value `u`.
+    /// its ramp value `u` and its entry in the tables (`shape`, `alpha`).
     #[inline(always)]
-    fn density(&self, h: &Hypertexture, p: Vec3, d: f32, g: Vec3) -> (f32, f32) {
+    fn density(&self, h: &Hypertexture, p: Vec3, d: f32, g: Vec3) -> (f32, f32, usize) {
         if h.amplitude == 0.0 || h.opacity == 0.0 {
-            return (0.0, 0.0);
+            return (0.0, 0.0, 0);
         }
         let d = if h.melt != 0.0 {
             let pm = p + self.sag(h, p);
@@ -387,28 +463,32 @@ impl Tracer<'_> {
         };
         let height = d / self.shell;
         if height >= h.amplitude {
-            return (0.0, 0.0);
+            return (0.0, 0.0, 0);
         }
         let at = if h.strands {
             p - g.try_normalize().unwrap_or(Vec3::ZERO) * d
         } else {
             p
         };
-        let u = (h.amplitude * self.noise(h, at) - height.max(0.0)) / h.softness;
+        // No material where the noise cannot reach this height (its finer octaves skipped).
+        let Some(n) = self.noise_above(h, at, height.max(0.0) / h.amplitude) else {
+            return (0.0, 0.0, 0);
+        };
+        let u = (h.amplitude * n - height.max(0.0)) / h.softness;
         if u <= 0.0 {
-            return (0.0, 0.0);
+            return (0.0, 0.0, 0);
         }
-        let i = (u.min(1.0) * SHAPE_LUT as f32) as usize;
-        (self.shape[i.min(SHAPE_LUT)], u.min(1.0))
+        let i = ((u.min(1.0) * SHAPE_LUT as f32) as usize).min(SHAPE_LUT);
+        (self.shape[i], u.min(1.0), i)
     }
 
     /// The material at one sample: its colour, opacity over the step, and the reads taken.
     fn material(&self, h: &Hypertexture, p: Vec3, d: f32, g: Vec3, dir: Vec3) -> (Vec3, f32, u64) {
-        let (dens, u) = self.density(h, p, d, g);
+        let (dens, u, i) = self.density(h, p, d, g);
         if dens <= 0.0 {
             return (Vec3::ZERO, 0.0, 0);
         }
-        let a = 1.0 - (-h.opacity * dens * self.step / self.shell).exp();
+        let a = self.alpha[i];
         let ramp = h.outer.lerp(h.inner, u);
         if h.emission > 0.0 {
             return (ramp * h.emission, a, 0);
@@ -445,4 +525,20 @@ impl Tracer<'_> {
             steps,
         )
     }
+}
+
+/// The sum of the octave weights `octaves3f` gives `octaves` (gain ½, the last fractional).
+fn octave_weight(octaves: f32) -> f32 {
+    let octaves = octaves.clamp(0.0, 32.0);
+    let whole = octaves.floor() as u32;
+    let (mut sum, mut amp) = (0.0f32, 1.0f32);
+    for i in 0..=whole {
+        sum += if i < whole {
+            amp
+        } else {
+            (octaves - whole as f32) * amp
+        };
+        amp *= 0.5;
+    }
+    sum
 }
