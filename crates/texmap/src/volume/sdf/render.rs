@@ -30,6 +30,7 @@ use super::look::{texture_from_world, SurfaceLook};
 use super::reader::FieldReader;
 use crate::camera::{Camera, CameraProjection};
 use crate::frame::{Frame, FrameStats};
+use crate::shading::shadow::ShadowMaps;
 use crate::texture::procedural::perlin::{noise3f, octaves3f, NOISE_BOUND};
 use crate::Result;
 
@@ -41,8 +42,12 @@ const BISECTIONS: u32 = 16;
 const SHAPE_LUT: usize = 1024;
 
 /// Everything the rays of one frame share.
-struct Tracer<'a> {
+pub(super) struct Tracer<'a> {
     field: FieldReader<'a>,
+    /// The lights' shadow maps, looked up where the surface and the material are lit.
+    shadows: Option<&'a ShadowMaps>,
+    /// Rays find the core surface only (its distance), unshaded: a light's depth map.
+    pub(super) depth_only: bool,
     look: &'a SurfaceLook,
     hyper: Option<&'a Hypertexture>,
     lights: VolumeLights,
@@ -96,81 +101,40 @@ pub fn render_distance_field(
     hyper: Option<&Hypertexture>,
     depth: Option<&[f32]>,
 ) -> Result<Frame> {
+    render_distance_field_shadowed(vol, camera, width, height, params, look, hyper, depth, None)
+}
+
+/// [`render_distance_field`] with the scene lights' shadow maps (`shadows`, made for
+/// `params.lights` in their order, as [`crate::render::shadow_maps_with_fields`] makes
+/// them): the surface and the lit material receive the shadows of whatever the maps hold.
+///
+/// # Errors
+/// As [`render_distance_field`].
+#[allow(clippy::too_many_arguments)]
+pub fn render_distance_field_shadowed(
+    vol: &Volume,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    params: &MarchParams,
+    look: &SurfaceLook,
+    hyper: Option<&Hypertexture>,
+    depth: Option<&[f32]>,
+    shadows: Option<&ShadowMaps>,
+) -> Result<Frame> {
     check_request(camera, width, height, params, depth)?;
     look.validate()?;
     if let Some(h) = hyper {
         h.validate()?;
     }
-    let field = FieldReader::new(vol);
-    let (lo, hi) = vol.world_bounds();
-    let size = (hi - lo).max_element().max(1e-12);
-    let shell = hyper.map_or(0.0, |h| h.thickness * size);
-    let reach = match hyper {
-        _ if !params.empty_space_skipping => f32::INFINITY,
-        None => 0.0,
-        Some(h) => (h.amplitude + h.core_displacement) * shell + h.melt * h.time.abs() * 2.5 * size,
-    };
-    // A bound on how fast the melted, displaced core distance changes (its Lipschitz
-    // constant, in practice): sphere tracing it steps by e / lipschitz.
-    let lipschitz = hyper.map_or(1.0, |h| {
-        1.0 + 2.0 * h.melt * h.time.abs() + 2.0 * h.core_displacement * h.thickness * h.frequency
-    });
-    let step = hyper.map_or(field.voxel * 0.5, |h| h.step * shell);
-    let shape = match hyper {
-        Some(h) => (0..=SHAPE_LUT)
-            .map(|i| h.shape(i as f32 / SHAPE_LUT as f32))
-            .collect(),
-        None => Vec::new(),
-    };
-    let alpha = match hyper {
-        Some(h) => shape
-            .iter()
-            .map(|&dens| 1.0 - (-h.opacity * dens * step / shell).exp())
-            .collect(),
-        None => Vec::new(),
-    };
-    let footprint = match camera.projection {
-        CameraProjection::Perspective { fov_y_deg } => (
-            2.0 * (fov_y_deg.to_radians() * 0.5).tan() / height as f32 / size,
-            0.0,
-        ),
-        CameraProjection::Orthographic { half_height } => {
-            (0.0, 2.0 * half_height / height as f32 / size)
-        }
-    };
-    let up = camera.up.try_normalize().unwrap_or(Vec3::Y);
-    let tr = Tracer {
-        field,
-        look,
-        hyper,
-        lights: VolumeLights::new(params.reflectance, &params.lights),
-        has_lights: !params.lights.is_empty(),
-        light_list: &params.lights,
-        texture_from_world: texture_from_world(lo, hi),
-        world_from_voxel: vol.world_from_voxel(),
-        size,
-        base: vol
-            .world_corners()
-            .iter()
-            .map(|c| c.dot(up))
-            .fold(f32::INFINITY, f32::min),
-        up,
-        shell,
-        reach,
-        lipschitz,
-        step,
-        noise_weight: hyper.map_or(0.0, |h| octave_weight(h.octaves)),
-        shape,
-        alpha,
-        footprint,
-        early: params.early_termination,
-        jitter: params.jitter,
-    };
+    let mut tr = Tracer::new(vol, camera, height, params, look, hyper);
+    tr.shadows = shadows.filter(|m| !m.is_empty());
     let (color, samples) = tiled_frame(width, height, |x, y| {
         let (o, d) = camera_ray(camera, width, height, x as f32 + 0.5, y as f32 + 0.5);
         let t_max = depth.map_or(f32::INFINITY, |dd| dd[(y * width + x) as usize]);
         let j = if tr.jitter { pixel_hash(x, y) } else { 0.0 };
-        tr.trace(o, d, t_max, j)
+        let (c, n, _) = tr.trace(o, d, t_max, j);
+        (c, n)
     });
     Ok(Frame {
         width,
@@ -183,12 +147,101 @@ pub fn render_distance_field(
     })
 }
 
+impl<'a> Tracer<'a> {
+    /// The rays' shared state for `vol` seen by `camera` in an image `height` pixels high
+    /// (the pixel footprint; the camera's up is the melt's and the flames' up).
+    pub(super) fn new(
+        vol: &'a Volume,
+        camera: &Camera,
+        height: u32,
+        params: &'a MarchParams,
+        look: &'a SurfaceLook,
+        hyper: Option<&'a Hypertexture>,
+    ) -> Tracer<'a> {
+        let field = FieldReader::new(vol);
+        let (lo, hi) = vol.world_bounds();
+        let size = (hi - lo).max_element().max(1e-12);
+        let shell = hyper.map_or(0.0, |h| h.thickness * size);
+        let reach = match hyper {
+            _ if !params.empty_space_skipping => f32::INFINITY,
+            None => 0.0,
+            Some(h) => {
+                (h.amplitude + h.core_displacement) * shell + h.melt * h.time.abs() * 2.5 * size
+            }
+        };
+        // A bound on how fast the melted, displaced core distance changes (its Lipschitz
+        // constant, in practice): sphere tracing it steps by e / lipschitz.
+        let lipschitz = hyper.map_or(1.0, |h| {
+            1.0 + 2.0 * h.melt * h.time.abs()
+                + 2.0 * h.core_displacement * h.thickness * h.frequency
+        });
+        let step = hyper.map_or(field.voxel * 0.5, |h| h.step * shell);
+        let shape = match hyper {
+            Some(h) => (0..=SHAPE_LUT)
+                .map(|i| h.shape(i as f32 / SHAPE_LUT as f32))
+                .collect(),
+            None => Vec::new(),
+        };
+        let alpha = match hyper {
+            Some(h) => shape
+                .iter()
+                .map(|&dens| 1.0 - (-h.opacity * dens * step / shell).exp())
+                .collect(),
+            None => Vec::new(),
+        };
+        let footprint = match camera.projection {
+            CameraProjection::Perspective { fov_y_deg } => (
+                2.0 * (fov_y_deg.to_radians() * 0.5).tan() / height as f32 / size,
+                0.0,
+            ),
+            CameraProjection::Orthographic { half_height } => {
+                (0.0, 2.0 * half_height / height as f32 / size)
+            }
+        };
+        let up = camera.up.try_normalize().unwrap_or(Vec3::Y);
+        Tracer {
+            shadows: None,
+            depth_only: false,
+            field,
+            look,
+            hyper,
+            lights: VolumeLights::new(params.reflectance, &params.lights),
+            has_lights: !params.lights.is_empty(),
+            light_list: &params.lights,
+            texture_from_world: texture_from_world(lo, hi),
+            world_from_voxel: vol.world_from_voxel(),
+            size,
+            base: vol
+                .world_corners()
+                .iter()
+                .map(|c| c.dot(up))
+                .fold(f32::INFINITY, f32::min),
+            up,
+            shell,
+            reach,
+            lipschitz,
+            step,
+            noise_weight: hyper.map_or(0.0, |h| octave_weight(h.octaves)),
+            shape,
+            alpha,
+            footprint,
+            early: params.early_termination,
+            jitter: params.jitter,
+        }
+    }
+}
+
 impl Tracer<'_> {
-    /// One ray: its colour (linear, premultiplied) and the field reads it took.
-    fn trace(&self, eye: Vec3, dir: Vec3, t_max: f32, jitter: f32) -> (Vec4, u64) {
+    /// One ray: its colour (linear, premultiplied), the field reads it took and the ray
+    /// distance of the core surface where it met it (+∞ where it did not). With
+    /// `depth_only` the material is left out and nothing is shaded.
+    pub(super) fn trace(&self, eye: Vec3, dir: Vec3, t_max: f32, jitter: f32) -> (Vec4, u64, f32) {
         let ray = VoxelRay::new(&self.field.voxel_from_world, eye, dir);
-        let Some(span) = clip_to_box(&ray, t_max, Vec3::ZERO, self.field.hi) else {
-            return (Vec4::ZERO, 0);
+        let core = self.hyper.is_none_or(|h| h.core);
+        let Some(span) = clip_to_box(&ray, t_max, Vec3::ZERO, self.field.hi)
+            .filter(|_| core || !self.depth_only)
+        else {
+            return (Vec4::ZERO, 0, f32::INFINITY);
         };
         let mut acc = Vec4::ZERO;
         let mut reads = 0u64;
@@ -198,10 +251,12 @@ impl Tracer<'_> {
         let min_step = self.field.voxel * 0.05;
         let mut at_end = false;
         // Only the material reads the gradient; sphere-traced steps read the distance alone.
-        let medium = self
-            .hyper
-            .is_some_and(|h| h.amplitude > 0.0 && h.opacity > 0.0);
+        let medium = !self.depth_only
+            && self
+                .hyper
+                .is_some_and(|h| h.amplitude > 0.0 && h.opacity > 0.0);
         let mut in_reach = false;
+        let mut hit_t = f32::INFINITY;
         for _ in 0..MAX_STEPS {
             if t > span.t1 {
                 // The last sample sits on the span's end, so a crossing just before a stop
@@ -249,6 +304,10 @@ impl Tracer<'_> {
                         Some(tp) => self.bisect(eye, dir, tp, t),
                         None => (t, 0),
                     };
+                    hit_t = hit;
+                    if self.depth_only {
+                        break;
+                    }
                     reads += u64::from(n) + 6;
                     acc = self.shade_core(eye + dir * hit, dir, hit);
                     break;
@@ -266,7 +325,6 @@ impl Tracer<'_> {
                     continue;
                 }
             }
-            let core = self.hyper.is_none_or(|h| h.core);
             let e = if self.warped() {
                 self.core_distance(p)
             } else {
@@ -277,6 +335,10 @@ impl Tracer<'_> {
                     Some(tp) => self.bisect(eye, dir, tp, t),
                     None => (t, 0),
                 };
+                hit_t = hit;
+                if self.depth_only {
+                    break;
+                }
                 reads += u64::from(n) + 6;
                 let c = self.shade_core(eye + dir * hit, dir, hit);
                 acc += c * (1.0 - acc.w);
@@ -299,7 +361,7 @@ impl Tracer<'_> {
                 t += self.step;
             }
         }
-        (acc, reads)
+        (acc, reads, hit_t)
     }
 
     /// True when the core surface is not the field's zero set (melted or displaced).
@@ -400,7 +462,23 @@ impl Tracer<'_> {
         let n = self.look.bumped(&self.texture_from_world, pt, n);
         let width = self.footprint.0 * t + self.footprint.1;
         let c = self.look.color_at(&self.texture_from_world, pt, width);
-        self.lights.shade(c, n, dir, || p).extend(1.0)
+        self.lit(c, n, dir, p).extend(1.0)
+    }
+
+    /// Colour `c` with normal (or gradient) `n` at world point `p` lit by the volume's
+    /// lights, in the shadow maps' shadows when there are maps.
+    #[inline(always)]
+    fn lit(&self, c: Vec3, n: Vec3, dir: Vec3, p: Vec3) -> Vec3 {
+        match self.shadows {
+            None => self.lights.shade(c, n, dir, || p),
+            Some(maps) => self.lights.shade_shadowed(
+                c,
+                n,
+                dir,
+                || p,
+                |i, p, n, l| maps.visibility(i, p, n, l),
+            ),
+        }
     }
 
     /// The hypertexture's noise at world point `p`, in `[0, 1]`.
@@ -493,7 +571,7 @@ impl Tracer<'_> {
         if h.emission > 0.0 {
             return (ramp * h.emission, a, 0);
         }
-        let lit = self.lights.shade(ramp, g, dir, || p);
+        let lit = self.lit(ramp, g, dir, p);
         if !(h.shadows && self.has_lights) {
             return (lit, a, 0);
         }
