@@ -221,7 +221,7 @@ impl<'a> Tracer<'a> {
             reach,
             lipschitz,
             step,
-            noise_weight: hyper.map_or(0.0, |h| octave_weight(h.octaves)),
+            noise_weight: hyper.map_or(0.0, Hypertexture::octave_weight),
             shape,
             alpha,
             footprint,
@@ -603,20 +603,4 @@ impl Tracer<'_> {
             steps,
         )
     }
-}
-
-/// The sum of the octave weights `octaves3f` gives `octaves` (gain ½, the last fractional).
-fn octave_weight(octaves: f32) -> f32 {
-    let octaves = octaves.clamp(0.0, 32.0);
-    let whole = octaves.floor() as u32;
-    let (mut sum, mut amp) = (0.0f32, 1.0f32);
-    for i in 0..=whole {
-        sum += if i < whole {
-            amp
-        } else {
-            (octaves - whole as f32) * amp
-        };
-        amp *= 0.5;
-    }
-    sum
 }
