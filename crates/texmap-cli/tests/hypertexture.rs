@@ -269,3 +269,50 @@ fn bad_input_is_one_line_and_no_output() {
         refused(&r, words, &out);
     }
 }
+
+#[test]
+fn shadows_flag_makes_a_field_cast_and_receive() {
+    // A box drawn as its distance field over a floor, a light up and to the side.
+    let d = dir("shadows");
+    let b = d.join("box.obj");
+    box_obj(&b);
+    std::fs::write(
+        d.join("floor.obj"),
+        "v -4 -1 -4\nv 4 -1 -4\nv 4 -1 4\nv -4 -1 4\nvn 0 1 0\nf 1//1 3//1 2//1\nf 1//1 4//1 3//1\n",
+    )
+    .unwrap();
+    let toml = |casting: bool| {
+        format!(
+            "[[cameras]]\neye = [0, 5, 7]\ntarget = [0, 0, 0]\n{}\
+             [[lights]]\ntype = \"directional\"\ndirection = [0.8, 1, 0.3]\nshadows = {casting}\n\
+             [[meshes]]\nfile = \"floor.obj\"\n\
+             [[volumes]]\nfile = \"box.obj\"\nsdf_res = 24\nmethod = \"surface\"\n",
+            if casting {
+                "[shadows]\nmap_size = 256\n"
+            } else {
+                ""
+            }
+        )
+    };
+    let (lit, casting) = (d.join("lit.toml"), d.join("casting.toml"));
+    std::fs::write(&lit, toml(false)).unwrap();
+    std::fs::write(&casting, toml(true)).unwrap();
+    let plain = render(&d, &lit, "plain", &[]);
+    let flag = render(&d, &lit, "flag", &["--shadows", "--shadow-map-size", "256"]);
+    let on = render(&d, &casting, "on", &[]);
+    let off = render(&d, &casting, "off", &["--shadows=false"]);
+    assert_eq!(plain, off, "with no casting light nothing changes");
+    assert_eq!(flag, on, "--shadows casts as the scene's key does");
+    // The shadow darkens the floor beside the box: many pixels darker, none brighter.
+    let (mut darker, mut brighter) = (0, 0);
+    for (a, b) in on.iter().zip(&off) {
+        if *a + 8 < *b {
+            darker += 1;
+        }
+        if *a > *b + 8 {
+            brighter += 1;
+        }
+    }
+    assert!(darker > 60, "{darker} darker values");
+    assert_eq!(brighter, 0, "{brighter} brighter values");
+}

@@ -29,8 +29,9 @@ use glam::Vec3;
 use texmap::camera::CameraProjection;
 use texmap::render::framing::{choose_camera, CameraRequest, ProjectionRequest, StandardView};
 use texmap::render::{
-    prefilter_environment, render_into_with_shadows, render_with_volumes, shadow_map_bytes,
-    shadow_maps, CullMode, Frame, Interpolation, Settings, ShadingMode, Visibility,
+    prefilter_environment, render_into_with_shadows, render_with_volumes_shadowed,
+    shadow_map_bytes, shadow_maps, shadow_maps_with_fields, CullMode, Frame, Interpolation,
+    Settings, ShadingMode, Visibility,
 };
 use texmap::scene::builtin::Builtin;
 use texmap::scene::{Environment, LoadOptions, Scene};
@@ -39,7 +40,7 @@ use texmap::texture::{
     load_environment, ColorSpace, EnvironmentMap, Filter, Texture2D, TextureOptions,
 };
 use texmap::volume::section::render_section;
-use texmap::volume::SceneVolume;
+use texmap::volume::{Method, SceneVolume};
 use texmap::Error;
 
 use crate::formats::OutputFormat;
@@ -367,7 +368,9 @@ pub(crate) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
     let setup_start = Instant::now();
     let pool = &common.pool;
     let Built {
-        mut scene, volumes, ..
+        mut scene,
+        mut volumes,
+        ..
     } = pool.install(|| {
         let mut built = build(args, common.texture.clone())?;
         apply_environment(args, &mut built.scene, common.env_map.clone())?;
@@ -516,7 +519,24 @@ pub(crate) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
     // The shadow maps do not depend on the camera: drawn once for the whole turntable (the
     // stats report their time apart from the frames').
     let shadow_start = Instant::now();
-    let shadow_maps = pool.install(|| shadow_maps(&scene, &settings))?;
+    if !settings.shadows.casters(&scene).is_empty() {
+        // A distance field lit by its headlight could not be shadowed: with casting lights
+        // it is lit by the scene's lights, as the meshes are.
+        for v in &mut volumes {
+            if matches!(v.method, Method::Surface | Method::Hypertexture)
+                && v.params.lights.is_empty()
+            {
+                v.params.lights = scene.lights.clone();
+            }
+        }
+    }
+    let shadow_maps = pool.install(|| {
+        if volumes.is_empty() {
+            shadow_maps(&scene, &settings)
+        } else {
+            shadow_maps_with_fields(&scene, &volumes, &camera, &settings)
+        }
+    })?;
     let shadow_ms = shadow_start.elapsed().as_secs_f64() * 1e3;
     // The environment's prefiltering (once per environment): outside the frame times.
     let prefilter_start = Instant::now();
@@ -585,7 +605,21 @@ impl Prepared {
             if volumes.is_empty() {
                 render_into_with_shadows(&self.scene, cam, settings, &self.shadow_maps, frame)
             } else {
-                *frame = render_with_volumes(&self.scene, volumes, cam, settings)?;
+                // An animated field (a hypertexture's frame, not the prepared volumes)
+                // changes its shadow: its maps are made again.
+                let animated = !std::ptr::eq(volumes, self.volumes.as_slice());
+                let remade = if animated && !self.shadow_maps.is_empty() {
+                    Some(shadow_maps_with_fields(&self.scene, volumes, cam, settings)?)
+                } else {
+                    None
+                };
+                *frame = render_with_volumes_shadowed(
+                    &self.scene,
+                    volumes,
+                    cam,
+                    settings,
+                    remade.as_ref().unwrap_or(&self.shadow_maps),
+                )?;
                 Ok(())
             }
         })

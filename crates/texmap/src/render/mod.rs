@@ -33,6 +33,7 @@
 mod background;
 mod draw;
 mod environment;
+mod field_shadow;
 mod fragment;
 pub mod framing;
 mod layers;
@@ -62,12 +63,15 @@ use crate::{Error, Result};
 
 use draw::DrawInfo;
 pub use environment::prefilter_environment;
+pub use field_shadow::shadow_maps_with_fields;
 use fragment::SceneShader;
 use projectors::{ProjectorRead, Projectors};
 pub use settings::{Settings, ShadingMode, TextureOverrides, Visibility, MAX_SIZE};
 pub use shadow::{shadow_map_bytes, shadow_maps, ShadowOverrides, MAX_SPOT_MAP_DEG};
 use vertex::SceneVertices;
-pub use volumes::{render_with_meshes, render_with_volumes, surface_distances};
+pub use volumes::{
+    render_with_meshes, render_with_volumes, render_with_volumes_shadowed, surface_distances,
+};
 
 /// Renders `scene` seen by `camera`, in rayon's current thread pool.
 ///

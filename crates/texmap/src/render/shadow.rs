@@ -175,6 +175,18 @@ impl ShadowOverrides {
 /// [`crate::Error::Parameter`] for bad shadow parameters (a map size of 0 or above
 /// [`MAX_SHADOW_MAP_SIZE`], negative biases, …).
 pub fn shadow_maps(scene: &Scene, settings: &Settings) -> Result<ShadowMaps> {
+    shadow_maps_with(scene, settings, &[], &|_: &mut ShadowMap| {})
+}
+
+/// [`shadow_maps`] with more casters that the pipeline does not draw: `proxies` (their
+/// boxes as meshes) widen the maps' views and depth ranges as casting meshes do, and
+/// `add` then writes their depths into each map drawn (`field_shadow.rs`).
+pub(super) fn shadow_maps_with(
+    scene: &Scene,
+    settings: &Settings,
+    proxies: &[Mesh],
+    add: &(dyn Fn(&mut ShadowMap) + Sync),
+) -> Result<ShadowMaps> {
     let casters = settings.shadows.casters(scene);
     let projectors = settings.shadows.casting_projectors(scene);
     let params = settings.shadows.apply(scene.shadows.params);
@@ -192,10 +204,18 @@ pub fn shadow_maps(scene: &Scene, settings: &Settings) -> Result<ShadowMaps> {
                 .is_some_and(|mat| mat.alpha_mode != AlphaMode::Blend)
         })
         .collect();
-    if settings.unlit || casting.is_empty() {
+    let fit: Vec<&Mesh> = casting.iter().copied().chain(proxies).collect();
+    if settings.unlit || fit.is_empty() {
         return Ok(ShadowMaps::default());
     }
-    let bounds = scene.bounds();
+    let bounds = proxies
+        .iter()
+        .flat_map(|m| {
+            m.positions
+                .iter()
+                .map(|&p| m.world_from_object.transform_point3(p))
+        })
+        .fold(scene.bounds(), |(lo, hi), p| (lo.min(p), hi.max(p)));
     let mut target = Vec::new();
     let lights = scene
         .lights
@@ -204,7 +224,7 @@ pub fn shadow_maps(scene: &Scene, settings: &Settings) -> Result<ShadowMaps> {
         .filter_map(|(i, l)| Some((i, l.normalized()?)))
         .map(|(i, light)| {
             casters.contains(&i).then(|| LightShadow {
-                maps: light_maps(&light, bounds, &params, &casting, &mut target),
+                maps: light_maps(&light, bounds, &params, (&fit, &casting), &mut target, add),
                 origin: origin(&light),
                 extent: match light {
                     Light::Directional { .. } => LightExtent::Angle {
@@ -223,7 +243,14 @@ pub fn shadow_maps(scene: &Scene, settings: &Settings) -> Result<ShadowMaps> {
         .enumerate()
         .map(|(k, p)| {
             projectors.contains(&k).then(|| LightShadow {
-                maps: light_maps(&projector_light(p), bounds, &params, &casting, &mut target),
+                maps: light_maps(
+                    &projector_light(p),
+                    bounds,
+                    &params,
+                    (&fit, &casting),
+                    &mut target,
+                    add,
+                ),
                 origin: p.position,
                 extent: LightExtent::Radius {
                     radius: params.light_radius,
@@ -291,16 +318,22 @@ pub(super) fn origin(light: &Light) -> Vec3 {
     }
 }
 
-/// Every map of `light` (unit directions), drawn.
+/// Every map of `light` (unit directions), fitted to `fit`, `drawn` drawn into it, then
+/// `add`'s casters.
 fn light_maps(
     light: &Light,
     bounds: (Vec3, Vec3),
     params: &ShadowParams,
-    casting: &[&Mesh],
+    (casting, drawn): (&[&Mesh], &[&Mesh]),
     target: &mut Vec<Vec4>,
+    add: &(dyn Fn(&mut ShadowMap) + Sync),
 ) -> LightMaps {
     let n = params.map_size.clamp(1, MAX_SHADOW_MAP_SIZE);
-    let mut draw = |m: ShadowMap| draw_map(m, casting, target);
+    let mut draw = |m: ShadowMap| {
+        let mut m = draw_map(m, drawn, target);
+        add(&mut m);
+        m
+    };
     match *light {
         Light::Directional { direction, .. } => {
             LightMaps::One(draw(directional(direction, bounds, casting, n)))

@@ -13,14 +13,15 @@
 
 use glam::{Vec3, Vec4};
 
-use super::{render, Frame, Settings};
+use super::{render, render_into_with_shadows, shadow_maps_with_fields, Frame, Settings};
 use crate::camera::Camera;
 use crate::pipeline::{
     self, ClipVertex, DrawCall, DrawState, FragmentShader, Interpolation, Quad, Target,
     MAX_VARYINGS,
 };
 use crate::scene::Scene;
-use crate::volume::sdf::render_distance_field;
+use crate::shading::shadow::ShadowMaps;
+use crate::volume::sdf::render_distance_field_shadowed;
 use crate::volume::{
     raymarch, render_slices_until, MarchParams, Method, SceneVolume, TransferFunction, Volume,
 };
@@ -156,6 +157,24 @@ pub fn render_with_volumes(
     camera: &Camera,
     settings: &Settings,
 ) -> Result<Frame> {
+    let shadows = shadow_maps_with_fields(scene, volumes, camera, settings)?;
+    render_with_volumes_shadowed(scene, volumes, camera, settings, &shadows)
+}
+
+/// [`render_with_volumes`] with shadow maps made before by
+/// [`shadow_maps_with_fields`] for this scene, these volumes and settings (a turntable
+/// makes them once): the meshes and the distance-field surfaces lit by the scene's lights
+/// receive the shadows of both.
+///
+/// # Errors
+/// As [`render_with_volumes`].
+pub fn render_with_volumes_shadowed(
+    scene: &Scene,
+    volumes: &[SceneVolume],
+    camera: &Camera,
+    settings: &Settings,
+    shadows: &ShadowMaps,
+) -> Result<Frame> {
     let (w, h) = (settings.width, settings.height);
     let depth = if scene.meshes.is_empty() {
         None
@@ -172,7 +191,9 @@ pub fn render_with_volumes(
     let mut frame: Option<Frame> = if scene.meshes.is_empty() && !volumes.is_empty() {
         None
     } else {
-        Some(render(scene, camera, settings)?)
+        let mut f = Frame::default();
+        render_into_with_shadows(scene, camera, settings, shadows, &mut f)?;
+        Some(f)
     };
     for v in order {
         let f = match v.method {
@@ -192,7 +213,7 @@ pub fn render_with_volumes(
                     depth.as_deref(),
                 )?
             }
-            Method::Surface | Method::Hypertexture => render_distance_field(
+            Method::Surface | Method::Hypertexture => render_distance_field_shadowed(
                 &v.volume,
                 camera,
                 w,
@@ -203,6 +224,9 @@ pub fn render_with_volumes(
                     .as_ref()
                     .filter(|_| v.method == Method::Hypertexture),
                 depth.as_deref(),
+                // The maps are the scene lights'; a volume lit otherwise (its headlight)
+                // does not read them.
+                (!v.params.lights.is_empty() && v.params.lights == scene.lights).then_some(shadows),
             )?,
         };
         frame = Some(match frame {

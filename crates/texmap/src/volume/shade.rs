@@ -45,16 +45,20 @@ pub(crate) struct VolumeLights {
     k: Reflectance,
     /// Scene lights with unit directions; empty: the headlight.
     lights: Vec<Light>,
+    /// Each light's index in the list it was made from (the scene's, which shadow maps use).
+    index: Vec<usize>,
 }
 
 impl VolumeLights {
     /// `lights` empty means the headlight; lights that cannot shine (a zero direction) are
     /// dropped.
     pub fn new(k: Reflectance, lights: &[Light]) -> Self {
-        VolumeLights {
-            k,
-            lights: lights.iter().filter_map(Light::normalized).collect(),
-        }
+        let (index, lights) = lights
+            .iter()
+            .enumerate()
+            .filter_map(|(i, l)| Some((i, l.normalized()?)))
+            .unzip();
+        VolumeLights { k, lights, index }
     }
 
     /// `x^power`, by multiplications when the power is a small integer (powf costs more than
@@ -73,6 +77,22 @@ impl VolumeLights {
     /// the scene), at the world position `world()` (evaluated for scene lights only).
     #[inline(always)]
     pub fn shade(&self, c: Vec3, g: Vec3, ray: Vec3, world: impl FnOnce() -> Vec3) -> Vec3 {
+        self.shade_shadowed(c, g, ray, world, |_, _, _, _| 1.0)
+    }
+
+    /// [`Self::shade`] with each scene light's diffuse and specular terms scaled by
+    /// `visible(i, p, n, l)`: the fraction of light `i` (its index in the list given to
+    /// [`Self::new`]) reaching world point `p` with normal `n` (facing the viewer), `l`
+    /// towards the light, asked only where `n·l > 0`.
+    #[inline(always)]
+    pub fn shade_shadowed(
+        &self,
+        c: Vec3,
+        g: Vec3,
+        ray: Vec3,
+        world: impl FnOnce() -> Vec3,
+        visible: impl Fn(usize, Vec3, Vec3, Vec3) -> f32,
+    ) -> Vec3 {
         let k = &self.k;
         let len = g.length();
         if len <= 1e-6 {
@@ -88,7 +108,7 @@ impl VolumeLights {
         let v = -ray;
         let p = world();
         let (mut diffuse, mut specular) = (Vec3::ZERO, Vec3::ZERO);
-        for light in &self.lights {
+        for (light, &i) in self.lights.iter().zip(&self.index) {
             let Some((l, intensity)) = light.incidence(p) else {
                 continue;
             };
@@ -96,6 +116,11 @@ impl VolumeLights {
             if ndl <= 0.0 {
                 continue;
             }
+            let s = visible(i, p, n, l);
+            if s <= 0.0 {
+                continue;
+            }
+            let intensity = intensity * s;
             diffuse += intensity * ndl;
             let ndh = (l + v).try_normalize().map_or(0.0, |h| n.dot(h).max(0.0));
             specular += intensity * self.spec_pow(ndh);

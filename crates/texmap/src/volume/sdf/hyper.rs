@@ -357,6 +357,23 @@ impl Hypertexture {
 
     /// The density ramp `u` shaped by bias and gain: `D ∈ [0, 1]`.
     #[inline(always)]
+    /// The sum of the weights `octaves3f` gives its octaves (gain ½, the last fractional):
+    /// the largest the fBm can be, over the noise's own bound.
+    pub(crate) fn octave_weight(&self) -> f32 {
+        let octaves = self.octaves.clamp(0.0, 32.0);
+        let whole = octaves.floor() as u32;
+        let (mut sum, mut amp) = (0.0f32, 1.0f32);
+        for i in 0..=whole {
+            sum += if i < whole {
+                amp
+            } else {
+                (octaves - whole as f32) * amp
+            };
+            amp *= 0.5;
+        }
+        sum
+    }
+
     pub(crate) fn shape(&self, u: f32) -> f32 {
         let u = u.clamp(0.0, 1.0);
         if u == 0.0 || u == 1.0 {

@@ -29,6 +29,7 @@
 
 mod analytic;
 mod bvh;
+mod cast;
 mod edt;
 pub mod hyper;
 mod look;
@@ -42,11 +43,12 @@ mod write;
 use glam::{DMat4, DVec3, Mat4};
 
 pub use analytic::{shape_field, Shape};
+pub use cast::FieldCaster;
 pub use edt::{distance_transform_sq, mask_field, Mask};
 pub use hyper::{Hypertexture, NoiseKind};
 pub use look::SurfaceLook;
 pub use mesh::{mesh_field, MeshFieldStats, Triangles};
-pub use render::render_distance_field;
+pub use render::{render_distance_field, render_distance_field_shadowed};
 pub use smooth::{smooth_field, SCAN_SMOOTHING};
 pub use write::{write_nifti, write_nrrd, FieldFormat};
 

@@ -30,7 +30,8 @@ use super::look::{texture_from_world, SurfaceLook};
 use super::reader::FieldReader;
 use crate::camera::{Camera, CameraProjection};
 use crate::frame::{Frame, FrameStats};
-use crate::texture::procedural::perlin::octaves3f;
+use crate::shading::shadow::ShadowMaps;
+use crate::texture::procedural::perlin::{noise3f, octaves3f, NOISE_BOUND};
 use crate::Result;
 
 /// Most steps one ray takes.
@@ -41,8 +42,12 @@ const BISECTIONS: u32 = 16;
 const SHAPE_LUT: usize = 1024;
 
 /// Everything the rays of one frame share.
-struct Tracer<'a> {
+pub(super) struct Tracer<'a> {
     field: FieldReader<'a>,
+    /// The lights' shadow maps, looked up where the surface and the material are lit.
+    shadows: Option<&'a ShadowMaps>,
+    /// Rays find the core surface only (its distance), unshaded: a light's depth map.
+    pub(super) depth_only: bool,
     look: &'a SurfaceLook,
     hyper: Option<&'a Hypertexture>,
     lights: VolumeLights,
@@ -64,8 +69,12 @@ struct Tracer<'a> {
     lipschitz: f32,
     /// Step inside the reach, world.
     step: f32,
+    /// The octaves' weights summed (the fBm's largest value over [`NOISE_BOUND`]).
+    noise_weight: f32,
     /// Bias and gain of the density ramp, tabulated.
     shape: Vec<f32>,
+    /// The opacity of one shell step at each entry of `shape`: `1 − exp(−opacity·D·step/T)`.
+    alpha: Vec<f32>,
     /// Pixel footprint: texture units per unit of distance (perspective) and constant.
     footprint: (f32, f32),
     early: f32,
@@ -92,72 +101,40 @@ pub fn render_distance_field(
     hyper: Option<&Hypertexture>,
     depth: Option<&[f32]>,
 ) -> Result<Frame> {
+    render_distance_field_shadowed(vol, camera, width, height, params, look, hyper, depth, None)
+}
+
+/// [`render_distance_field`] with the scene lights' shadow maps (`shadows`, made for
+/// `params.lights` in their order, as [`crate::render::shadow_maps_with_fields`] makes
+/// them): the surface and the lit material receive the shadows of whatever the maps hold.
+///
+/// # Errors
+/// As [`render_distance_field`].
+#[allow(clippy::too_many_arguments)]
+pub fn render_distance_field_shadowed(
+    vol: &Volume,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    params: &MarchParams,
+    look: &SurfaceLook,
+    hyper: Option<&Hypertexture>,
+    depth: Option<&[f32]>,
+    shadows: Option<&ShadowMaps>,
+) -> Result<Frame> {
     check_request(camera, width, height, params, depth)?;
     look.validate()?;
     if let Some(h) = hyper {
         h.validate()?;
     }
-    let field = FieldReader::new(vol);
-    let (lo, hi) = vol.world_bounds();
-    let size = (hi - lo).max_element().max(1e-12);
-    let shell = hyper.map_or(0.0, |h| h.thickness * size);
-    let reach = match hyper {
-        _ if !params.empty_space_skipping => f32::INFINITY,
-        None => 0.0,
-        Some(h) => (h.amplitude + h.core_displacement) * shell + h.melt * h.time.abs() * 2.5 * size,
-    };
-    // A bound on how fast the melted, displaced core distance changes (its Lipschitz
-    // constant, in practice): sphere tracing it steps by e / lipschitz.
-    let lipschitz = hyper.map_or(1.0, |h| {
-        1.0 + 2.0 * h.melt * h.time.abs() + 2.0 * h.core_displacement * h.thickness * h.frequency
-    });
-    let step = hyper.map_or(field.voxel * 0.5, |h| h.step * shell);
-    let shape = match hyper {
-        Some(h) => (0..=SHAPE_LUT)
-            .map(|i| h.shape(i as f32 / SHAPE_LUT as f32))
-            .collect(),
-        None => Vec::new(),
-    };
-    let footprint = match camera.projection {
-        CameraProjection::Perspective { fov_y_deg } => (
-            2.0 * (fov_y_deg.to_radians() * 0.5).tan() / height as f32 / size,
-            0.0,
-        ),
-        CameraProjection::Orthographic { half_height } => {
-            (0.0, 2.0 * half_height / height as f32 / size)
-        }
-    };
-    let up = camera.up.try_normalize().unwrap_or(Vec3::Y);
-    let tr = Tracer {
-        field,
-        look,
-        hyper,
-        lights: VolumeLights::new(params.reflectance, &params.lights),
-        has_lights: !params.lights.is_empty(),
-        light_list: &params.lights,
-        texture_from_world: texture_from_world(lo, hi),
-        world_from_voxel: vol.world_from_voxel(),
-        size,
-        base: vol
-            .world_corners()
-            .iter()
-            .map(|c| c.dot(up))
-            .fold(f32::INFINITY, f32::min),
-        up,
-        shell,
-        reach,
-        lipschitz,
-        step,
-        shape,
-        footprint,
-        early: params.early_termination,
-        jitter: params.jitter,
-    };
+    let mut tr = Tracer::new(vol, camera, height, params, look, hyper);
+    tr.shadows = shadows.filter(|m| !m.is_empty());
     let (color, samples) = tiled_frame(width, height, |x, y| {
         let (o, d) = camera_ray(camera, width, height, x as f32 + 0.5, y as f32 + 0.5);
         let t_max = depth.map_or(f32::INFINITY, |dd| dd[(y * width + x) as usize]);
         let j = if tr.jitter { pixel_hash(x, y) } else { 0.0 };
-        tr.trace(o, d, t_max, j)
+        let (c, n, _) = tr.trace(o, d, t_max, j);
+        (c, n)
     });
     Ok(Frame {
         width,
@@ -170,12 +147,101 @@ pub fn render_distance_field(
     })
 }
 
+impl<'a> Tracer<'a> {
+    /// The rays' shared state for `vol` seen by `camera` in an image `height` pixels high
+    /// (the pixel footprint; the camera's up is the melt's and the flames' up).
+    pub(super) fn new(
+        vol: &'a Volume,
+        camera: &Camera,
+        height: u32,
+        params: &'a MarchParams,
+        look: &'a SurfaceLook,
+        hyper: Option<&'a Hypertexture>,
+    ) -> Tracer<'a> {
+        let field = FieldReader::new(vol);
+        let (lo, hi) = vol.world_bounds();
+        let size = (hi - lo).max_element().max(1e-12);
+        let shell = hyper.map_or(0.0, |h| h.thickness * size);
+        let reach = match hyper {
+            _ if !params.empty_space_skipping => f32::INFINITY,
+            None => 0.0,
+            Some(h) => {
+                (h.amplitude + h.core_displacement) * shell + h.melt * h.time.abs() * 2.5 * size
+            }
+        };
+        // A bound on how fast the melted, displaced core distance changes (its Lipschitz
+        // constant, in practice): sphere tracing it steps by e / lipschitz.
+        let lipschitz = hyper.map_or(1.0, |h| {
+            1.0 + 2.0 * h.melt * h.time.abs()
+                + 2.0 * h.core_displacement * h.thickness * h.frequency
+        });
+        let step = hyper.map_or(field.voxel * 0.5, |h| h.step * shell);
+        let shape = match hyper {
+            Some(h) => (0..=SHAPE_LUT)
+                .map(|i| h.shape(i as f32 / SHAPE_LUT as f32))
+                .collect(),
+            None => Vec::new(),
+        };
+        let alpha = match hyper {
+            Some(h) => shape
+                .iter()
+                .map(|&dens| 1.0 - (-h.opacity * dens * step / shell).exp())
+                .collect(),
+            None => Vec::new(),
+        };
+        let footprint = match camera.projection {
+            CameraProjection::Perspective { fov_y_deg } => (
+                2.0 * (fov_y_deg.to_radians() * 0.5).tan() / height as f32 / size,
+                0.0,
+            ),
+            CameraProjection::Orthographic { half_height } => {
+                (0.0, 2.0 * half_height / height as f32 / size)
+            }
+        };
+        let up = camera.up.try_normalize().unwrap_or(Vec3::Y);
+        Tracer {
+            shadows: None,
+            depth_only: false,
+            field,
+            look,
+            hyper,
+            lights: VolumeLights::new(params.reflectance, &params.lights),
+            has_lights: !params.lights.is_empty(),
+            light_list: &params.lights,
+            texture_from_world: texture_from_world(lo, hi),
+            world_from_voxel: vol.world_from_voxel(),
+            size,
+            base: vol
+                .world_corners()
+                .iter()
+                .map(|c| c.dot(up))
+                .fold(f32::INFINITY, f32::min),
+            up,
+            shell,
+            reach,
+            lipschitz,
+            step,
+            noise_weight: hyper.map_or(0.0, Hypertexture::octave_weight),
+            shape,
+            alpha,
+            footprint,
+            early: params.early_termination,
+            jitter: params.jitter,
+        }
+    }
+}
+
 impl Tracer<'_> {
-    /// One ray: its colour (linear, premultiplied) and the field reads it took.
-    fn trace(&self, eye: Vec3, dir: Vec3, t_max: f32, jitter: f32) -> (Vec4, u64) {
+    /// One ray: its colour (linear, premultiplied), the field reads it took and the ray
+    /// distance of the core surface where it met it (+∞ where it did not). With
+    /// `depth_only` the material is left out and nothing is shaded.
+    pub(super) fn trace(&self, eye: Vec3, dir: Vec3, t_max: f32, jitter: f32) -> (Vec4, u64, f32) {
         let ray = VoxelRay::new(&self.field.voxel_from_world, eye, dir);
-        let Some(span) = clip_to_box(&ray, t_max, Vec3::ZERO, self.field.hi) else {
-            return (Vec4::ZERO, 0);
+        let core = self.hyper.is_none_or(|h| h.core);
+        let Some(span) = clip_to_box(&ray, t_max, Vec3::ZERO, self.field.hi)
+            .filter(|_| core || !self.depth_only)
+        else {
+            return (Vec4::ZERO, 0, f32::INFINITY);
         };
         let mut acc = Vec4::ZERO;
         let mut reads = 0u64;
@@ -184,6 +250,13 @@ impl Tracer<'_> {
         let mut jittered = false;
         let min_step = self.field.voxel * 0.05;
         let mut at_end = false;
+        // Only the material reads the gradient; sphere-traced steps read the distance alone.
+        let medium = !self.depth_only
+            && self
+                .hyper
+                .is_some_and(|h| h.amplitude > 0.0 && h.opacity > 0.0);
+        let mut in_reach = false;
+        let mut hit_t = f32::INFINITY;
         for _ in 0..MAX_STEPS {
             if t > span.t1 {
                 // The last sample sits on the span's end, so a crossing just before a stop
@@ -196,10 +269,15 @@ impl Tracer<'_> {
             }
             let q = ray.at(t);
             let p = eye + dir * t;
-            let (d, g) = self.field.distance_and_gradient(q);
+            let (mut d, mut g) = if in_reach {
+                self.field.distance_and_gradient(q)
+            } else {
+                (self.field.distance(q), Vec3::ZERO)
+            };
             reads += 1;
             if d > self.reach {
                 // Sphere tracing to the reach.
+                in_reach = false;
                 t_prev = Some(t);
                 // Inside a shell, stepping less than a shell step gains nothing.
                 let least = if self.reach > 0.0 {
@@ -210,13 +288,14 @@ impl Tracer<'_> {
                 t += ((d - self.reach) * 0.9).max(least);
                 continue;
             }
-            let medium = self
-                .hyper
-                .is_some_and(|h| h.amplitude > 0.0 && h.opacity > 0.0);
+            if medium && !in_reach {
+                in_reach = true;
+                (d, g) = self.field.distance_and_gradient(q);
+            }
             if !medium && self.reach.is_finite() {
                 // No material: sphere tracing of the (melted, displaced) core itself.
                 let e = if self.warped() {
-                    self.core_distance(p)
+                    self.core_step_distance(p)
                 } else {
                     d
                 };
@@ -225,6 +304,10 @@ impl Tracer<'_> {
                         Some(tp) => self.bisect(eye, dir, tp, t),
                         None => (t, 0),
                     };
+                    hit_t = hit;
+                    if self.depth_only {
+                        break;
+                    }
                     reads += u64::from(n) + 6;
                     acc = self.shade_core(eye + dir * hit, dir, hit);
                     break;
@@ -242,7 +325,6 @@ impl Tracer<'_> {
                     continue;
                 }
             }
-            let core = self.hyper.is_none_or(|h| h.core);
             let e = if self.warped() {
                 self.core_distance(p)
             } else {
@@ -253,6 +335,10 @@ impl Tracer<'_> {
                     Some(tp) => self.bisect(eye, dir, tp, t),
                     None => (t, 0),
                 };
+                hit_t = hit;
+                if self.depth_only {
+                    break;
+                }
                 reads += u64::from(n) + 6;
                 let c = self.shade_core(eye + dir * hit, dir, hit);
                 acc += c * (1.0 - acc.w);
@@ -275,7 +361,7 @@ impl Tracer<'_> {
                 t += self.step;
             }
         }
-        (acc, reads)
+        (acc, reads, hit_t)
     }
 
     /// True when the core surface is not the field's zero set (melted or displaced).
@@ -318,6 +404,27 @@ impl Tracer<'_> {
         }
     }
 
+    /// [`Self::core_distance`] where it is near; far from the core, a lower bound of it
+    /// without the displacement's noise (`d − displacement`, at most 1/5 below it there),
+    /// which sphere tracing may step by just as safely.
+    #[inline]
+    fn core_step_distance(&self, p: Vec3) -> f32 {
+        let Some(h) = self.hyper.filter(|h| h.core_displacement != 0.0) else {
+            return self.core_distance(p);
+        };
+        let pm = p + self.sag(h, p);
+        let d = self
+            .field
+            .distance(self.field.voxel_from_world.transform_point3(pm));
+        // The noise is in [0, 1]: the displacement is at most this.
+        let most = h.core_displacement.max(0.0) * self.shell;
+        if h.core_displacement > 0.0 && d - most > 4.0 * most {
+            d - most
+        } else {
+            d - h.core_displacement * self.shell * self.noise(h, p)
+        }
+    }
+
     /// The crossing between `lo` (outside) and `hi` (inside) along the ray, to 1/100 voxel,
     /// and the reads it took.
     fn bisect(&self, eye: Vec3, dir: Vec3, lo: f32, hi: f32) -> (f32, u32) {
@@ -355,28 +462,75 @@ impl Tracer<'_> {
         let n = self.look.bumped(&self.texture_from_world, pt, n);
         let width = self.footprint.0 * t + self.footprint.1;
         let c = self.look.color_at(&self.texture_from_world, pt, width);
-        self.lights.shade(c, n, dir, || p).extend(1.0)
+        self.lit(c, n, dir, p).extend(1.0)
+    }
+
+    /// Colour `c` with normal (or gradient) `n` at world point `p` lit by the volume's
+    /// lights, in the shadow maps' shadows when there are maps.
+    #[inline(always)]
+    fn lit(&self, c: Vec3, n: Vec3, dir: Vec3, p: Vec3) -> Vec3 {
+        match self.shadows {
+            None => self.lights.shade(c, n, dir, || p),
+            Some(maps) => self.lights.shade_shadowed(
+                c,
+                n,
+                dir,
+                || p,
+                |i, p, n, l| maps.visibility(i, p, n, l),
+            ),
+        }
     }
 
     /// The hypertexture's noise at world point `p`, in `[0, 1]`.
     #[inline(always)]
     fn noise(&self, h: &Hypertexture, p: Vec3) -> f32 {
+        self.noise_above(h, p, f32::NEG_INFINITY).unwrap_or(0.0)
+    }
+
+    /// [`Self::noise`] when it may exceed `floor`; `None` once the octaves summed so far and
+    /// a bound on the rest (each octave's weight × [`NOISE_BOUND`]) show it cannot. The sum
+    /// is `octaves3f`'s, term by term in the same order, so a value returned is the same.
+    #[inline(always)]
+    fn noise_above(&self, h: &Hypertexture, p: Vec3, floor: f32) -> Option<f32> {
         let x = self.texture_from_world.transform_point3(p) * h.frequency;
         let up = self.up;
         let x = x + up * (x.dot(up) * (h.stretch - 1.0) - h.rise * h.time);
-        match h.noise {
-            NoiseKind::Fbm => 0.5 + 0.7 * octaves3f(x, h.octaves, 2.0, 0.5, false),
-            NoiseKind::Turbulence => octaves3f(x, h.octaves, 2.0, 0.5, true) * 1.2,
+        let absolute = h.noise == NoiseKind::Turbulence;
+        let (offset, scale) = if absolute { (0.0, 1.2) } else { (0.5, 0.7) };
+        // N = offset + scale · S ≤ floor  ⇔  S ≤ (floor − offset) / scale.
+        let s_floor = (floor - offset) / scale;
+        let octaves = h.octaves.clamp(0.0, 32.0);
+        let whole = octaves.floor() as u32;
+        let (mut sum, mut amp, mut freq) = (0.0f32, 1.0f32, 1.0f32);
+        let mut rest = self.noise_weight * NOISE_BOUND;
+        for i in 0..=whole {
+            let weight = if i < whole {
+                amp
+            } else {
+                (octaves - whole as f32) * amp
+            };
+            if weight == 0.0 {
+                break;
+            }
+            let q = x * freq;
+            let n = noise3f(q.x, q.y, q.z);
+            sum += weight * if absolute { n.abs() } else { n };
+            amp *= 0.5;
+            freq *= 2.0;
+            rest -= weight * NOISE_BOUND;
+            if sum + rest < s_floor {
+                return None;
+            }
         }
-        .clamp(0.0, 1.0)
+        Some((offset + scale * sum).clamp(0.0, 1.0))
     }
 
     /// The density at world point `p` with field distance `d` and gradient `g`, in `[0, 1]`,
-    /// and its ramp value `u`.
+    /// its ramp value `u` and its entry in the tables (`shape`, `alpha`).
     #[inline(always)]
-    fn density(&self, h: &Hypertexture, p: Vec3, d: f32, g: Vec3) -> (f32, f32) {
+    fn density(&self, h: &Hypertexture, p: Vec3, d: f32, g: Vec3) -> (f32, f32, usize) {
         if h.amplitude == 0.0 || h.opacity == 0.0 {
-            return (0.0, 0.0);
+            return (0.0, 0.0, 0);
         }
         let d = if h.melt != 0.0 {
             let pm = p + self.sag(h, p);
@@ -387,33 +541,37 @@ impl Tracer<'_> {
         };
         let height = d / self.shell;
         if height >= h.amplitude {
-            return (0.0, 0.0);
+            return (0.0, 0.0, 0);
         }
         let at = if h.strands {
             p - g.try_normalize().unwrap_or(Vec3::ZERO) * d
         } else {
             p
         };
-        let u = (h.amplitude * self.noise(h, at) - height.max(0.0)) / h.softness;
+        // No material where the noise cannot reach this height (its finer octaves skipped).
+        let Some(n) = self.noise_above(h, at, height.max(0.0) / h.amplitude) else {
+            return (0.0, 0.0, 0);
+        };
+        let u = (h.amplitude * n - height.max(0.0)) / h.softness;
         if u <= 0.0 {
-            return (0.0, 0.0);
+            return (0.0, 0.0, 0);
         }
-        let i = (u.min(1.0) * SHAPE_LUT as f32) as usize;
-        (self.shape[i.min(SHAPE_LUT)], u.min(1.0))
+        let i = ((u.min(1.0) * SHAPE_LUT as f32) as usize).min(SHAPE_LUT);
+        (self.shape[i], u.min(1.0), i)
     }
 
     /// The material at one sample: its colour, opacity over the step, and the reads taken.
     fn material(&self, h: &Hypertexture, p: Vec3, d: f32, g: Vec3, dir: Vec3) -> (Vec3, f32, u64) {
-        let (dens, u) = self.density(h, p, d, g);
+        let (dens, u, i) = self.density(h, p, d, g);
         if dens <= 0.0 {
             return (Vec3::ZERO, 0.0, 0);
         }
-        let a = 1.0 - (-h.opacity * dens * self.step / self.shell).exp();
+        let a = self.alpha[i];
         let ramp = h.outer.lerp(h.inner, u);
         if h.emission > 0.0 {
             return (ramp * h.emission, a, 0);
         }
-        let lit = self.lights.shade(ramp, g, dir, || p);
+        let lit = self.lit(ramp, g, dir, p);
         if !(h.shadows && self.has_lights) {
             return (lit, a, 0);
         }
