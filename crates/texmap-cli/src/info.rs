@@ -20,6 +20,9 @@ pub struct InfoArgs {
     /// A missing texture becomes a warning and a placeholder.
     #[arg(long)]
     lenient: bool,
+    /// Describe the scene under this glTF material variant (KHR_materials_variants).
+    #[arg(long, value_name = "NAME")]
+    variant: Option<String>,
     /// Let the file's references leave its folder.
     #[arg(long)]
     allow_outside_paths: bool,
@@ -88,6 +91,7 @@ pub fn run(args: InfoArgs) -> Result<(), Error> {
     let options = LoadOptions::default()
         .allow_outside_paths(args.allow_outside_paths)
         .lenient(args.lenient)
+        .variant(args.variant.clone())
         .texture_storage(args.texture_storage.unwrap_or_default());
     if crate::volume::is_volume_path(&path.to_string_lossy()) {
         let vol = load_volume_with(path, args.raw.desc().as_ref(), &options.volume_options())?;
@@ -342,6 +346,19 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
         );
     }
     print_virtual_textures(out, s);
+    if !l.info.variants.is_empty() {
+        let chosen = l
+            .info
+            .variant
+            .as_deref()
+            .map_or_else(String::new, |v| format!("; drawn: {v}"));
+        outln!(
+            out,
+            "variants: {} ({}{chosen})",
+            l.info.variants.len(),
+            l.info.variants.join(", ")
+        );
+    }
     outln!(out, "materials: {}", s.materials.len());
     for (i, m) in s.materials.iter().enumerate() {
         let name = l.info.material_names.get(i).map_or("", String::as_str);

@@ -394,7 +394,7 @@ impl<'a> DrawInfo<'a> {
             cull: if self.material.double_sided {
                 CullMode::None
             } else {
-                settings.cull
+                settings.cull.unwrap_or(self.material.cull)
             },
             mirrored: self.mirrored,
             depth_test: zbuffer,

@@ -145,6 +145,10 @@ pub struct Material {
     /// When false, back faces may be culled (see `render::CullMode`); when true their normal
     /// is flipped towards the viewer before lighting.
     pub double_sided: bool,
+    /// The faces a single-sided material culls when the render settings leave it to the
+    /// scene: back faces for glTF's single-sided materials (its specification's rule), none
+    /// by default (OBJ, TOML unless the material's `cull` key says).
+    pub cull: crate::pipeline::CullMode,
     pub alpha_mode: AlphaMode,
     /// A procedural colour (solid texture or projected image), multiplying the base colour.
     pub procedural: Option<Procedural>,
@@ -288,6 +292,7 @@ impl Default for Material {
             emissive: Vec3::ZERO,
             unlit: false,
             double_sided: false,
+            cull: crate::pipeline::CullMode::None,
             alpha_mode: AlphaMode::Opaque,
             procedural: None,
             metallic: 0.0,

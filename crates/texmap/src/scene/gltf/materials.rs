@@ -12,6 +12,7 @@ use glam::{Vec3, Vec4};
 
 use super::document::Loader;
 use super::textures::{apply_raw_transform, TRANSFORM};
+use crate::pipeline::CullMode;
 use crate::scene::texture_cache::{channel_color_space, AlphaChannel};
 use crate::shading::{AlphaMode, MapChannel, Material, MaterialMap, ShadingModel};
 use crate::texture::ColorSpace;
@@ -35,6 +36,7 @@ impl Loader<'_> {
             model: ShadingModel::MetallicRoughness,
             metallic: 1.0,
             roughness: 1.0,
+            cull: CullMode::Back,
             ..Default::default()
         });
         self.info.material_names.push("(default)".into());
@@ -48,6 +50,8 @@ impl Loader<'_> {
             metallic: pbr.metallic_factor(),
             roughness: pbr.roughness_factor(),
             double_sided: m.double_sided(),
+            // glTF: "back-face culling must be enabled" on single-sided materials.
+            cull: CullMode::Back,
             unlit: m.unlit(),
             model: if m.unlit() {
                 ShadingModel::Phong

@@ -167,10 +167,14 @@ impl Loader<'_> {
         for n in &mut normals {
             *n = n.normalize_or_zero();
         }
-        let material = prim
-            .material()
-            .index()
-            .unwrap_or(self.scene.materials.len() - 1);
+        // The last material is glTF's default one; a variant's mapping names a file material.
+        let default = self.scene.materials.len() - 1;
+        let material = self
+            .variant
+            .and_then(|v| super::variants::material_of(prim, v))
+            .filter(|&m| m < default)
+            .or(prim.material().index())
+            .unwrap_or(default);
         let mut mesh = Mesh {
             positions,
             normals,

@@ -21,7 +21,8 @@
 //!
 //! Files: `document` (the file → [`Loaded`](crate::scene::Loaded), the loader's state),
 //! `buffers` (buffers and accessors), `textures` (images, samplers, texture transforms),
-//! `materials`, `nodes` (the hierarchy), `mesh` (primitives), `skin`, `cameras`, `lights`.
+//! `materials`, `nodes` (the hierarchy), `mesh` (primitives), `skin`, `cameras`, `lights`,
+//! `variants` (`KHR_materials_variants`).
 
 mod buffers;
 mod cameras;
@@ -32,6 +33,7 @@ mod mesh;
 mod nodes;
 mod skin;
 mod textures;
+mod variants;
 
 #[cfg(test)]
 mod tests;
