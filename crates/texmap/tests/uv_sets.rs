@@ -6,10 +6,12 @@
 //! right texel is *neutral* (white for factors, flat for normals, so the map changes nothing)
 //! and its left texel is *wrong* (black: it darkens, tilts or removes what it feeds). A map
 //! that reads the coordinates its material names sees the neutral texel, so the frame equals
-//! the frame of the same material without maps; a map read through the other set (or
-//! without its transform) changes the frame. Each case is checked both ways: the right
-//! reading must match the reference (max difference ≤ 2/255) and a control reading the
-//! wrong texel must differ from it (so the check can fail).
+//! the frame of the same material without that map (bit for bit for factor maps, to 2/255
+//! for normal maps, whose neutral texel is flat to 1/255); a map read through the other set
+//! (or without its transform) changes the frame. Each case is checked both ways: the right
+//! reading must match and a control reading the wrong texel must differ (so the check can
+//! fail), alone and with every other map present. The maps: base colour, metallic-roughness,
+//! normal, occlusion, emissive, and the specular, clearcoat, sheen and volume extensions'.
 
 use std::path::PathBuf;
 
@@ -55,6 +57,46 @@ const CHANNELS: &[Channel] = &[
         at: ("", "emissiveTexture"),
         normal: false,
     },
+    Channel {
+        name: "specular weight",
+        at: ("KHR_materials_specular", "specularTexture"),
+        normal: false,
+    },
+    Channel {
+        name: "specular colour",
+        at: ("KHR_materials_specular", "specularColorTexture"),
+        normal: false,
+    },
+    Channel {
+        name: "clearcoat",
+        at: ("KHR_materials_clearcoat", "clearcoatTexture"),
+        normal: false,
+    },
+    Channel {
+        name: "clearcoat roughness",
+        at: ("KHR_materials_clearcoat", "clearcoatRoughnessTexture"),
+        normal: false,
+    },
+    Channel {
+        name: "clearcoat normal",
+        at: ("KHR_materials_clearcoat", "clearcoatNormalTexture"),
+        normal: true,
+    },
+    Channel {
+        name: "sheen colour",
+        at: ("KHR_materials_sheen", "sheenColorTexture"),
+        normal: false,
+    },
+    Channel {
+        name: "sheen roughness",
+        at: ("KHR_materials_sheen", "sheenRoughnessTexture"),
+        normal: false,
+    },
+    Channel {
+        name: "thickness",
+        at: ("KHR_materials_volume", "thicknessTexture"),
+        normal: false,
+    },
 ];
 
 /// How a map names its coordinates; each reads the neutral (right) texel when honoured.
@@ -88,8 +130,8 @@ fn texture_info(texture: usize, r: Reading) -> String {
     }
 }
 
-fn png(texels: [[u8; 3]; 2]) -> String {
-    let img = image::RgbImage::from_fn(2, 1, |x, _| image::Rgb(texels[x as usize]));
+fn png(texels: [[u8; 4]; 2]) -> String {
+    let img = image::RgbaImage::from_fn(2, 1, |x, _| image::Rgba(texels[x as usize]));
     let mut bytes = Vec::new();
     img.write_to(
         &mut std::io::Cursor::new(&mut bytes),
@@ -105,9 +147,28 @@ fn material(maps: &[(Channel, Reading)]) -> String {
     let mut groups: std::collections::BTreeMap<&str, Vec<String>> = Default::default();
     groups.entry("pbrMetallicRoughness").or_default().extend([
         r#""baseColorFactor": [0.8, 0.7, 0.6, 1]"#.to_string(),
-        r#""metallicFactor": 0.5"#.to_string(),
+        r#""metallicFactor": 0.2"#.to_string(),
         r#""roughnessFactor": 0.6"#.to_string(),
     ]);
+    // Every extension's factors, so each map has something to scale.
+    for (ext, factors) in [
+        ("KHR_materials_specular", r#""specularFactor": 1"#),
+        (
+            "KHR_materials_clearcoat",
+            r#""clearcoatFactor": 1, "clearcoatRoughnessFactor": 0.5"#,
+        ),
+        (
+            "KHR_materials_sheen",
+            r#""sheenColorFactor": [1, 1, 1], "sheenRoughnessFactor": 0.5"#,
+        ),
+        ("KHR_materials_transmission", r#""transmissionFactor": 0.5"#),
+        (
+            "KHR_materials_volume",
+            r#""thicknessFactor": 1, "attenuationDistance": 0.25, "attenuationColor": [0.2, 0.5, 0.8]"#,
+        ),
+    ] {
+        groups.entry(ext).or_default().push(factors.to_string());
+    }
     for (c, r) in maps {
         let info = texture_info(usize::from(c.normal), *r);
         let member = format!(r#""{}": {info}"#, c.at.1);
@@ -162,11 +223,12 @@ fn document(name: &str, material_json: &str) -> PathBuf {
         b.extend_from_slice(&i.to_le_bytes());
     }
     let enc = |x: &[u8]| base64::engine::general_purpose::STANDARD.encode(x);
-    let data = png([[0, 0, 0], [255, 255, 255]]);
-    let normal = png([[0, 0, 0], [128, 128, 255]]);
+    let data = png([[0, 0, 0, 0], [255; 4]]);
+    let normal = png([[0, 0, 0, 255], [128, 128, 255, 255]]);
     let json = format!(
         r#"{{"asset": {{"version": "2.0"}},
-  "extensionsUsed": ["KHR_texture_transform", "KHR_lights_punctual"],
+  "extensionsUsed": ["KHR_texture_transform", "KHR_lights_punctual", "KHR_materials_specular",
+    "KHR_materials_clearcoat", "KHR_materials_sheen", "KHR_materials_transmission", "KHR_materials_volume"],
   "extensions": {{"KHR_lights_punctual": {{"lights": [{{"type": "directional", "intensity": 3}}]}}}},
   "scene": 0, "scenes": [{{"nodes": [0, 1, 2]}}],
   "nodes": [{{"mesh": 0}}, {{"camera": 0, "translation": [0, 0, 2]}},
@@ -253,9 +315,14 @@ const READINGS: [Reading; 4] = [
     Reading::Set0OverriddenTo1,
 ];
 
-/// The maps a mode reads: Gouraud shading reads neither normals nor metallic-roughness.
+/// The maps a mode reads: Gouraud shading reads the base colour, occlusion and emission
+/// only; the thickness matters only to the environment seen through the surface.
 fn read_in(mode: Mode, c: &Channel) -> bool {
-    mode != Mode::Gouraud || matches!(c.name, "base colour" | "occlusion" | "emissive")
+    match mode {
+        Mode::Gouraud => matches!(c.name, "base colour" | "occlusion" | "emissive"),
+        Mode::PerPixel => c.name != "thickness",
+        Mode::Environment => true,
+    }
 }
 
 #[test]
@@ -280,42 +347,55 @@ fn check(mode: Mode) {
         if !read_in(mode, c) {
             continue;
         }
-        // Control: the map on the wrong texel changes the frame.
-        let wrong = frame(&format!("wrong{k}"), &[(*c, Reading::WrongSet0)]);
-        assert!(
-            max_difference(&wrong, &reference) > 8,
-            "{mode:?}, {}: the control reading the wrong texel does not change the frame",
-            c.name
-        );
-        for (i, r) in READINGS.iter().enumerate() {
-            // Alone.
-            let alone = frame(&format!("alone{k}_{i}"), &[(*c, *r)]);
-            let d = max_difference(&alone, &reference);
+        // A neutral factor texel is exactly 1, so the right reading changes no bit; a neutral
+        // normal texel (128, 128, 255) is flat to 1/255.
+        let tolerance = if c.normal { 2 } else { 0 };
+        let differs = |a: &[u8], b: &[u8], what: &str| {
+            let d = max_difference(a, b);
             assert!(
-                d <= 2,
-                "{mode:?}, {} alone, {r:?}: differs by {d}/255",
+                d > tolerance,
+                "{mode:?}, {}, {what}: the control reading the wrong texel changes the frame by {d}/255 only",
                 c.name
             );
-            // With every other map, each on another of the readings.
-            let maps: Vec<(Channel, Reading)> = CHANNELS
+        };
+        let matches = |a: &[u8], b: &[u8], what: String| {
+            let d = max_difference(a, b);
+            assert!(
+                d <= tolerance,
+                "{mode:?}, {}, {what}: differs by {d}/255",
+                c.name
+            );
+        };
+        // Alone, against the material without maps.
+        let wrong = frame(&format!("wrong{k}"), &[(*c, Reading::WrongSet0)]);
+        differs(&wrong, &reference, "alone");
+        for (i, r) in READINGS.iter().enumerate() {
+            let alone = frame(&format!("alone{k}_{i}"), &[(*c, *r)]);
+            matches(&alone, &reference, format!("alone, {r:?}"));
+        }
+        // With every other map (each on another reading), against the same without this one.
+        for (i, r) in READINGS.iter().enumerate() {
+            let others: Vec<(Channel, Reading)> = CHANNELS
                 .iter()
                 .enumerate()
-                .map(|(m, other)| {
-                    let reading = if m == k {
-                        *r
-                    } else {
-                        READINGS[(i + m) % READINGS.len()]
-                    };
-                    (*other, reading)
-                })
+                .filter(|(m, other)| *m != k && read_in(mode, other))
+                .map(|(m, other)| (*other, READINGS[(i + m) % READINGS.len()]))
                 .collect();
-            let all = frame(&format!("all{k}_{i}"), &maps);
-            let d = max_difference(&all, &reference);
-            assert!(
-                d <= 2,
-                "{mode:?}, {} with the others, {r:?}: differs by {d}/255",
-                c.name
+            let without = frame(&format!("others{k}_{i}"), &others);
+            let with = |reading: Reading, name: String| {
+                let mut maps = others.clone();
+                maps.push((*c, reading));
+                frame(&name, &maps)
+            };
+            matches(
+                &with(*r, format!("all{k}_{i}")),
+                &without,
+                format!("with the others, {r:?}"),
             );
+            if i == 0 {
+                let wrong = with(Reading::WrongSet0, format!("allwrong{k}"));
+                differs(&wrong, &without, "with the others");
+            }
         }
     }
 }

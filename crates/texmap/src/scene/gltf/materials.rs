@@ -3,7 +3,8 @@
 //! base colour factor × texture, metallic and roughness factors and their texture, normal
 //! (+ scale), occlusion (+ strength), emissive (× `KHR_materials_emissive_strength`), the
 //! alpha mode and cutoff, double-sided, `KHR_materials_transmission` (factor and texture,
-//! drawn where an environment is given) and `KHR_materials_ior`.
+//! drawn where an environment is given) and `KHR_materials_ior`; the specular, clearcoat,
+//! sheen and volume extensions in `extensions`.
 //! The base colour and emissive textures are sRGB, the others linear data; an OPAQUE base
 //! colour's alpha is dropped at load (glTF says it is ignored). The default material, for
 //! primitives without one, is glTF's: white, metallic 1, roughness 1.
@@ -149,10 +150,11 @@ impl Loader<'_> {
                 1.0,
             )?;
         }
+        self.material_extensions(m, &mut mat)?;
         Ok(mat)
     }
 
-    fn push_map(
+    pub(super) fn push_map(
         &mut self,
         mat: &mut Material,
         channel: MapChannel,

@@ -187,7 +187,11 @@ impl Loader<'_> {
             world_from_object,
         };
         if mesh.tangents.is_empty() {
-            if let Some(map) = self.scene.materials[material].map(MapChannel::Normal) {
+            let mat = &self.scene.materials[material];
+            let normal_map = mat
+                .map(MapChannel::Normal)
+                .or_else(|| mat.map(MapChannel::ClearcoatNormal));
+            if let Some(map) = normal_map {
                 let set = map.slot.tex_coord;
                 if !tangents::generate(&mut mesh, set) {
                     self.warnings.push(format!(
