@@ -20,6 +20,9 @@ pub struct InfoArgs {
     /// A missing texture becomes a warning and a placeholder.
     #[arg(long)]
     lenient: bool,
+    /// Describe the scene under this glTF material variant (KHR_materials_variants).
+    #[arg(long, value_name = "NAME")]
+    variant: Option<String>,
     /// Let the file's references leave its folder.
     #[arg(long)]
     allow_outside_paths: bool,
@@ -88,6 +91,7 @@ pub fn run(args: InfoArgs) -> Result<(), Error> {
     let options = LoadOptions::default()
         .allow_outside_paths(args.allow_outside_paths)
         .lenient(args.lenient)
+        .variant(args.variant.clone())
         .texture_storage(args.texture_storage.unwrap_or_default());
     if crate::volume::is_volume_path(&path.to_string_lossy()) {
         let vol = load_volume_with(path, args.raw.desc().as_ref(), &options.volume_options())?;
@@ -97,6 +101,13 @@ pub fn run(args: InfoArgs) -> Result<(), Error> {
         return crate::output::stdout(&out);
     }
     let loaded = texmap::scene::load(path, &options)?;
+    if args.variant.is_some() && loaded.info.variant.is_none() {
+        return Err(Error::parameter(format!(
+            "{}: --variant names a glTF material variant (KHR_materials_variants); the scene \
+             holds no glTF file with variants",
+            path.display()
+        )));
+    }
     let mut out = String::new();
     print_scene(&mut out, path, &loaded);
     crate::output::stdout(&out)
@@ -342,6 +353,19 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
         );
     }
     print_virtual_textures(out, s);
+    if !l.info.variants.is_empty() {
+        let chosen = l
+            .info
+            .variant
+            .as_deref()
+            .map_or_else(String::new, |v| format!("; drawn: {v}"));
+        outln!(
+            out,
+            "variants: {} ({}{chosen})",
+            l.info.variants.len(),
+            l.info.variants.join(", ")
+        );
+    }
     outln!(out, "materials: {}", s.materials.len());
     for (i, m) in s.materials.iter().enumerate() {
         let name = l.info.material_names.get(i).map_or("", String::as_str);
@@ -417,6 +441,7 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
         if m.ior != 1.5 {
             env_terms += &format!(", ior {}", m.ior);
         }
+        env_terms += &describe_lobes(&m.lobes);
         let b = m.base_color;
         let model = match m.model {
             ShadingModel::Phong => format!(
@@ -578,4 +603,36 @@ fn describe_scene_volume(v: &SceneVolume) -> String {
             (true, n) => format!(" ({n} scene light{})", if n == 1 { "" } else { "s" }),
         }
     )
+}
+
+/// glTF's extension lobes of a material that differ from the plain model, for its line.
+fn describe_lobes(l: &texmap::shading::lobes::Lobes) -> String {
+    let d = texmap::shading::lobes::Lobes::default();
+    let v = |c: glam::Vec3| format!("({:.3}, {:.3}, {:.3})", c.x, c.y, c.z);
+    let mut out = String::new();
+    if l.specular != d.specular || l.specular_color != d.specular_color {
+        out += &format!(", specular {} colour {}", l.specular, v(l.specular_color));
+    }
+    if l.clearcoat > 0.0 {
+        out += &format!(
+            ", clearcoat {} roughness {}",
+            l.clearcoat, l.clearcoat_roughness
+        );
+    }
+    if l.sheen_color != glam::Vec3::ZERO {
+        out += &format!(
+            ", sheen {} roughness {}",
+            v(l.sheen_color),
+            l.sheen_roughness
+        );
+    }
+    if l.thickness > 0.0 || l.attenuation_distance.is_finite() {
+        out += &format!(
+            ", volume thickness {} attenuation {} over {}",
+            l.thickness,
+            v(l.attenuation_color),
+            l.attenuation_distance
+        );
+    }
+    out
 }

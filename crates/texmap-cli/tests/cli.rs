@@ -290,13 +290,13 @@ fn unsupported_required_extension_fails_optional_one_warns() {
         "opt.gltf",
         [0, 1, 2],
         None,
-        r#","extensionsUsed": ["KHR_materials_sheen"]"#,
+        r#","extensionsUsed": ["KHR_materials_anisotropy"]"#,
     );
     let r = render(&g, &out, &[]);
     let stderr = String::from_utf8_lossy(&r.stderr);
     assert!(r.status.success(), "{stderr}");
     assert!(
-        stderr.contains("warning") && stderr.contains("KHR_materials_sheen"),
+        stderr.contains("warning") && stderr.contains("KHR_materials_anisotropy"),
         "{stderr}"
     );
 }

@@ -55,9 +55,25 @@ fn convention_models_agree_with_the_peer() {
             );
             return;
         }
+        // The peer culls nothing; texmap culls glTF's single-sided materials by default
+        // (`--cull` is refused on a model whose materials are all double-sided).
+        let loaded = texmap::scene::load(&file, &texmap::scene::LoadOptions::default()).unwrap();
+        let single_sided = loaded.scene.meshes.iter().any(|m| {
+            loaded
+                .scene
+                .materials
+                .get(m.material)
+                .is_some_and(|mat| !mat.double_sided)
+        });
+        let cull: &[&str] = if single_sided {
+            &["--cull", "none"]
+        } else {
+            &[]
+        };
         let ours = Command::new(env!("CARGO_BIN_EXE_texmap"))
             .arg("render")
             .arg(&file)
+            .args(cull)
             .args([
                 "--unlit",
                 "--auto-camera",

@@ -30,6 +30,10 @@ pub struct RenderArgs {
     /// A missing or undecodable texture becomes a warning and a magenta placeholder.
     #[arg(long)]
     pub(crate) lenient: bool,
+    /// A glTF material variant (KHR_materials_variants; `texmap info FILE` lists them): each
+    /// primitive takes the material the variant maps it to.
+    #[arg(long, value_name = "NAME")]
+    pub(crate) variant: Option<String>,
     /// Let a file's references leave its folder (`..`, absolute paths).
     #[arg(long)]
     pub(crate) allow_outside_paths: bool,
@@ -141,7 +145,9 @@ pub struct RenderArgs {
     /// zbuffer | depth-sort [default: zbuffer].
     #[arg(long, value_enum)]
     pub(crate) visibility: Option<VisibilityArg>,
-    /// none | back | front [default: none].
+    /// none | back | front, for every single-sided material [default: each material's own: back for
+    /// glTF's single-sided materials (its specification's rule), none for OBJ and TOML unless
+    /// the material's `cull` key says].
     #[arg(long, value_enum)]
     pub(crate) cull: Option<CullArg>,
     /// Multisample anti-aliasing of the meshes: 1, 2, 4, 8 or 16 samples per pixel.

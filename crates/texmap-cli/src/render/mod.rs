@@ -61,6 +61,7 @@ fn build(args: &RenderArgs, texture: Option<Arc<Texture2D>>) -> Result<Built, Er
     let mut options = LoadOptions::default()
         .allow_outside_paths(args.allow_outside_paths)
         .lenient(args.lenient)
+        .variant(args.variant.clone())
         // --env replaces the scene's environment map: its own is not read.
         .environment_image(args.env.is_none())
         .texture_storage(args.texture_storage.unwrap_or_default());
@@ -201,7 +202,15 @@ fn build_scene(
     texture: Option<Arc<Texture2D>>,
 ) -> Result<Built, Error> {
     let name = args.scene.as_deref().unwrap_or("builtin:demo");
+    let no_variants = |what: &str| {
+        Error::parameter(format!(
+            "{name}: --variant names a glTF material variant (KHR_materials_variants); {what}"
+        ))
+    };
     if let Some(builtin) = Builtin::parse(name)? {
+        if args.variant.is_some() {
+            return Err(no_variants("a built-in scene has none"));
+        }
         let scene = builtin.build(args.tris, texture).map_err(|e| match e {
             Error::Parameter(m) => Error::parameter(format!("--tris: {m}")),
             other => other,
@@ -220,6 +229,11 @@ fn build_scene(
     }
     let path = Path::new(name);
     let loaded = texmap::scene::load(path, options)?;
+    if args.variant.is_some() && loaded.info.variant.is_none() {
+        // A glTF file refuses an unknown name itself; an OBJ, or a TOML scene without a
+        // glTF mesh, has nothing the flag could choose.
+        return Err(no_variants("the scene holds no glTF file with variants"));
+    }
     if !args.quiet {
         for w in &loaded.warnings {
             crate::output::stderr_line(&format!("texmap: warning: {w}"));
@@ -473,7 +487,7 @@ pub(crate) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
             }
         }
     });
-    let settings = Settings::new(args.size.0, args.size.1)
+    let mut settings = Settings::new(args.size.0, args.size.1)
         .with_interpolation(match args.interp.unwrap_or(InterpArg::Perspective) {
             InterpArg::Perspective => Interpolation::Perspective,
             InterpArg::Affine => Interpolation::Affine,
@@ -490,11 +504,6 @@ pub(crate) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
             VisibilityArg::Zbuffer => Visibility::ZBuffer,
             VisibilityArg::DepthSort => Visibility::DepthSort,
         })
-        .with_cull(match args.cull.unwrap_or(CullArg::None) {
-            CullArg::None => CullMode::None,
-            CullArg::Back => CullMode::Back,
-            CullArg::Front => CullMode::Front,
-        })
         .with_msaa(common.msaa)
         .with_ssaa(common.ssaa)
         .with_unlit(args.unlit)
@@ -502,6 +511,13 @@ pub(crate) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
         // From `args`, not `common`: the viewer prepares the scene again with `--shadows`
         // switched (the same values as `common`'s for a render).
         .with_shadows(checks::shadow_overrides(args)?);
+    if let Some(cull) = args.cull {
+        settings = settings.with_cull(match cull {
+            CullArg::None => CullMode::None,
+            CullArg::Back => CullMode::Back,
+            CullArg::Front => CullMode::Front,
+        });
+    }
     settings.validate()?;
     limits::check_shadow_maps(
         shadow_map_bytes(&scene, &settings),
@@ -609,7 +625,12 @@ impl Prepared {
                 // changes its shadow: its maps are made again.
                 let animated = !std::ptr::eq(volumes, self.volumes.as_slice());
                 let remade = if animated && !self.shadow_maps.is_empty() {
-                    Some(shadow_maps_with_fields(&self.scene, volumes, cam, settings)?)
+                    Some(shadow_maps_with_fields(
+                        &self.scene,
+                        volumes,
+                        cam,
+                        settings,
+                    )?)
                 } else {
                     None
                 };

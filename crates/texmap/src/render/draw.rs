@@ -45,6 +45,45 @@ pub(super) struct SolidRead<'a> {
     pub world_from_gradient: Mat3,
 }
 
+/// The reads of glTF's extension maps ([`crate::shading::lobes`]), each `None` when the
+/// draw has none.
+#[derive(Clone, Copy, Default)]
+pub(super) struct LobeMaps<'a> {
+    pub specular_weight: Option<MapRead<'a>>,
+    pub specular_color: Option<MapRead<'a>>,
+    pub clearcoat: Option<MapRead<'a>>,
+    pub clearcoat_roughness: Option<MapRead<'a>>,
+    /// Read only with mesh tangents, as the base normal map.
+    pub clearcoat_normal: Option<MapRead<'a>>,
+    pub sheen_color: Option<MapRead<'a>>,
+    pub sheen_roughness: Option<MapRead<'a>>,
+    pub thickness: Option<MapRead<'a>>,
+}
+
+impl LobeMaps<'_> {
+    /// True when the draw reads any of them.
+    pub fn any(&self) -> bool {
+        self.count() > 0
+    }
+
+    /// How many the draw reads.
+    pub fn count(&self) -> u32 {
+        [
+            &self.specular_weight,
+            &self.specular_color,
+            &self.clearcoat,
+            &self.clearcoat_roughness,
+            &self.clearcoat_normal,
+            &self.sheen_color,
+            &self.sheen_roughness,
+            &self.thickness,
+        ]
+        .iter()
+        .filter(|m| m.is_some())
+        .count() as u32
+    }
+}
+
 /// Per-draw shading data.
 pub(super) struct DrawInfo<'a> {
     pub material: &'a Material,
@@ -89,6 +128,10 @@ pub(super) struct DrawInfo<'a> {
     pub ambient_map: Option<MapRead<'a>>,
     pub specular_map: Option<MapRead<'a>>,
     pub shininess_map: Option<MapRead<'a>>,
+    /// glTF's extension maps (metallic-roughness materials, Phong shading): specular weight
+    /// and colour, clearcoat, its roughness and normal, sheen colour and roughness,
+    /// thickness — each its own read (uv set, transform, footprint).
+    pub lobe_maps: LobeMaps<'a>,
     /// OBJ `map_d`: opacity multiplying alpha (every mode), from the image's alpha channel
     /// when it has one, else from red (`alpha_from_w`).
     pub alpha_map: Option<MapRead<'a>>,
@@ -200,7 +243,11 @@ impl<'a> DrawInfo<'a> {
             layout.uv1 = Some(layout.add());
         }
         let has_tangents = mesh.tangents.len() == mesh.positions.len();
-        if per_pixel && has_tangents && material.map(MapChannel::Normal).is_some() {
+        if per_pixel
+            && has_tangents
+            && (material.map(MapChannel::Normal).is_some()
+                || (pbr && material.map(MapChannel::ClearcoatNormal).is_some()))
+        {
             layout.tangent = Some(layout.add());
         }
 
@@ -241,6 +288,19 @@ impl<'a> DrawInfo<'a> {
             phong_map(MapChannel::Specular),
             phong_map(MapChannel::Shininess),
         );
+        let lobe_map = |c: MapChannel| (per_pixel && pbr).then(|| map(c)).flatten();
+        let lobe_maps = LobeMaps {
+            specular_weight: lobe_map(MapChannel::SpecularWeight),
+            specular_color: lobe_map(MapChannel::SpecularColor),
+            clearcoat: lobe_map(MapChannel::Clearcoat),
+            clearcoat_roughness: lobe_map(MapChannel::ClearcoatRoughness),
+            clearcoat_normal: layout
+                .tangent
+                .and_then(|_| lobe_map(MapChannel::ClearcoatNormal)),
+            sheen_color: lobe_map(MapChannel::SheenColor),
+            sheen_roughness: lobe_map(MapChannel::SheenRoughness),
+            thickness: lobe_map(MapChannel::Thickness),
+        };
         let alpha_map = map(MapChannel::Alpha);
         let light_map = map(MapChannel::Light);
         let layers: Vec<LayerRead> = material
@@ -323,12 +383,15 @@ impl<'a> DrawInfo<'a> {
                     || solid_roughness.is_some()
                     || solid_bump.is_some()
                     || toon));
+        let mut surface = Surface::new(material, Vec3::ZERO, Vec3::ZERO);
+        // KHR_materials_volume's thickness is in the mesh's object units.
+        surface.lobes.thickness *= mean_scale;
         DrawInfo {
             material,
             path,
             model,
             layout,
-            surface: Surface::new(material, Vec3::ZERO, Vec3::ZERO),
+            surface,
             surface_maps,
             ambient_d,
             flat,
@@ -345,6 +408,7 @@ impl<'a> DrawInfo<'a> {
             ambient_map,
             specular_map,
             shininess_map,
+            lobe_maps,
             alpha_map,
             alpha_from_w,
             solid_roughness,
@@ -394,7 +458,7 @@ impl<'a> DrawInfo<'a> {
             cull: if self.material.double_sided {
                 CullMode::None
             } else {
-                settings.cull
+                settings.cull.unwrap_or(self.material.cull)
             },
             mirrored: self.mirrored,
             depth_test: zbuffer,
@@ -402,6 +466,7 @@ impl<'a> DrawInfo<'a> {
             blend,
             // A bump map reads three times (at the pixel and one footprint along x and y).
             texture_reads: reads
+                + self.lobe_maps.count()
                 + 3 * u32::from(self.bump_map.is_some())
                 + u32::from(self.parallax.is_some())
                 + u32::from(self.sampler_3d.is_some())

@@ -227,6 +227,7 @@ impl SceneShader<'_> {
             }
             if back {
                 s.normal = -s.normal;
+                s.clearcoat_normal = -s.clearcoat_normal;
             }
             let v = self.viewer.towards(s.position);
             reflected[j] = reflect(s.normal, v);

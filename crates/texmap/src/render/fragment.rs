@@ -16,7 +16,7 @@ use glam::{Vec3, Vec4};
 
 use super::draw::{DrawInfo, LightingPath};
 use super::layers::{apply_outline, fold_layers, surface_color};
-use super::maps::{MapRead, QuadMaps, QuadReads};
+use super::maps::{lobe, MapRead, QuadMaps, QuadReads};
 use super::parallax::{self, SelfShadow};
 use super::projectors::Projectors;
 use super::varyings::Factors;
@@ -281,6 +281,7 @@ impl SceneShader<'_> {
                                 d.apply_maps(maps, quad, j, c, &mut s);
                                 if back {
                                     s.normal = -s.normal;
+                                    s.clearcoat_normal = -s.clearcoat_normal;
                                 }
                                 add(
                                     d.lit_factors(&s, &lighting, self.viewer),
@@ -397,6 +398,7 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
         *o = QuadReads {
             maps: d.surface_maps.then(|| QuadMaps {
                 bumps: d.bump_map.as_ref().map(|t| t.height_slopes(quad)),
+                lobes: d.lobe_maps.any().then(Default::default),
                 ..QuadMaps::default()
             }),
             ..QuadReads::default()
@@ -442,6 +444,28 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
                     *field(m) = Some(v);
                 }
             });
+        }
+    }
+    if d.lobe_maps.any() {
+        let l = &d.lobe_maps;
+        let lobes = [
+            (l.specular_weight.as_ref(), lobe::SPECULAR_WEIGHT),
+            (l.specular_color.as_ref(), lobe::SPECULAR_COLOR),
+            (l.clearcoat.as_ref(), lobe::CLEARCOAT),
+            (l.clearcoat_roughness.as_ref(), lobe::CLEARCOAT_ROUGHNESS),
+            (l.clearcoat_normal.as_ref(), lobe::CLEARCOAT_NORMAL),
+            (l.sheen_color.as_ref(), lobe::SHEEN_COLOR),
+            (l.sheen_roughness.as_ref(), lobe::SHEEN_ROUGHNESS),
+            (l.thickness.as_ref(), lobe::THICKNESS),
+        ];
+        for (map, k) in lobes {
+            if let Some(t) = map {
+                fill(t, &|r, v| {
+                    if let Some(texels) = r.maps.as_mut().and_then(|m| m.lobes.as_mut()) {
+                        texels[k] = Some(v);
+                    }
+                });
+            }
         }
     }
     fold_layers(d, quads, out);

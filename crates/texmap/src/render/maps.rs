@@ -187,6 +187,24 @@ pub(super) struct QuadMaps {
     pub ambient: Option<[Vec4; 4]>,
     pub specular: Option<[Vec4; 4]>,
     pub shininess: Option<[Vec4; 4]>,
+    /// glTF's extension maps, for draws with any (`None` otherwise: a draw without them
+    /// does not pay for their room).
+    pub lobes: Option<LobeTexels>,
+}
+
+/// A quad's reads of glTF's extension maps, in [`LobeTexels`]' index order.
+pub(super) type LobeTexels = [Option<[Vec4; 4]>; 8];
+
+/// Indices into [`LobeTexels`].
+pub(super) mod lobe {
+    pub const SPECULAR_WEIGHT: usize = 0;
+    pub const SPECULAR_COLOR: usize = 1;
+    pub const CLEARCOAT: usize = 2;
+    pub const CLEARCOAT_ROUGHNESS: usize = 3;
+    pub const CLEARCOAT_NORMAL: usize = 4;
+    pub const SHEEN_COLOR: usize = 5;
+    pub const SHEEN_ROUGHNESS: usize = 6;
+    pub const THICKNESS: usize = 7;
 }
 
 /// [`MapRead::raw_reader`]: one quad's footprint and level choice, read at any raw uvs.

@@ -194,8 +194,11 @@ pub struct Settings {
     pub interpolation: Interpolation,
     pub shading: ShadingMode,
     pub visibility: Visibility,
-    /// Applies to single-sided materials; double-sided ones are never culled.
-    pub cull: CullMode,
+    /// Applies to single-sided materials; double-sided ones are never culled. `None` leaves
+    /// it to each material ([`crate::shading::Material::cull`]: back faces for glTF's
+    /// single-sided materials, as its specification says; none for OBJ and TOML unless the
+    /// scene says otherwise).
+    pub cull: Option<CullMode>,
     /// MSAA samples per pixel: 1, 2, 4, 8 or 16 (Direct3D's standard positions).
     pub msaa: u32,
     /// Supersampling: render at N× the size in each direction and box-filter (1..=8).
@@ -218,7 +221,8 @@ impl Default for Settings {
 pub const MAX_SIZE: u32 = 16384;
 
 impl Settings {
-    /// A `width × height` frame: perspective-correct, Phong-shaded, z-buffered, no culling,
+    /// A `width × height` frame: perspective-correct, Phong-shaded, z-buffered, culled as each
+    /// material says,
     /// one sample per pixel, lit, every texture read as its own sampler says, shadows as the
     /// scene says.
     #[must_use]
@@ -229,7 +233,7 @@ impl Settings {
             interpolation: Interpolation::Perspective,
             shading: ShadingMode::Phong,
             visibility: Visibility::ZBuffer,
-            cull: CullMode::None,
+            cull: None,
             msaa: 1,
             ssaa: 1,
             unlit: false,
@@ -259,7 +263,7 @@ impl Settings {
     }
     #[must_use]
     pub fn with_cull(mut self, cull: CullMode) -> Self {
-        self.cull = cull;
+        self.cull = Some(cull);
         self
     }
     #[must_use]

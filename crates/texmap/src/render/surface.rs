@@ -5,7 +5,7 @@
 use glam::{DVec3, Vec3, Vec4};
 
 use super::draw::DrawInfo;
-use super::maps::QuadMaps;
+use super::maps::{lobe, LobeTexels, QuadMaps};
 use crate::pipeline::Quad;
 use crate::shading::{bump, shininess_from_roughness, ShadingModel, Surface};
 
@@ -21,19 +21,15 @@ impl DrawInfo<'_> {
         c: Vec4,
         s: &mut Surface,
     ) {
+        // Before the base's normal map: the coat's normal is the geometric one's.
+        if let Some(texels) = &maps.lobes {
+            self.apply_lobe_maps(texels, quad, j, s);
+        } else if s.lobes.clearcoat > 0.0 {
+            s.clearcoat_normal = s.normal;
+        }
         let n = &mut s.normal;
-        if let (Some(slot), Some(texel), Some(map)) =
-            (self.layout.tangent, &maps.normals, &self.normal_map)
-        {
-            // Tangent space → world: T, B = (N × T)·w, N; the map's x and y scaled.
-            let [tx, ty, tz, w] = slot.pixel(quad, j);
-            let t = Vec3::new(tx, ty, tz);
-            let t = (t - *n * n.dot(t)).normalize_or_zero();
-            let b = n.cross(t) * w.signum();
-            let ts = texel[j].truncate() * 2.0 - Vec3::ONE;
-            let ts = Vec3::new(ts.x * map.scale, ts.y * map.scale, ts.z);
-            let mapped = (t * ts.x + b * ts.y + *n * ts.z).normalize_or_zero();
-            if mapped != Vec3::ZERO && t != Vec3::ZERO {
+        if let (Some(texel), Some(map)) = (&maps.normals, &self.normal_map) {
+            if let Some(mapped) = self.tangent_space(quad, j, *n, texel[j], map.scale) {
                 *n = mapped;
             }
         }
@@ -73,6 +69,65 @@ impl DrawInfo<'_> {
         }
         if self.model == ShadingModel::MetallicRoughness {
             s.base_color = straight(c);
+        }
+    }
+
+    /// The world normal a tangent-space normal-map texel gives about unit normal `n` at pixel
+    /// `j` (T, B = (N × T)·w, N; the map's x and y times `scale`); `None` without tangents.
+    #[inline]
+    fn tangent_space(
+        &self,
+        quad: &Quad,
+        j: usize,
+        n: Vec3,
+        texel: Vec4,
+        scale: f32,
+    ) -> Option<Vec3> {
+        let [tx, ty, tz, w] = self.layout.tangent?.pixel(quad, j);
+        let t = Vec3::new(tx, ty, tz);
+        let t = (t - n * n.dot(t)).normalize_or_zero();
+        let b = n.cross(t) * w.signum();
+        let ts = texel.truncate() * 2.0 - Vec3::ONE;
+        let ts = Vec3::new(ts.x * scale, ts.y * scale, ts.z);
+        let mapped = (t * ts.x + b * ts.y + n * ts.z).normalize_or_zero();
+        (mapped != Vec3::ZERO && t != Vec3::ZERO).then_some(mapped)
+    }
+
+    /// glTF's extension maps at pixel `j` ([`crate::shading::lobes`]): each multiplies its
+    /// factor; the clearcoat normal is the geometric normal, tilted by its own map.
+    fn apply_lobe_maps(&self, texels: &LobeTexels, quad: &Quad, j: usize, s: &mut Surface) {
+        let l = &mut s.lobes;
+        let t = |k: usize| texels[k].map(|t| t[j]);
+        if let Some(t) = t(lobe::SPECULAR_WEIGHT) {
+            l.specular *= t.w;
+        }
+        if let Some(t) = t(lobe::SPECULAR_COLOR) {
+            l.specular_color *= t.truncate();
+        }
+        if let Some(t) = t(lobe::CLEARCOAT) {
+            l.clearcoat *= t.x;
+        }
+        if let Some(t) = t(lobe::CLEARCOAT_ROUGHNESS) {
+            l.clearcoat_roughness *= t.y;
+        }
+        if let Some(t) = t(lobe::SHEEN_COLOR) {
+            l.sheen_color *= t.truncate();
+        }
+        if let Some(t) = t(lobe::SHEEN_ROUGHNESS) {
+            l.sheen_roughness *= t.w;
+        }
+        if let Some(t) = t(lobe::THICKNESS) {
+            l.thickness *= t.y;
+        }
+        if l.clearcoat > 0.0 {
+            s.clearcoat_normal = s.normal;
+            if let (Some(t), Some(map)) =
+                (t(lobe::CLEARCOAT_NORMAL), &self.lobe_maps.clearcoat_normal)
+            {
+                if let Some(mapped) = self.tangent_space(quad, j, s.normal, t, map.scale) {
+                    s.clearcoat_normal = mapped;
+                }
+            }
         }
     }
 

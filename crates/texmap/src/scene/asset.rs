@@ -39,6 +39,10 @@ pub struct LoadOptions {
     /// How image textures are held in memory unless a texture says otherwise (TOML
     /// `storage`; `--texture-storage`; default [`Storage::Linear16`], "decoded").
     pub texture_storage: Storage,
+    /// A glTF file's material variant (`KHR_materials_variants`, `--variant NAME`): each
+    /// primitive takes the material the variant maps it to; a name the file does not define
+    /// is an error listing the ones it does. `None`: every primitive's own material.
+    pub variant: Option<String>,
 }
 
 impl Default for LoadOptions {
@@ -51,6 +55,7 @@ impl Default for LoadOptions {
             max_volume_bytes: crate::files::DEFAULT_MAX_BYTES,
             environment_image: true,
             texture_storage: Storage::Linear16,
+            variant: None,
         }
     }
 }
@@ -60,6 +65,13 @@ impl LoadOptions {
     #[must_use]
     pub fn allow_outside_paths(mut self, allow: bool) -> Self {
         self.allow_outside_paths = allow;
+        self
+    }
+
+    /// Sets [`LoadOptions::variant`] (`--variant NAME`).
+    #[must_use]
+    pub fn variant(mut self, variant: Option<String>) -> Self {
+        self.variant = variant;
         self
     }
 
@@ -151,6 +163,10 @@ pub struct AssetInfo {
     /// True when the file defines no light and the loader added the peers' directional
     /// light (volumes then shade with a headlight instead).
     pub default_light: bool,
+    /// glTF `KHR_materials_variants`: the variant names the file defines, in order.
+    pub variants: Vec<String>,
+    /// The variant the scene was loaded with, if any.
+    pub variant: Option<String>,
 }
 
 /// A loaded scene file.

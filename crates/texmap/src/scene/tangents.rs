@@ -63,6 +63,13 @@ pub fn generate(mesh: &mut Mesh, set: u32) -> bool {
         return false;
     }
     let tangent_of_corner = corners.out;
+    // Which per-vertex attributes the mesh has, decided before any vertex is added (their
+    // lengths grow with the positions below).
+    let (has_uvs, has_uvs1, has_colors) = (
+        mesh.uvs.len() == n,
+        mesh.uvs1.len() == n,
+        mesh.colors.len() == n,
+    );
     // Weld: a vertex keeps its index when all its corners agree, else it is duplicated.
     let mut tangents = vec![Vec4::ZERO; n];
     let mut assigned = vec![false; n];
@@ -83,13 +90,13 @@ pub fn generate(mesh: &mut Mesh, set: u32) -> bool {
             let k = mesh.positions.len() as u32;
             mesh.positions.push(mesh.positions[v]);
             mesh.normals.push(mesh.normals[v]);
-            for attr in [&mut mesh.uvs, &mut mesh.uvs1] {
-                if attr.len() == n {
+            for (attr, has) in [(&mut mesh.uvs, has_uvs), (&mut mesh.uvs1, has_uvs1)] {
+                if has {
                     let x: Vec2 = attr[v];
                     attr.push(x);
                 }
             }
-            if mesh.colors.len() == n {
+            if has_colors {
                 let x = mesh.colors[v];
                 mesh.colors.push(x);
             }
@@ -151,6 +158,40 @@ mod tests {
         for t in &m.tangents {
             assert!((t.truncate() - Vec3::X).length() < 1e-4, "{t}");
         }
+    }
+
+    #[test]
+    fn every_attribute_follows_the_added_vertices() {
+        // u along x on the first triangle, along y on the second: both shared corners get
+        // two tangents, so two vertices are added; each must carry both uv sets and the
+        // colour (an added vertex once left set 1 short, and the draw read set 0 instead).
+        let mut m = Mesh {
+            positions: vec![
+                Vec3::new(-1.0, -1.0, 0.0),
+                Vec3::new(1.0, -1.0, 0.0),
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(-1.0, 1.0, 0.0),
+            ],
+            normals: vec![Vec3::Z; 4],
+            uvs: vec![
+                Vec2::new(0.0, 1.0),
+                Vec2::new(1.0, 1.0),
+                Vec2::new(1.0, 0.0),
+                Vec2::new(1.0, 1.0),
+            ],
+            uvs1: vec![Vec2::splat(0.5); 4],
+            colors: vec![glam::Vec4::ONE; 4],
+            indices: vec![0, 1, 2, 0, 2, 3],
+            ..Default::default()
+        };
+        assert!(generate(&mut m, 0));
+        let n = m.positions.len();
+        assert!(n >= 6, "{n} vertices: the corners were not split");
+        assert_eq!(
+            [m.uvs.len(), m.uvs1.len(), m.colors.len(), m.normals.len()],
+            [n; 4]
+        );
+        assert_eq!(m.tangents.len(), n);
     }
 
     #[test]

@@ -145,6 +145,10 @@ pub struct Material {
     /// When false, back faces may be culled (see `render::CullMode`); when true their normal
     /// is flipped towards the viewer before lighting.
     pub double_sided: bool,
+    /// The faces a single-sided material culls when the render settings leave it to the
+    /// scene: back faces for glTF's single-sided materials (its specification's rule), none
+    /// by default (OBJ, TOML unless the material's `cull` key says).
+    pub cull: crate::pipeline::CullMode,
     pub alpha_mode: AlphaMode,
     /// A procedural colour (solid texture or projected image), multiplying the base colour.
     pub procedural: Option<Procedural>,
@@ -166,6 +170,9 @@ pub struct Material {
     /// Index of refraction (`KHR_materials_ior`; 1.5, f0 = 0.04): refraction and the
     /// dielectric Fresnel.
     pub ior: f32,
+    /// glTF's material extensions over the metallic-roughness model (specular, clearcoat,
+    /// sheen, volume: [`super::lobes`]); the default changes nothing.
+    pub lobes: super::lobes::Lobes,
     /// Texture layers applied in order after the surface colour, with OpenGL's
     /// texture-environment modes ([`super::layers`]).
     pub layers: Vec<super::layers::TextureLayer>,
@@ -208,6 +215,22 @@ pub enum MapChannel {
     /// uv set 1 by default; times `scale` (the intensity), it multiplies the diffuse factor
     /// D (`I = C·D·L + S`), lit or unlit.
     Light,
+    /// `KHR_materials_specular`'s `specularTexture` (A), linear: multiplies the factor.
+    SpecularWeight,
+    /// `specularColorTexture`, sRGB: multiplies the specular colour.
+    SpecularColor,
+    /// `KHR_materials_clearcoat`'s `clearcoatTexture` (R), linear.
+    Clearcoat,
+    /// `clearcoatRoughnessTexture` (G), linear.
+    ClearcoatRoughness,
+    /// `clearcoatNormalTexture`: the coat's tangent-space normal map; `scale` as `Normal`.
+    ClearcoatNormal,
+    /// `KHR_materials_sheen`'s `sheenColorTexture`, sRGB.
+    SheenColor,
+    /// `sheenRoughnessTexture` (A), linear.
+    SheenRoughness,
+    /// `KHR_materials_volume`'s `thicknessTexture` (G), linear.
+    Thickness,
 }
 
 impl MapChannel {
@@ -227,6 +250,14 @@ impl MapChannel {
             MapChannel::Bump => "bump",
             MapChannel::Transmission => "transmission",
             MapChannel::Light => "light",
+            MapChannel::SpecularWeight => "specular_weight",
+            MapChannel::SpecularColor => "specular_color",
+            MapChannel::Clearcoat => "clearcoat",
+            MapChannel::ClearcoatRoughness => "clearcoat_roughness",
+            MapChannel::ClearcoatNormal => "clearcoat_normal",
+            MapChannel::SheenColor => "sheen_color",
+            MapChannel::SheenRoughness => "sheen_roughness",
+            MapChannel::Thickness => "thickness",
         }
     }
 
@@ -235,7 +266,12 @@ impl MapChannel {
     pub fn is_color(self) -> bool {
         matches!(
             self,
-            MapChannel::Emissive | MapChannel::Ambient | MapChannel::Specular | MapChannel::Light
+            MapChannel::Emissive
+                | MapChannel::Ambient
+                | MapChannel::Specular
+                | MapChannel::Light
+                | MapChannel::SpecularColor
+                | MapChannel::SheenColor
         )
     }
 }
@@ -288,6 +324,7 @@ impl Default for Material {
             emissive: Vec3::ZERO,
             unlit: false,
             double_sided: false,
+            cull: crate::pipeline::CullMode::None,
             alpha_mode: AlphaMode::Opaque,
             procedural: None,
             metallic: 0.0,
@@ -298,6 +335,7 @@ impl Default for Material {
             reflection: 0.0,
             transmission: 0.0,
             ior: 1.5,
+            lobes: super::lobes::Lobes::default(),
             layers: Vec::new(),
             toon: None,
             parallax: None,

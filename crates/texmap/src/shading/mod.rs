@@ -27,7 +27,8 @@
 //!
 //! Files: `material.rs` (what a surface is made of), `light.rs` (lights and what they deliver
 //! at a point), this file (the per-pixel [`Surface`], Phong, [`combine`]), [`pbr`] (the
-//! metallic-roughness BRDF), [`lanes`] (Phong for a quad's four pixels at once), [`bump`]
+//! metallic-roughness BRDF), [`lobes`] and [`sheen`] (glTF's specular, clearcoat, sheen and
+//! volume extensions over it), [`lanes`] (Phong for a quad's four pixels at once), [`bump`]
 //! (tilting normals by height gradients), [`shadow`] (shadow-map lookups and filters) and
 //! `viewer.rs` (where the viewer is), [`layers`] (texture layers: OpenGL's texture
 //! environment) and [`toon`] (ramp-shaded diffuse, outlines).
@@ -37,11 +38,13 @@ pub mod ibl;
 pub mod lanes;
 pub mod layers;
 mod light;
+pub mod lobes;
 mod material;
 pub mod pbr;
 mod projector;
 pub mod relief;
 pub mod shadow;
+pub mod sheen;
 pub mod toon;
 mod viewer;
 
@@ -89,6 +92,11 @@ pub struct Surface {
     pub ambient_color: Option<Vec3>,
     /// Index of refraction (dielectric f0 and refraction; 1.5 by default).
     pub ior: f32,
+    /// glTF's extension lobes after their maps ([`lobes`]); the thickness in world units.
+    pub lobes: lobes::Lobes,
+    /// The clearcoat's unit world normal (its own normal map's, else the geometric normal
+    /// before the base's normal map); zero: the surface normal.
+    pub clearcoat_normal: Vec3,
 }
 
 impl Surface {
@@ -111,6 +119,8 @@ impl Surface {
             specular_color: Vec3::ONE,
             ambient_color: None,
             ior: m.ior,
+            lobes: m.lobes,
+            clearcoat_normal: Vec3::ZERO,
         }
     }
 }

@@ -32,6 +32,7 @@ use std::sync::OnceLock;
 
 use glam::{Vec2, Vec3};
 
+use super::lobes::{coat_share, fresnel_f90, sheen_scaling};
 use super::{Lighting, Surface, Viewer};
 
 /// The smallest roughness used: α = roughness² ≥ 0.002, so a perfect mirror keeps a finite,
@@ -92,7 +93,10 @@ pub fn alpha(roughness: f32) -> f32 {
 #[must_use]
 pub fn metallic_roughness(s: &Surface, lighting: &Lighting, viewer: Viewer) -> (Vec3, Vec3) {
     let metallic = s.metallic.clamp(0.0, 1.0);
-    let f0 = Vec3::splat(super::ibl::dielectric_f0(s.ior)).lerp(s.base_color, metallic);
+    // KHR_materials_specular's f0 and f90 (f90 = 1 without it: today's Schlick exactly).
+    let (f0_d, f90_d) = s.lobes.dielectric(super::ibl::dielectric_f0(s.ior));
+    let f0 = f0_d.lerp(s.base_color, metallic);
+    let f90 = f90_d + (1.0 - f90_d) * metallic;
     let a = alpha(s.roughness);
     let n = s.normal;
     let v = viewer.towards(s.position);
@@ -106,7 +110,7 @@ pub fn metallic_roughness(s: &Surface, lighting: &Lighting, viewer: Viewer) -> (
         (Vec3::ZERO, s.emissive)
     } else {
         let e = specular_albedo(n_dot_v, a.sqrt());
-        let e = f0 * e.x + Vec3::splat(e.y);
+        let e = f0 * e.x + Vec3::splat(e.y * f90);
         (
             ambient * diffuse_weight * (Vec3::ONE - e),
             s.emissive + ambient * e,
@@ -124,13 +128,80 @@ pub fn metallic_roughness(s: &Surface, lighting: &Lighting, viewer: Viewer) -> (
             intensity *= shadows.visibility(i, s.position, n, l);
         }
         let h = (l + v).normalize_or_zero();
-        let f = fresnel(f0, v.dot(h));
+        let f = fresnel_f90(f0, f90, v.dot(h));
         let n_dot_h = n.dot(h).max(0.0);
         d += intensity * (Vec3::ONE - f) * (diffuse_weight * n_dot_l);
         let spec = PI * distribution(n_dot_h, a) * visibility(n_dot_l, n_dot_v, a) * n_dot_l;
         sp += intensity * f * spec;
     }
+    if s.lobes.layered() {
+        return layered(s, lighting, v, n_dot_v, (d, sp));
+    }
     (d, sp)
+}
+
+/// The clearcoat and sheen over the base factors `(d, sp)` (emission included in `sp`), for
+/// the lights and the uniform ambient light ([`super::lobes`]' module docs).
+#[inline(never)]
+fn layered(
+    s: &Surface,
+    lighting: &Lighting,
+    v: Vec3,
+    n_dot_v: f32,
+    (d, sp): (Vec3, Vec3),
+) -> (Vec3, Vec3) {
+    let l = &s.lobes;
+    let n = s.normal;
+    let nc = if s.clearcoat_normal == Vec3::ZERO {
+        n
+    } else {
+        s.clearcoat_normal
+    };
+    let nc_dot_v = nc.dot(v).max(1e-4);
+    let coat = coat_share(l.clearcoat, nc_dot_v);
+    let a_coat = alpha(l.clearcoat_roughness);
+    let sheen = l.sheen_color != Vec3::ZERO;
+    let k = sheen_scaling(l.sheen_color, l.sheen_roughness, n_dot_v);
+    // The sheen scales the base, not its emission; the coat covers all three.
+    let (mut sheen_sp, mut coat_sp) = (Vec3::ZERO, Vec3::ZERO);
+    let ambient = lighting.ambient * (s.ambient * s.occlusion);
+    if ambient != Vec3::ZERO {
+        if sheen {
+            sheen_sp += ambient * l.sheen_color * super::sheen::albedo(n_dot_v, l.sheen_roughness);
+        }
+        if l.clearcoat > 0.0 {
+            let e = specular_albedo(nc_dot_v, a_coat.sqrt());
+            coat_sp += ambient * (l.clearcoat * (DIELECTRIC_F0 * e.x + e.y));
+        }
+    }
+    for (i, light) in lighting.lights.iter().enumerate() {
+        let Some((dir, mut intensity)) = light.incidence(s.position) else {
+            continue;
+        };
+        if n.dot(dir) <= 0.0 && nc.dot(dir) <= 0.0 {
+            continue;
+        }
+        if let Some(shadows) = lighting.shadows {
+            intensity *= shadows.visibility(i, s.position, n, dir);
+        }
+        if sheen {
+            sheen_sp +=
+                intensity * l.sheen_color * super::sheen::lobe(n, v, dir, l.sheen_roughness);
+        }
+        let nc_dot_l = nc.dot(dir);
+        if l.clearcoat > 0.0 && nc_dot_l > 0.0 {
+            let h = (dir + v).normalize_or_zero();
+            let f = fresnel(Vec3::splat(DIELECTRIC_F0), v.dot(h)).x;
+            let spec = PI
+                * distribution(nc.dot(h).max(0.0), a_coat)
+                * visibility(nc_dot_l, nc_dot_v, a_coat)
+                * nc_dot_l;
+            coat_sp += intensity * (l.clearcoat * f * spec);
+        }
+    }
+    let under_coat = (sp - s.emissive) * k + s.emissive + sheen_sp;
+    let under = 1.0 - coat;
+    (d * (k * under), under_coat * under + coat_sp)
 }
 
 /// The directional albedo of the specular lobe for a white environment, split as
@@ -407,5 +478,160 @@ mod tests {
         // A mirror at normal incidence reflects all of it (F = f0 there, so B ≈ 0).
         let e = specular_albedo(1.0, 0.0);
         assert!(e.x > 0.97 && e.y < 0.01, "{e}");
+    }
+
+    fn with_lobes(mut s: Surface, lobes: crate::shading::lobes::Lobes) -> Surface {
+        s.lobes = lobes;
+        s
+    }
+
+    #[test]
+    fn default_extensions_are_todays_model_exactly() {
+        // Specular factor 1, colour 1, ior 1.5, no coat, no sheen (each given explicitly):
+        // the same bits as the plain model, lights and ambient light together.
+        use crate::shading::lobes::Lobes;
+        let light = sun(Vec3::new(0.4, 0.1, 1.0));
+        let l = lit(&light, 0.7);
+        let explicit = Lobes {
+            specular: 1.0,
+            specular_color: Vec3::ONE,
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.3,
+            sheen_color: Vec3::ZERO,
+            sheen_roughness: 0.6,
+            ..Default::default()
+        };
+        for (metallic, roughness) in [(0.0, 0.5), (1.0, 0.3), (0.4, 0.9)] {
+            let mut base = surface(0.6, metallic, roughness, Vec3::Z);
+            base.ior = 1.5;
+            base.emissive = Vec3::new(0.1, 0.0, 0.2);
+            let eye = Viewer::Point(Vec3::new(-0.5, 0.2, 2.0));
+            let plain = metallic_roughness(&base, &l, eye);
+            let ext = metallic_roughness(&with_lobes(base, explicit), &l, eye);
+            assert_eq!(plain, ext, "metallic {metallic} roughness {roughness}");
+        }
+        // The hand-computed values of the plain model still hold.
+        let s = with_lobes(surface(0.5, 0.0, 0.5, Vec3::Z), explicit);
+        let (d, sp) = metallic_roughness(&s, &lit(&sun(Vec3::Z), 0.0), Viewer::Point(Vec3::Z));
+        assert!((d - Vec3::splat(0.96)).abs().max_element() < 1e-5, "{d}");
+        assert!((sp - Vec3::splat(0.16)).abs().max_element() < 1e-5, "{sp}");
+    }
+
+    #[test]
+    fn specular_factor_and_colour_scale_the_dielectric_lobe() {
+        use crate::shading::lobes::Lobes;
+        let light = sun(Vec3::Z);
+        let l = lit(&light, 0.0);
+        let eye = Viewer::Point(Vec3::Z);
+        let base = surface(0.5, 0.0, 0.5, Vec3::Z);
+        let (_, plain) = metallic_roughness(&base, &l, eye);
+        let half = Lobes {
+            specular: 0.5,
+            ..Default::default()
+        };
+        let (d, sp) = metallic_roughness(&with_lobes(base, half), &l, eye);
+        // At normal incidence F = w·f0: half the highlight, more diffuse.
+        assert!(
+            (sp - plain * 0.5).abs().max_element() < 1e-6,
+            "{sp} {plain}"
+        );
+        assert!((d.x - (1.0 - 0.02)).abs() < 1e-5, "{d}");
+        let red = Lobes {
+            specular_color: Vec3::new(1.0, 0.0, 0.0),
+            ..Default::default()
+        };
+        let (_, sp) = metallic_roughness(&with_lobes(base, red), &l, eye);
+        assert!(sp.x > 0.1 && sp.y == 0.0 && sp.z == 0.0, "{sp}");
+    }
+
+    #[test]
+    fn coat_and_sheen_keep_the_white_furnace_bounded() {
+        // A uniform white environment on a white dielectric: 1 without layers; a coat or a
+        // sheen takes its share and gives back at most what it took (single scattering: less
+        // for a rough coat at grazing views, 0.81 at 75° and roughness 0.7).
+        use crate::shading::lobes::Lobes;
+        let l = lit(&[], 1.0);
+        for angle in [0.0f32, 40.0, 75.0] {
+            let eye = Vec3::new(angle.to_radians().sin(), 0.0, angle.to_radians().cos());
+            for r in [0.0f32, 0.3, 0.7, 1.0] {
+                for lobes in [
+                    Lobes {
+                        clearcoat: 1.0,
+                        clearcoat_roughness: r,
+                        ..Default::default()
+                    },
+                    Lobes {
+                        sheen_color: Vec3::ONE,
+                        sheen_roughness: r,
+                        ..Default::default()
+                    },
+                    Lobes {
+                        clearcoat: 1.0,
+                        clearcoat_roughness: r,
+                        sheen_color: Vec3::ONE,
+                        sheen_roughness: r,
+                        ..Default::default()
+                    },
+                ] {
+                    let s = with_lobes(surface(1.0, 0.0, 0.5, Vec3::Z), lobes);
+                    let v = value(&s, &l, eye).x;
+                    let lower = if angle > 60.0 { 0.75 } else { 0.9 };
+                    assert!(
+                        v <= 1.0 + 1e-3 && v > lower,
+                        "{angle}° r {r} {lobes:?}: {v}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_coat_adds_a_sharp_highlight_of_its_own_and_dims_what_is_beneath() {
+        use crate::shading::lobes::Lobes;
+        let (sin, cos) = (0.5, 0.75f32.sqrt());
+        let light = sun(Vec3::new(sin, 0.0, cos));
+        let l = lit(&light, 0.0);
+        let mirror = Viewer::Point(Vec3::new(-sin, 0.0, cos));
+        let mut base = surface(0.5, 0.0, 1.0, Vec3::Z);
+        base.emissive = Vec3::splat(0.5);
+        let coat = with_lobes(
+            base,
+            Lobes {
+                clearcoat: 1.0,
+                clearcoat_roughness: 0.1,
+                ..Default::default()
+            },
+        );
+        let (d0, s0) = metallic_roughness(&base, &l, mirror);
+        let (d1, s1) = metallic_roughness(&coat, &l, mirror);
+        assert!(d1.x < d0.x, "{d0} {d1}");
+        assert!(s1.x > 5.0 * s0.x, "the coat's mirror highlight: {s0} {s1}");
+        // Seen along the normal, away from the highlight, the coat only dims (its share,
+        // 4%, emission included).
+        let (d2, s2) = metallic_roughness(&coat, &l, Viewer::Point(Vec3::Z));
+        let (d3, s3) = metallic_roughness(&base, &l, Viewer::Point(Vec3::Z));
+        assert!((d2.x / d3.x - 0.96).abs() < 1e-3, "{d2} {d3}");
+        assert!(s2.x < s3.x + 1e-3, "{s2} {s3}");
+    }
+
+    #[test]
+    fn sheen_brightens_grazing_views_more_than_head_on() {
+        // Under a uniform light a dark base gains `E·(1 − its own albedo)`, and the sheen's
+        // albedo E grows towards grazing views.
+        use crate::shading::lobes::Lobes;
+        let l = lit(&[], 1.0);
+        let base = surface(0.2, 0.0, 1.0, Vec3::Z);
+        let sheen = with_lobes(
+            base,
+            Lobes {
+                sheen_color: Vec3::ONE,
+                sheen_roughness: 0.5,
+                ..Default::default()
+            },
+        );
+        let gain = |eye: Vec3| value(&sheen, &l, eye).x - value(&base, &l, eye).x;
+        let head_on = gain(Vec3::Z);
+        let grazing = gain(Vec3::new(0.0, -0.95, 0.3));
+        assert!(grazing > head_on && head_on > 0.0, "{head_on} {grazing}");
     }
 }

@@ -25,6 +25,11 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_unlit",
     "KHR_materials_transmission",
     "KHR_materials_ior",
+    "KHR_materials_variants",
+    "KHR_materials_specular",
+    "KHR_materials_clearcoat",
+    "KHR_materials_sheen",
+    "KHR_materials_volume",
     "KHR_mesh_quantization",
     "MSFT_texture_dds",
     "KHR_texture_basisu",
@@ -64,6 +69,12 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
         .retain(|e| gltf::json::extensions::ENABLED_EXTENSIONS.contains(&e.as_str()));
     precheck(&root).map_err(|m| Error::decode(path, m))?;
     let document = Document::from_json(root).map_err(|e| Error::decode(path, gltf_message(&e)))?;
+    let variant_names = super::variants::names(&document);
+    let variant = options
+        .variant
+        .as_deref()
+        .map(|name| super::variants::resolve(path, &variant_names, name))
+        .transpose()?;
     let buffers = read_buffers(path, &document, blob, options)?;
     let mut loader = Loader {
         path,
@@ -83,8 +94,11 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
         },
         info: AssetInfo {
             format: "glTF 2.0".into(),
+            variants: variant_names,
+            variant: options.variant.clone().filter(|_| variant.is_some()),
             ..Default::default()
         },
+        variant,
         cameras: Vec::new(),
         node_world: Vec::new(),
         visits: 0,
@@ -133,6 +147,8 @@ pub(super) struct Loader<'a> {
     pub(super) node_world: Vec<Mat4>,
     /// Nodes visited so far (bounded: see `nodes`).
     pub(super) visits: usize,
+    /// The chosen material variant's index (`variants`).
+    pub(super) variant: Option<usize>,
 }
 
 impl Loader<'_> {

@@ -3,7 +3,8 @@
 //! base colour factor × texture, metallic and roughness factors and their texture, normal
 //! (+ scale), occlusion (+ strength), emissive (× `KHR_materials_emissive_strength`), the
 //! alpha mode and cutoff, double-sided, `KHR_materials_transmission` (factor and texture,
-//! drawn where an environment is given) and `KHR_materials_ior`.
+//! drawn where an environment is given) and `KHR_materials_ior`; the specular, clearcoat,
+//! sheen and volume extensions in `extensions`.
 //! The base colour and emissive textures are sRGB, the others linear data; an OPAQUE base
 //! colour's alpha is dropped at load (glTF says it is ignored). The default material, for
 //! primitives without one, is glTF's: white, metallic 1, roughness 1.
@@ -12,6 +13,7 @@ use glam::{Vec3, Vec4};
 
 use super::document::Loader;
 use super::textures::{apply_raw_transform, TRANSFORM};
+use crate::pipeline::CullMode;
 use crate::scene::texture_cache::{channel_color_space, AlphaChannel};
 use crate::shading::{AlphaMode, MapChannel, Material, MaterialMap, ShadingModel};
 use crate::texture::ColorSpace;
@@ -35,6 +37,7 @@ impl Loader<'_> {
             model: ShadingModel::MetallicRoughness,
             metallic: 1.0,
             roughness: 1.0,
+            cull: CullMode::Back,
             ..Default::default()
         });
         self.info.material_names.push("(default)".into());
@@ -48,6 +51,8 @@ impl Loader<'_> {
             metallic: pbr.metallic_factor(),
             roughness: pbr.roughness_factor(),
             double_sided: m.double_sided(),
+            // glTF: "back-face culling must be enabled" on single-sided materials.
+            cull: CullMode::Back,
             unlit: m.unlit(),
             model: if m.unlit() {
                 ShadingModel::Phong
@@ -145,10 +150,11 @@ impl Loader<'_> {
                 1.0,
             )?;
         }
+        self.material_extensions(m, &mut mat)?;
         Ok(mat)
     }
 
-    fn push_map(
+    pub(super) fn push_map(
         &mut self,
         mat: &mut Material,
         channel: MapChannel,

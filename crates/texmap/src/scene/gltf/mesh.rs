@@ -167,10 +167,14 @@ impl Loader<'_> {
         for n in &mut normals {
             *n = n.normalize_or_zero();
         }
-        let material = prim
-            .material()
-            .index()
-            .unwrap_or(self.scene.materials.len() - 1);
+        // The last material is glTF's default one; a variant's mapping names a file material.
+        let default = self.scene.materials.len() - 1;
+        let material = self
+            .variant
+            .and_then(|v| super::variants::material_of(prim, v))
+            .filter(|&m| m < default)
+            .or(prim.material().index())
+            .unwrap_or(default);
         let mut mesh = Mesh {
             positions,
             normals,
@@ -183,7 +187,11 @@ impl Loader<'_> {
             world_from_object,
         };
         if mesh.tangents.is_empty() {
-            if let Some(map) = self.scene.materials[material].map(MapChannel::Normal) {
+            let mat = &self.scene.materials[material];
+            let normal_map = mat
+                .map(MapChannel::Normal)
+                .or_else(|| mat.map(MapChannel::ClearcoatNormal));
+            if let Some(map) = normal_map {
                 let set = map.slot.tex_coord;
                 if !tangents::generate(&mut mesh, set) {
                     self.warnings.push(format!(

@@ -21,17 +21,20 @@
 //!
 //! Files: `document` (the file → [`Loaded`](crate::scene::Loaded), the loader's state),
 //! `buffers` (buffers and accessors), `textures` (images, samplers, texture transforms),
-//! `materials`, `nodes` (the hierarchy), `mesh` (primitives), `skin`, `cameras`, `lights`.
+//! `materials`, `extensions` (the material extensions read from raw JSON), `nodes` (the hierarchy), `mesh` (primitives), `skin`, `cameras`, `lights`,
+//! `variants` (`KHR_materials_variants`).
 
 mod buffers;
 mod cameras;
 mod document;
+mod extensions;
 mod lights;
 mod materials;
 mod mesh;
 mod nodes;
 mod skin;
 mod textures;
+mod variants;
 
 #[cfg(test)]
 mod tests;

@@ -185,3 +185,86 @@ fn msft_texture_dds_reads_the_dds_image() {
     );
     assert_eq!(missing, png);
 }
+
+/// Material extensions read from the raw JSON (factors, textures with their uv set and
+/// transform, emissive strength) and variants choosing a primitive's material.
+#[test]
+fn material_extensions_and_variants() {
+    use crate::pipeline::CullMode;
+    use base64::Engine;
+    let mut b: Vec<u8> = Vec::new();
+    for p in [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] {
+        p.iter().for_each(|v| b.extend_from_slice(&v.to_le_bytes()));
+    }
+    let mut png = Vec::new();
+    image::RgbaImage::from_pixel(1, 1, image::Rgba([9, 9, 9, 255]))
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    let enc = |x: &[u8]| base64::engine::general_purpose::STANDARD.encode(x);
+    let json = format!(
+        r#"{{"asset": {{"version": "2.0"}},
+  "extensionsUsed": ["KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_sheen",
+    "KHR_materials_volume", "KHR_materials_emissive_strength", "KHR_materials_variants"],
+  "extensions": {{"KHR_materials_variants": {{"variants": [{{"name": "a"}}, {{"name": "b"}}]}}}},
+  "nodes": [{{"mesh": 0}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "material": 0,
+    "extensions": {{"KHR_materials_variants": {{"mappings": [{{"material": 1, "variants": [1]}}]}}}}}}]}}],
+  "materials": [{{"emissiveFactor": [0.5, 0.25, 1], "doubleSided": true, "extensions": {{
+      "KHR_materials_emissive_strength": {{"emissiveStrength": 4}},
+      "KHR_materials_specular": {{"specularFactor": 0.5, "specularColorFactor": [1, 0.5, 0.25],
+        "specularColorTexture": {{"index": 0, "texCoord": 1}}}},
+      "KHR_materials_clearcoat": {{"clearcoatFactor": 0.75, "clearcoatRoughnessFactor": 0.25,
+        "clearcoatNormalTexture": {{"index": 0, "scale": 0.5,
+          "extensions": {{"KHR_texture_transform": {{"offset": [0.5, 0], "texCoord": 1}}}}}}}},
+      "KHR_materials_sheen": {{"sheenColorFactor": [0.1, 0.2, 0.3], "sheenRoughnessFactor": 0.4}},
+      "KHR_materials_volume": {{"thicknessFactor": 2, "attenuationDistance": 3,
+        "attenuationColor": [0.9, 0.8, 0.7]}}}}}},
+    {{"name": "other"}}],
+  "textures": [{{"source": 0}}],
+  "images": [{{"uri": "data:image/png;base64,{}"}}],
+  "buffers": [{{"byteLength": 36, "uri": "data:application/octet-stream;base64,{}"}}],
+  "bufferViews": [{{"buffer": 0, "byteLength": 36}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+    "min": [0, 0, 0], "max": [1, 1, 0]}}]}}"#,
+        enc(&png),
+        enc(&b)
+    );
+    let p = crate::scene::test_file("gltf", "extensions.gltf", json);
+    let l = load(&p, &LoadOptions::default()).unwrap();
+    let m = &l.scene.materials[0];
+    assert_eq!(m.emissive, Vec3::new(2.0, 1.0, 4.0));
+    assert_eq!(m.lobes.specular, 0.5);
+    assert_eq!(m.lobes.specular_color, Vec3::new(1.0, 0.5, 0.25));
+    assert_eq!(
+        (m.lobes.clearcoat, m.lobes.clearcoat_roughness),
+        (0.75, 0.25)
+    );
+    assert_eq!(m.lobes.sheen_color, Vec3::new(0.1, 0.2, 0.3));
+    assert_eq!(m.lobes.sheen_roughness, 0.4);
+    assert_eq!(m.lobes.thickness, 2.0);
+    assert_eq!(m.lobes.attenuation_distance, 3.0);
+    assert_eq!(m.lobes.attenuation_color, Vec3::new(0.9, 0.8, 0.7));
+    let color = m.map(MapChannel::SpecularColor).unwrap();
+    assert_eq!(color.slot.tex_coord, 1);
+    let coat = m.map(MapChannel::ClearcoatNormal).unwrap();
+    assert_eq!((coat.scale, coat.slot.tex_coord), (0.5, 1));
+    assert_eq!(coat.slot.transform.offset, Vec2::new(0.5, 0.0));
+    // Double-sided: never culled; glTF's default material is single-sided: back faces.
+    assert_eq!(m.cull, CullMode::Back);
+    assert!(m.double_sided);
+    assert_eq!(l.scene.materials[1].cull, CullMode::Back);
+    assert_eq!(l.info.variants, ["a", "b"]);
+    assert_eq!(l.scene.meshes[0].material, 0);
+    // Variant "b" maps the primitive to material 1; "a" maps nothing.
+    let b = load(&p, &LoadOptions::default().variant(Some("b".into()))).unwrap();
+    assert_eq!(b.scene.meshes[0].material, 1);
+    assert_eq!(b.info.variant.as_deref(), Some("b"));
+    let a = load(&p, &LoadOptions::default().variant(Some("a".into()))).unwrap();
+    assert_eq!(a.scene.meshes[0].material, 0);
+    let e = load(&p, &LoadOptions::default().variant(Some("c".into()))).unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.contains("extensions.gltf") && msg.contains("a, b"),
+        "{msg}"
+    );
+}

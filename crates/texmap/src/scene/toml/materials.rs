@@ -13,6 +13,7 @@ use super::procedural::{colour_source, solid_maps};
 use super::spec::MaterialSpec;
 use super::textures::slot;
 use super::virtual_texture::virtual_slot;
+use crate::pipeline::CullMode;
 use crate::scene::texture_cache::{channel_color_space, TextureCache};
 use crate::shading::{AlphaMode, MapChannel, Material, MaterialMap, ShadingModel};
 use crate::texture::ColorSpace;
@@ -64,6 +65,16 @@ pub(super) fn material(
         ior: m.ior.unwrap_or(d.ior),
         unlit: m.unlit,
         double_sided: m.double_sided,
+        cull: match m.cull.as_deref() {
+            None | Some("none") => CullMode::None,
+            Some("back") => CullMode::Back,
+            Some("front") => CullMode::Front,
+            Some(other) => {
+                return Err(Error::parameter(format!(
+                    "cull {other:?} is not none, back or front"
+                )))
+            }
+        },
         alpha_mode,
         ..d
     };

@@ -48,7 +48,18 @@ pub(super) fn add_mesh(
         (Some(file), None) => {
             let full = dir.join(file);
             let sub = match SceneFormat::of(&full)? {
-                SceneFormat::Gltf => crate::scene::gltf::load(&full, options)?,
+                SceneFormat::Gltf => {
+                    let options = match &m.variant {
+                        Some(v) => options.clone().variant(Some(v.clone())),
+                        None => options.clone(),
+                    };
+                    crate::scene::gltf::load(&full, &options)?
+                }
+                SceneFormat::Obj if m.variant.is_some() => {
+                    return Err(err(
+                        "variant names a glTF material variant; an OBJ file has none".to_string(),
+                    ))
+                }
                 SceneFormat::Obj => crate::scene::obj::load(&full, options)?,
                 SceneFormat::Toml => {
                     return Err(err(
@@ -72,6 +83,10 @@ pub(super) fn add_mesh(
                 scene.meshes.push(mesh);
             }
             scene.materials.extend(sub.scene.materials);
+            info.variants.extend(sub.info.variants);
+            if sub.info.variant.is_some() {
+                info.variant = sub.info.variant;
+            }
             info.material_names.extend(
                 sub.info
                     .material_names

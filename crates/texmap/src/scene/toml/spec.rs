@@ -239,6 +239,8 @@ pub(super) struct MaterialSpec {
     pub(super) unlit: bool,
     #[serde(default)]
     pub(super) double_sided: bool,
+    /// "none" (default), "back" or "front": the faces culled unless `--cull` says.
+    pub(super) cull: Option<String>,
     /// "opaque", "mask" or "blend".
     pub(super) alpha_mode: Option<String>,
     pub(super) alpha_cutoff: Option<f32>,
@@ -470,6 +472,9 @@ fn unit2() -> [f32; 2] {
 pub(super) struct MeshSpec {
     /// A model file (.gltf, .glb, .obj), relative to the scene file.
     pub(super) file: Option<PathBuf>,
+    /// A glTF file's material variant (`KHR_materials_variants`); the command line's
+    /// `--variant` when absent.
+    pub(super) variant: Option<String>,
     /// plane | cube | sphere | cylinder | cone | torus.
     pub(super) primitive: Option<String>,
     /// A material name from `[materials]`; for files it replaces the file's materials.

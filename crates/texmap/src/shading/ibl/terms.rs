@@ -242,10 +242,12 @@ pub fn environment_terms(
         }
         crate::shading::ShadingModel::MetallicRoughness => {
             let metallic = s.metallic.clamp(0.0, 1.0);
-            let f0 = Vec3::splat(dielectric_f0(s.ior)).lerp(s.base_color, metallic);
+            let (f0_d, f90_d) = s.lobes.dielectric(dielectric_f0(s.ior));
+            let f0 = f0_d.lerp(s.base_color, metallic);
+            let f90 = f90_d + (1.0 - f90_d) * metallic;
             let roughness = s.roughness.clamp(0.0, 1.0);
             let ab = pbr::specular_albedo(n_dot_v, pbr::alpha(roughness).sqrt());
-            let e = f0 * ab.x + Vec3::splat(ab.y);
+            let e = f0 * ab.x + Vec3::splat(ab.y * f90);
             let diffuse = (Vec3::ONE - e) * (1.0 - metallic);
             let transmission = if env.reflections {
                 m.transmission.clamp(0.0, 1.0)
@@ -262,11 +264,59 @@ pub fn environment_terms(
                 sp += light.radiance(&rays.reflected, roughness) * e * s.occlusion;
             }
             if transmission > 0.0 {
-                d += light.radiance(&rays.refracted, roughness) * diffuse * transmission;
+                // KHR_materials_volume: Beer–Lambert through the thickness.
+                let through = s.lobes.transmittance(s.lobes.thickness);
+                d += light.radiance(&rays.refracted, roughness) * diffuse * through * transmission;
+            }
+            if s.lobes.layered() && env.ibl {
+                return layered_env(s, v, n_dot_v, rays, light, (d, sp));
             }
         }
     }
     (d, sp)
+}
+
+/// The clearcoat and sheen over the environment's base factors ([`pbr`]'s layering, the
+/// [`crate::shading::lobes`] module docs): the coat reads the prefiltered environment along
+/// its own reflected direction (with the base reflection's footprint) at its roughness; the
+/// sheen takes the irradiance about the normal times its albedo.
+fn layered_env(
+    s: &Surface,
+    v: Vec3,
+    n_dot_v: f32,
+    rays: &EnvRays,
+    light: &EnvLight,
+    (d, sp): (Vec3, Vec3),
+) -> (Vec3, Vec3) {
+    use crate::shading::lobes::{coat_share, sheen_scaling};
+    let l = &s.lobes;
+    let nc = if s.clearcoat_normal == Vec3::ZERO {
+        s.normal
+    } else {
+        s.clearcoat_normal
+    };
+    let nc_dot_v = nc.dot(v).max(1e-4);
+    let coat = coat_share(l.clearcoat, nc_dot_v);
+    let k = sheen_scaling(l.sheen_color, l.sheen_roughness, n_dot_v);
+    let mut under_coat = sp * k;
+    if l.sheen_color != Vec3::ZERO {
+        under_coat += light.irradiance(s.normal)
+            * l.sheen_color
+            * (crate::shading::sheen::albedo(n_dot_v, l.sheen_roughness) * s.occlusion);
+    }
+    let mut coat_sp = Vec3::ZERO;
+    if l.clearcoat > 0.0 {
+        let r = l.clearcoat_roughness.clamp(0.0, 1.0);
+        let ab = pbr::specular_albedo(nc_dot_v, pbr::alpha(r).sqrt());
+        let fp = CubeFootprint {
+            dir: reflect(nc, v),
+            ..rays.reflected
+        };
+        coat_sp = light.radiance(&fp, r)
+            * (l.clearcoat * (pbr::DIELECTRIC_F0 * ab.x + ab.y) * s.occlusion);
+    }
+    let under = 1.0 - coat;
+    (d * (k * under), under_coat * under + coat_sp)
 }
 
 /// Rays for a point with no neighbours (Gouraud vertices, flat faces): directions without
