@@ -2,6 +2,8 @@
 //! whose union is one process's render byte for byte, many inputs, resume after a kill,
 //! the manifest and its verification, animations, and bad input refused before rendering.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -35,10 +37,7 @@ fn ok(r: &Output) {
 }
 
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("texmap-batch-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::fresh_dir("batch", name)
 }
 
 fn s(p: &Path) -> &str {

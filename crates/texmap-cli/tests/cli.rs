@@ -1,21 +1,14 @@
 //! The command line on good and bad scene files: exit codes, one-line messages naming the
 //! file, no output file after a failure.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn texmap(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texmap"))
-        .args(args)
-        .output()
-        .expect("the texmap binary runs")
-}
+use common::texmap;
+use std::path::{Path, PathBuf};
+use std::process::Output;
 
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("texmap-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::fresh_dir("cli", name)
 }
 
 /// A triangle's binary buffer: 3 positions, 3 uvs, 3 u16 indices (+2 bytes padding).

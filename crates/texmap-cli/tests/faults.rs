@@ -2,15 +2,11 @@
 //! stderr naming the file or flag, no panic and no output file — or, where the case is a
 //! stream that went away, end quietly. (The causes were found by fuzzing the command line.)
 
+mod common;
+
+use common::texmap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-
-fn texmap(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texmap"))
-        .args(args)
-        .output()
-        .expect("run texmap")
-}
 
 fn dir(case: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("texmap-faults-{}-{case}", std::process::id()));

@@ -7,15 +7,10 @@
 //! with exit code 1, one line on stderr naming the flag, and no output file. Each case states
 //! which of the two it expects, so a flag that silently does nothing fails the test.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn texmap(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texmap"))
-        .args(args)
-        .output()
-        .expect("run texmap")
-}
+use common::texmap;
+use std::path::{Path, PathBuf};
 
 fn dir() -> PathBuf {
     let d = std::env::temp_dir().join(format!("texmap-flags-{}", std::process::id()));

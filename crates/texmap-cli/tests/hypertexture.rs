@@ -3,24 +3,17 @@
 //! bad input (no triangles, a threshold outside the scan, a field over --max-memory, flags
 //! with nothing to act on) is one line, exit 1, and no output.
 
+mod common;
+
+use common::texmap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use glam::DVec3;
 use texmap::volume::sdf::{shape_field, FieldFormat, FieldGrid, Shape};
 
-fn texmap(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texmap"))
-        .args(args)
-        .output()
-        .expect("the texmap binary runs")
-}
-
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("texmap-ht-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::fresh_dir("ht", name)
 }
 
 fn s(p: &Path) -> &str {

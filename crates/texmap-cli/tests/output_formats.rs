@@ -4,24 +4,17 @@
 //! fractional on antialiased edges, volumes' opacity), and an extension texmap does not
 //! write is one line, exit 1, no file — checked before the scene is read.
 
+mod common;
+
+use common::texmap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use image::DynamicImage;
 use texmap::color::{linear_to_srgb8, linear_to_unorm8, srgb_to_linear};
 
-fn texmap(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texmap"))
-        .args(args)
-        .output()
-        .expect("the texmap binary runs")
-}
-
 fn dir(test: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("texmap-out-{}-{test}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::fresh_dir("out", test)
 }
 
 fn s(p: &Path) -> &str {

@@ -4,6 +4,8 @@
 //! script read from the manifest), each with `texmap` on the PATH; then their verify steps.
 //! Sizes are shrunk through the recipes' own variables; the frame counts stay.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -12,10 +14,7 @@ fn repo() -> PathBuf {
 }
 
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("texmap-recipes-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::fresh_dir("recipes", name)
 }
 
 /// A folder holding `texmap` (a link to the binary under test), a scene and four models.

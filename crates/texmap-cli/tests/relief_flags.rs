@@ -4,15 +4,11 @@
 //! nothing; a tessellation over the triangle budget and bad relief tables are one line;
 //! `texmap info` lists parallax and displacement.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn texmap(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texmap"))
-        .args(args)
-        .output()
-        .expect("run texmap")
-}
+use common::texmap;
+use std::path::{Path, PathBuf};
+use std::process::Output;
 
 /// A folder of this test's own (tests run in parallel).
 fn dir(test: &str) -> PathBuf {

@@ -2,25 +2,18 @@
 //! input (no triangles, a threshold outside the scan, a grid over --max-memory, flags that do
 //! not apply) is one line naming the file, exit 1, and no output.
 
+mod common;
+
+use common::texmap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use glam::DVec3;
 use texmap::volume::sdf::{shape_field, FieldFormat, FieldGrid, Shape};
 use texmap::volume::{load_scalars_with, VolumeOptions};
 
-fn texmap(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texmap"))
-        .args(args)
-        .output()
-        .expect("the texmap binary runs")
-}
-
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("texmap-sdf-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::fresh_dir("sdf", name)
 }
 
 fn s(p: &Path) -> &str {

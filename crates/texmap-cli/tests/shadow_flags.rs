@@ -2,15 +2,10 @@
 //! same command without it) or is refused with exit code 1, one line on stderr naming the
 //! flag or the file, and no output; `texmap info` lists the casting lights.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn texmap(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texmap"))
-        .args(args)
-        .output()
-        .expect("run texmap")
-}
+use common::texmap;
+use std::path::{Path, PathBuf};
 
 /// A folder of this test's own (tests run in parallel and each removes its folder).
 fn dir(test: &str) -> PathBuf {

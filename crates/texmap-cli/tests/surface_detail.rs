@@ -3,15 +3,11 @@
 //! files are refused with one line naming the file, exit 1, no output; `texmap info` lists
 //! layers, light maps and toon shading. The scene and its images are generated here.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn texmap(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texmap"))
-        .args(args)
-        .output()
-        .expect("run texmap")
-}
+use common::texmap;
+use std::path::{Path, PathBuf};
+use std::process::Output;
 
 fn dir() -> PathBuf {
     let d = std::env::temp_dir().join(format!("texmap-detail-cli-{}", std::process::id()));

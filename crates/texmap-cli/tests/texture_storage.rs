@@ -2,21 +2,14 @@
 //! hand-made BC1 DDS (built here) renders the same held compressed as decoded, `info` shows
 //! what each storage holds, and the flag is refused where no image file is read.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn texmap(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texmap"))
-        .args(args)
-        .output()
-        .expect("the texmap binary runs")
-}
+use common::texmap;
+use std::path::{Path, PathBuf};
+use std::process::Output;
 
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("texmap-storage-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::fresh_dir("storage", name)
 }
 
 fn s(p: &Path) -> &str {

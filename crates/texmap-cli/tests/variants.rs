@@ -3,21 +3,14 @@
 //! to (the TOML mesh key `variant` too), and a name the file does not define is one line
 //! listing the ones it does, exit 1, no image.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn texmap(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texmap"))
-        .args(args)
-        .output()
-        .expect("the texmap binary runs")
-}
+use common::texmap;
+use std::path::{Path, PathBuf};
+use std::process::Output;
 
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("texmap-variants-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::fresh_dir("variants", name)
 }
 
 /// A quad facing a camera, unlit, with materials red (its own), green and blue, and the
