@@ -206,36 +206,47 @@ impl SceneShader<'_> {
         let mut light_buf = light_buffer(self_shadow);
         let kt = e.transmission_map.as_ref().map(|t| t.quad(quad));
         // Every pixel's surface, helpers included: their directions give the derivatives.
-        let mut colors = [Vec4::ZERO; 4];
+        // Built in place (a surface is a few hundred bytes: no default array to overwrite).
+        // Helper pixels (outside the triangle) give only their reflected and refracted
+        // directions: their normal is all they take from the maps.
+        let covered = |j: usize| quad.mask & (1 << j) != 0;
+        let colors: [Vec4; 4] = std::array::from_fn(|j| {
+            if covered(j) {
+                surface_color(d, quad, reads, j)
+            } else {
+                Vec4::ZERO
+            }
+        });
+        // Each surface is written in place: a surface is a few hundred bytes, and building
+        // one then moving it into the array copied it twice more.
         let mut surfaces = [d.surface; 4];
-        let mut reflected = [Vec3::ZERO; 4];
-        let mut refracted = [Vec3::ZERO; 4];
-        for j in 0..4 {
-            let c = surface_color(d, quad, reads, j);
-            let normal = d
-                .layout
-                .normal
-                .map_or(Vec3::ZERO, |s| s.pixel3(quad, j).normalize_or_zero());
-            let position = d.layout.position.map_or(Vec3::ZERO, |s| s.pixel3(quad, j));
-            let mut s = Surface {
-                position,
-                normal,
-                ..d.surface
-            };
+        for (j, s) in surfaces.iter_mut().enumerate() {
+            if let Some(n) = d.layout.normal {
+                s.normal = n.pixel3(quad, j).normalize_or_zero();
+            }
+            if let Some(p) = d.layout.position {
+                s.position = p.pixel3(quad, j);
+            }
             if let Some(maps) = &reads.maps {
-                d.apply_maps(maps, quad, j, c, &mut s);
+                if covered(j) || d.solid_bump.is_some() {
+                    d.apply_maps(maps, quad, j, colors[j], s);
+                } else {
+                    s.normal = d.mapped_normal(maps, quad, j, s.normal);
+                }
             }
             if back {
                 s.normal = -s.normal;
                 s.clearcoat_normal = -s.clearcoat_normal;
             }
+        }
+        let mut reflected = [Vec3::ZERO; 4];
+        let mut refracted = [Vec3::ZERO; 4];
+        for (j, s) in surfaces.iter().enumerate() {
             let v = self.viewer.towards(s.position);
             reflected[j] = reflect(s.normal, v);
             if e.refracts {
                 refracted[j] = refract(s.normal, v, s.ior);
             }
-            colors[j] = c;
-            surfaces[j] = s;
         }
         let footprint = |dirs: &[Vec3; 4], j: usize| CubeFootprint {
             dir: dirs[j],

@@ -27,22 +27,7 @@ impl DrawInfo<'_> {
         } else if s.lobes.clearcoat > 0.0 {
             s.clearcoat_normal = s.normal;
         }
-        let n = &mut s.normal;
-        if let (Some(texel), Some(map)) = (&maps.normals, &self.normal_map) {
-            if let Some(mapped) = self.tangent_space(quad, j, *n, texel[j], map.scale) {
-                *n = mapped;
-            }
-        }
-        if let Some(texel) = &maps.object_normals {
-            // Object space → world: the normal matrix; the vertex normal is replaced.
-            let object = texel[j].truncate() * 2.0 - Vec3::ONE;
-            if let Some(mapped) = (self.normal_from_object * object).try_normalize() {
-                *n = mapped;
-            }
-        }
-        if let (Some(slopes), Some(p)) = (&maps.bumps, self.layout.position) {
-            *n = bump::tilt_screen_space(*n, p.ddx3(quad), p.ddy3(quad), slopes[j]);
-        }
+        s.normal = self.mapped_normal(maps, quad, j, s.normal);
         if self.solid_roughness.is_some() || self.solid_bump.is_some() {
             self.solid_channels(quad, j, s);
         }
@@ -70,6 +55,30 @@ impl DrawInfo<'_> {
         if self.model == ShadingModel::MetallicRoughness {
             s.base_color = straight(c);
         }
+    }
+
+    /// Pixel `j`'s normal `n` tilted by its draw's normal map, object-space normal map and
+    /// bump maps (the solid bump is [`DrawInfo::apply_maps`]'s): all a helper pixel of a
+    /// quad needs for its reflected direction.
+    #[inline]
+    pub(super) fn mapped_normal(&self, maps: &QuadMaps, quad: &Quad, j: usize, n: Vec3) -> Vec3 {
+        let mut n = n;
+        if let (Some(texel), Some(map)) = (&maps.normals, &self.normal_map) {
+            if let Some(mapped) = self.tangent_space(quad, j, n, texel[j], map.scale) {
+                n = mapped;
+            }
+        }
+        if let Some(texel) = &maps.object_normals {
+            // Object space → world: the normal matrix; the vertex normal is replaced.
+            let object = texel[j].truncate() * 2.0 - Vec3::ONE;
+            if let Some(mapped) = (self.normal_from_object * object).try_normalize() {
+                n = mapped;
+            }
+        }
+        if let (Some(slopes), Some(p)) = (&maps.bumps, self.layout.position) {
+            n = bump::tilt_screen_space(n, p.ddx3(quad), p.ddy3(quad), slopes[j]);
+        }
+        n
     }
 
     /// The world normal a tangent-space normal-map texel gives about unit normal `n` at pixel

@@ -66,7 +66,7 @@ impl FaceSet {
     /// The bilinear value along `d` (any length).
     #[inline]
     #[must_use]
-    pub fn read(&self, d: Vec3) -> Vec3 {
+    pub fn read(&self, d: Vec3) -> Vec3A {
         let (f, sc, tc) = face_coords(d);
         self.read_at(f, sc, tc)
     }
@@ -75,14 +75,14 @@ impl FaceSet {
     /// (the two prefiltered levels a rough read blends).
     #[inline]
     #[must_use]
-    pub fn read_pair(&self, other: &FaceSet, d: Vec3) -> (Vec3, Vec3) {
+    pub fn read_pair(&self, other: &FaceSet, d: Vec3) -> (Vec3A, Vec3A) {
         let (f, sc, tc) = face_coords(d);
         (self.read_at(f, sc, tc), other.read_at(f, sc, tc))
     }
 
     /// The bilinear value at face coordinates `(sc, tc)` of face `f`.
     #[inline]
-    pub(super) fn read_at(&self, f: usize, sc: f32, tc: f32) -> Vec3 {
+    pub(super) fn read_at(&self, f: usize, sc: f32, tc: f32) -> Vec3A {
         let n = self.n as u32 as f32;
         let m = self.n + 2;
         // Texel centre i sits at face coordinate 2(i + ½)/n − 1; the apron shifts by one.
@@ -97,7 +97,7 @@ impl FaceSet {
         let t = &self.texels[base..base + m + 2];
         let top = t[0].lerp(t[1], fx);
         let bottom = t[m].lerp(t[m + 1], fx);
-        top.lerp(bottom, fy).into()
+        top.lerp(bottom, fy)
     }
 }
 
@@ -141,10 +141,10 @@ impl MirrorCube {
     /// face and face coordinates it read at (for a second read at the same place).
     #[inline]
     #[must_use]
-    pub fn read(&self, sampler: &Sampler, fp: &CubeFootprint) -> (Vec3, (usize, f32, f32)) {
+    pub fn read(&self, sampler: &Sampler, fp: &CubeFootprint) -> (Vec3A, (usize, f32, f32)) {
         let (f, s, t, ma) = CubeFace::select(fp.dir);
         if !(ma > 0.0) || !ma.is_finite() {
-            return (Vec3::ZERO, (0, 0.0, 0.0));
+            return (Vec3A::ZERO, (0, 0.0, 0.0));
         }
         let inv = 1.0 / ma;
         let (sc, tc) = (s * inv, t * inv);

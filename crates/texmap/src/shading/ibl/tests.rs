@@ -202,6 +202,7 @@ fn the_mirror_cube_reads_what_the_map_holds_at_every_level_and_across_face_edges
                 ddir_dy: b * w,
             };
             let (got, _) = cube.read(&sampler, &fp);
+            let got = glam::Vec3::from(got);
             let want = env.map().sample(&sampler, &fp).truncate();
             // Wide footprints average differently shaped regions (a cube level's box against
             // the panorama's): up to 6% apart at a cube corner.
