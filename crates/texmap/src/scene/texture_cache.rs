@@ -317,3 +317,73 @@ pub(crate) fn placeholder_texture() -> Arc<Texture2D> {
             .expect("a 2x2 RGBA8 buffer of 16 bytes is a valid texture"),
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn png(w: u32, h: u32, seed: u32) -> Vec<u8> {
+        let img = image::RgbImage::from_fn(w, h, |x, y| {
+            let v = (x * 7 + y * 13 + seed) as u8;
+            image::Rgb([v, v.wrapping_mul(3), 255 - v])
+        });
+        let mut out = std::io::Cursor::new(Vec::new());
+        img.write_to(&mut out, image::ImageFormat::Png).unwrap();
+        out.into_inner()
+    }
+
+    /// The cache's answers for `sources` asked in order, after prefetching them or not:
+    /// each texture's level 0, or its error message; and the infos' names.
+    fn ask(sources: &[(&str, &[u8])], prefetch: bool) -> (Vec<String>, Vec<String>) {
+        let mut cache = TextureCache::new(&LoadOptions::default());
+        let source = |name: &str, bytes| ImageSource::Bytes {
+            name: name.to_string(),
+            bytes,
+        };
+        if prefetch {
+            let requests = sources
+                .iter()
+                .map(|&(n, b)| {
+                    (
+                        n.to_string(),
+                        source(n, b),
+                        ColorSpace::Srgb,
+                        AlphaChannel::Keep,
+                    )
+                })
+                .collect();
+            cache.prefetch(requests);
+            assert_eq!(cache.ready.len(), sources.len());
+        }
+        let answers = sources
+            .iter()
+            .map(
+                |&(n, b)| match cache.get(n, source(n, b), ColorSpace::Srgb, AlphaChannel::Keep) {
+                    Ok(Some(t)) => format!("{:?}", t.decode_level(0)),
+                    Ok(None) => "left out".into(),
+                    Err(e) => e.to_string(),
+                },
+            )
+            .collect();
+        assert!(cache.ready.is_empty());
+        (
+            answers,
+            cache.infos.iter().map(|i| i.name.clone()).collect(),
+        )
+    }
+
+    #[test]
+    fn prefetched_textures_and_errors_are_what_asking_gives() {
+        let (a, b) = (png(9, 5, 1), png(4, 11, 2));
+        let sources: [(&str, &[u8]); 3] = [
+            ("a.png", &a),
+            ("broken.png", b"\x89PNG\r\n\x1a\nnot a png"),
+            ("b.png", &b),
+        ];
+        let (plain, plain_infos) = ask(&sources, false);
+        let (fetched, fetched_infos) = ask(&sources, true);
+        assert_eq!(plain, fetched);
+        assert_eq!(plain_infos, fetched_infos);
+        assert!(plain[1].contains("broken.png"), "{}", plain[1]);
+    }
+}
