@@ -2,14 +2,15 @@
 //! scan (with `--mesh` files inside it).
 //!
 //! The flags are `args.rs`; which flags apply to which scene, `checks.rs`; the bounds of a
-//! render (memory, frames, threads), `limits.rs`; the image written (format, `--alpha`, the
-//! background), `image_out.rs`.
+//! render (memory, frames, threads), `limits.rs`; the loads' freed memory handed back,
+//! `heap.rs`; the image written (format, `--alpha`, the background), `image_out.rs`.
 
 mod args;
 mod batch;
 mod checks;
 mod complete;
 mod detail;
+mod heap;
 pub(crate) mod image_out;
 pub(crate) mod limits;
 mod naming;

@@ -62,6 +62,8 @@ pub(crate) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
         checks::check_flags(args, &built)?;
         Ok::<_, Error>(built)
     })?;
+    // The decoders' and mip builders' buffers are freed: give them back before the frames'.
+    super::heap::release_free_memory();
     if let Some(texture) = &common.texture {
         if scene.set_base_color_texture(texture.clone()) == 0 {
             let name = args.scene.as_deref().unwrap_or("builtin:demo");
@@ -223,6 +225,7 @@ pub(crate) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
     let prefilter_start = Instant::now();
     let prefiltered = pool.install(|| prefilter_environment(&scene, &settings));
     let prefilter_ms = prefilter_start.elapsed().as_secs_f64() * 1e3;
+    super::heap::release_free_memory();
     Ok(Prepared {
         scene,
         volumes,

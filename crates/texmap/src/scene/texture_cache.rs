@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use image::DynamicImage;
+use rayon::prelude::*;
 
 use super::asset::{LoadOptions, TextureInfo};
 use crate::shading::MapChannel;
@@ -26,6 +27,22 @@ use crate::{Error, Result};
 pub(crate) enum ImageSource<'a> {
     File(PathBuf),
     Bytes { name: String, bytes: &'a [u8] },
+}
+
+impl ImageSource<'_> {
+    /// The name messages give the source.
+    fn name(&self) -> String {
+        match self {
+            ImageSource::File(p) => p.display().to_string(),
+            ImageSource::Bytes { name, .. } => name.clone(),
+        }
+    }
+}
+
+/// Whether a source's name marks a format texmap does not decode (WebP, `.basis`).
+fn not_decoded(name: &str) -> bool {
+    let lower = name.to_ascii_lowercase();
+    lower.ends_with(".webp") || lower.ends_with(".basis")
 }
 
 /// Whether an image's alpha channel is kept.
@@ -63,6 +80,8 @@ struct CacheKey {
 /// [`TextureInfo`]s and warnings.
 pub(crate) struct TextureCache {
     cache: HashMap<CacheKey, Option<Arc<Texture2D>>>,
+    /// Textures built ahead by [`TextureCache::prefetch`], not yet asked for.
+    ready: HashMap<CacheKey, Result<Texture2D>>,
     pub infos: Vec<TextureInfo>,
     pub warnings: Vec<String>,
     lenient: bool,
@@ -78,6 +97,7 @@ impl TextureCache {
         TextureCache {
             volumes: options.volume_options(),
             cache: HashMap::new(),
+            ready: HashMap::new(),
             infos: Vec::new(),
             warnings: Vec::new(),
             lenient: options.lenient,
@@ -116,30 +136,20 @@ impl TextureCache {
             alpha,
             storage,
         };
-        let options = TextureOptions::default().with_storage(storage);
         if let Some(t) = self.cache.get(&key) {
             return Ok(t.clone());
         }
-        let name = match &source {
-            ImageSource::File(p) => p.display().to_string(),
-            ImageSource::Bytes { name, .. } => name.clone(),
-        };
-        let lower = name.to_ascii_lowercase();
-        if lower.ends_with(".webp") || lower.ends_with(".basis") {
+        let name = source.name();
+        if not_decoded(&name) {
             self.warnings.push(format!(
                 "{name}: image format not decoded by texmap; the texture is left out"
             ));
             self.cache.insert(key, None);
             return Ok(None);
         }
-        let container = match &source {
-            ImageSource::File(p) => Container::of_file(p),
-            ImageSource::Bytes { bytes, .. } => Container::sniff(bytes),
-        };
-        let result = if container.is_some() {
-            self.container_texture(&source, &name, color_space, alpha, options)
-        } else {
-            self.image_texture(&source, &name, color_space, alpha, options)
+        let result = match self.ready.remove(&key) {
+            Some(built) => built,
+            None => self.build(&source, &name, color_space, alpha, storage),
         };
         let (tex, placeholder) = match result {
             Ok(t) => (Arc::new(t), false),
@@ -174,6 +184,65 @@ impl TextureCache {
 }
 
 impl TextureCache {
+    /// Builds the textures of `requests` (key, source, colour space, alpha, as
+    /// [`TextureCache::get`] takes them) in parallel (rayon), each decoded and its chain
+    /// made on its own thread, and holds each result, texture or error, until `get` asks for
+    /// it: warnings, errors and [`TextureInfo`]s then come in the order the scene asks, as
+    /// without prefetching. Keys already built, repeated, or of a format not decoded are
+    /// skipped.
+    pub fn prefetch(&mut self, requests: Vec<(String, ImageSource<'_>, ColorSpace, AlphaChannel)>) {
+        let storage = self.storage;
+        let mut todo: Vec<(CacheKey, ImageSource<'_>, String)> = Vec::new();
+        for (key, source, color_space, alpha) in requests {
+            let key = CacheKey {
+                source: key,
+                color_space,
+                alpha,
+                storage,
+            };
+            let name = source.name();
+            let known = self.cache.contains_key(&key) || self.ready.contains_key(&key);
+            if known || not_decoded(&name) || todo.iter().any(|(k, ..)| *k == key) {
+                continue;
+            }
+            todo.push((key, source, name));
+        }
+        if todo.len() < 2 {
+            return; // nothing to overlap: `get` builds it
+        }
+        let this = &*self;
+        let built: Vec<_> = todo
+            .par_iter()
+            .map(|(key, source, name)| {
+                let t = this.build(source, name, key.color_space, key.alpha, storage);
+                (key.clone(), t)
+            })
+            .collect();
+        self.ready.extend(built);
+    }
+
+    /// The texture `source` holds, decoded in `color_space` with its alpha as `alpha` says,
+    /// held as `storage`.
+    fn build(
+        &self,
+        source: &ImageSource<'_>,
+        name: &str,
+        color_space: ColorSpace,
+        alpha: AlphaChannel,
+        storage: Storage,
+    ) -> Result<Texture2D> {
+        let options = TextureOptions::default().with_storage(storage);
+        let container = match source {
+            ImageSource::File(p) => Container::of_file(p),
+            ImageSource::Bytes { bytes, .. } => Container::sniff(bytes),
+        };
+        if container.is_some() {
+            self.container_texture(source, name, color_space, alpha, options)
+        } else {
+            self.image_texture(source, name, color_space, alpha, options)
+        }
+    }
+
     /// A texture from an image file or bytes the `image` crate decodes.
     fn image_texture(
         &self,
@@ -247,4 +316,74 @@ pub(crate) fn placeholder_texture() -> Arc<Texture2D> {
         Texture2D::from_rgba8(2, 2, ColorSpace::Srgb, &px)
             .expect("a 2x2 RGBA8 buffer of 16 bytes is a valid texture"),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn png(w: u32, h: u32, seed: u32) -> Vec<u8> {
+        let img = image::RgbImage::from_fn(w, h, |x, y| {
+            let v = (x * 7 + y * 13 + seed) as u8;
+            image::Rgb([v, v.wrapping_mul(3), 255 - v])
+        });
+        let mut out = std::io::Cursor::new(Vec::new());
+        img.write_to(&mut out, image::ImageFormat::Png).unwrap();
+        out.into_inner()
+    }
+
+    /// The cache's answers for `sources` asked in order, after prefetching them or not:
+    /// each texture's level 0, or its error message; and the infos' names.
+    fn ask(sources: &[(&str, &[u8])], prefetch: bool) -> (Vec<String>, Vec<String>) {
+        let mut cache = TextureCache::new(&LoadOptions::default());
+        let source = |name: &str, bytes| ImageSource::Bytes {
+            name: name.to_string(),
+            bytes,
+        };
+        if prefetch {
+            let requests = sources
+                .iter()
+                .map(|&(n, b)| {
+                    (
+                        n.to_string(),
+                        source(n, b),
+                        ColorSpace::Srgb,
+                        AlphaChannel::Keep,
+                    )
+                })
+                .collect();
+            cache.prefetch(requests);
+            assert_eq!(cache.ready.len(), sources.len());
+        }
+        let answers = sources
+            .iter()
+            .map(
+                |&(n, b)| match cache.get(n, source(n, b), ColorSpace::Srgb, AlphaChannel::Keep) {
+                    Ok(Some(t)) => format!("{:?}", t.decode_level(0)),
+                    Ok(None) => "left out".into(),
+                    Err(e) => e.to_string(),
+                },
+            )
+            .collect();
+        assert!(cache.ready.is_empty());
+        (
+            answers,
+            cache.infos.iter().map(|i| i.name.clone()).collect(),
+        )
+    }
+
+    #[test]
+    fn prefetched_textures_and_errors_are_what_asking_gives() {
+        let (a, b) = (png(9, 5, 1), png(4, 11, 2));
+        let sources: [(&str, &[u8]); 3] = [
+            ("a.png", &a),
+            ("broken.png", b"\x89PNG\r\n\x1a\nnot a png"),
+            ("b.png", &b),
+        ];
+        let (plain, plain_infos) = ask(&sources, false);
+        let (fetched, fetched_infos) = ask(&sources, true);
+        assert_eq!(plain, fetched);
+        assert_eq!(plain_infos, fetched_infos);
+        assert!(plain[1].contains("broken.png"), "{}", plain[1]);
+    }
 }

@@ -10,6 +10,7 @@
 //! which keeps trilinear comparable with the peers, and because it never rings.
 
 use glam::Vec4;
+use rayon::prelude::*;
 
 /// Weights of the source texels covered by destination texel `i` when `src` texels shrink to `dst`.
 fn coverage(i: u32, src: u32, dst: u32) -> impl Iterator<Item = (u32, f32)> {
@@ -23,39 +24,52 @@ fn coverage(i: u32, src: u32, dst: u32) -> impl Iterator<Item = (u32, f32)> {
     })
 }
 
-/// Reduces a `w`×`h` image to the next level's size.
-fn reduce(w: u32, h: u32, src: &[Vec4]) -> (u32, u32, Vec<Vec4>) {
+/// Reduces a `w`×`h` level, whose texel `(x, y)` is `read(x, y)`, to the next level's size.
+///
+/// Each destination row is made in parallel (rayon): for each source row it covers, that row
+/// reduced along x (a row pass), then added with its weight (the column pass). The additions
+/// come in the same order whatever thread makes the row, so the result is the same bits for
+/// any thread count, and no whole-level intermediate is held.
+fn reduce_with(w: u32, h: u32, read: impl Fn(u32, u32) -> Vec4 + Sync) -> (u32, u32, Vec<Vec4>) {
     let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
-    // Rows first, then columns: the box is separable.
-    let mut rows = vec![Vec4::ZERO; (nw * h) as usize];
-    for y in 0..h {
-        for x in 0..nw {
-            rows[(y * nw + x) as usize] = coverage(x, w, nw)
-                .map(|(j, wt)| src[(y * w + j) as usize] * wt)
-                .sum();
-        }
-    }
+    let columns: Vec<Vec<(u32, f32)>> = (0..nw).map(|x| coverage(x, w, nw).collect()).collect();
     let mut out = vec![Vec4::ZERO; (nw * nh) as usize];
-    for y in 0..nh {
-        for (j, wt) in coverage(y, h, nh) {
-            for x in 0..nw {
-                out[(y * nw + x) as usize] += rows[(j * nw + x) as usize] * wt;
+    out.par_chunks_mut(nw as usize)
+        .enumerate()
+        .for_each(|(y, row_out)| {
+            for (j, wt) in coverage(y as u32, h, nh) {
+                for (o, taps) in row_out.iter_mut().zip(&columns) {
+                    let r: Vec4 = taps.iter().map(|&(i, wx)| read(i, j) * wx).sum();
+                    *o += r * wt;
+                }
             }
-        }
-    }
+        });
     (nw, nh, out)
 }
 
-/// Every level below a `w`×`h` base of linear premultiplied texels, down to 1×1.
-pub(crate) fn build_chain(w: u32, h: u32, base: Vec<Vec4>) -> Vec<(u32, u32, Vec<Vec4>)> {
-    let mut levels = Vec::new();
-    let (mut cw, mut ch, mut cur) = (w, h, base);
-    while cw > 1 || ch > 1 {
-        let (nw, nh, next) = reduce(cw, ch, &cur);
-        levels.push((nw, nh, next.clone()));
-        (cw, ch, cur) = (nw, nh, next);
+/// Makes every level below a `w`×`h` base whose linear premultiplied texel `(x, y)` is
+/// `read(x, y)`, down to 1×1, handing each to `emit` (its width, height and row-major texels)
+/// as soon as it is made: the base is never copied to floats, and only the last level made is
+/// held.
+pub(crate) fn for_each_level(
+    w: u32,
+    h: u32,
+    read: impl Fn(u32, u32) -> Vec4 + Sync,
+    mut emit: impl FnMut(u32, u32, &[Vec4]),
+) {
+    if w <= 1 && h <= 1 {
+        return;
     }
-    levels
+    let (mut cw, mut ch, mut cur) = reduce_with(w, h, read);
+    loop {
+        emit(cw, ch, &cur);
+        if cw <= 1 && ch <= 1 {
+            return;
+        }
+        let texels = &cur;
+        let next = reduce_with(cw, ch, |x, y| texels[(y * cw + x) as usize]);
+        (cw, ch, cur) = next;
+    }
 }
 
 /// Straight alpha from premultiplied (colour kept where alpha is zero: it is zero too).

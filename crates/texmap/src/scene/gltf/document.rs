@@ -103,6 +103,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
         node_world: Vec::new(),
         visits: 0,
     };
+    loader.prefetch_images();
     loader.load_materials()?;
     loader.node_world = loader.node_world_matrices()?;
     loader.load_nodes()?;

@@ -14,7 +14,7 @@ use glam::Vec2;
 
 use super::document::Loader;
 use crate::scene::files::{decode_data_uri, percent_decode, resolve_reference};
-use crate::scene::texture_cache::{AlphaChannel, ImageSource};
+use crate::scene::texture_cache::{channel_color_space, AlphaChannel, ImageSource};
 use crate::shading::{MapChannel, Material, TextureSlot};
 use crate::texture::{
     ColorSpace, Filter, MagFilter, MinFilter, Sampler, Texture2D, TextureTransform, Wrap,
@@ -110,6 +110,76 @@ impl Loader<'_> {
                     .get(&key, ImageSource::File(p), color_space, alpha)
             }
         }
+    }
+
+    /// Builds the images of every material's core textures (base colour, metallic-roughness,
+    /// normal, occlusion, emissive, transmission) at once, in parallel, before the materials
+    /// ask for them one by one ([`crate::scene::texture_cache::TextureCache::prefetch`]):
+    /// with the same keys, colour spaces and alpha handling as [`Loader::slot`] gives them.
+    /// Images in data URIs and the extensions' other textures load when asked.
+    pub(super) fn prefetch_images(&mut self) {
+        use gltf::material::AlphaMode;
+        let mut wanted = Vec::new();
+        for m in self.doc.materials() {
+            let pbr = m.pbr_metallic_roughness();
+            let space = channel_color_space;
+            if let Some(i) = pbr.base_color_texture() {
+                let alpha = if m.alpha_mode() == AlphaMode::Opaque {
+                    AlphaChannel::Drop
+                } else {
+                    AlphaChannel::Keep
+                };
+                wanted.push((i.texture(), ColorSpace::Srgb, alpha));
+            }
+            let keep = AlphaChannel::Keep;
+            if let Some(i) = pbr.metallic_roughness_texture() {
+                wanted.push((i.texture(), space(MapChannel::MetallicRoughness), keep));
+            }
+            if let Some(n) = m.normal_texture() {
+                wanted.push((n.texture(), space(MapChannel::Normal), keep));
+            }
+            if let Some(o) = m.occlusion_texture() {
+                wanted.push((o.texture(), space(MapChannel::Occlusion), keep));
+            }
+            if let Some(i) = m.emissive_texture() {
+                wanted.push((i.texture(), space(MapChannel::Emissive), keep));
+            }
+            if let Some(i) = m.transmission().and_then(|t| t.transmission_texture()) {
+                wanted.push((i.texture(), space(MapChannel::Transmission), keep));
+            }
+        }
+        let mut requests = Vec::new();
+        for (tex, color_space, alpha) in wanted {
+            let img = [DDS, BASISU]
+                .into_iter()
+                .find_map(|ext| extension_source(self.doc, &tex, ext))
+                .unwrap_or_else(|| tex.source());
+            let key = format!("image{}", img.index());
+            let source = match img.source() {
+                gltf::image::Source::View { view, mime_type } if mime_type != "image/webp" => {
+                    let name = format!(
+                        "{} (image {}, {mime_type})",
+                        self.path.display(),
+                        img.index()
+                    );
+                    match self.acc.view_bytes(&view) {
+                        Ok(bytes) => ImageSource::Bytes { name, bytes },
+                        Err(_) => continue, // reported when the material asks
+                    }
+                }
+                gltf::image::Source::Uri { uri, mime_type }
+                    if !uri.starts_with("data:") && mime_type != Some("image/webp") =>
+                {
+                    match resolve_reference(self.path, &percent_decode(uri), self.options) {
+                        Ok(p) => ImageSource::File(p),
+                        Err(_) => continue,
+                    }
+                }
+                _ => continue,
+            };
+            requests.push((key, source, color_space, alpha));
+        }
+        self.textures.prefetch(requests);
     }
 
     fn skip_image(&mut self, name: String) -> Result<Option<Arc<Texture2D>>> {

@@ -89,11 +89,14 @@ impl Texture2D {
         }
         if options.mipmaps && given == 1 && full > 1 {
             let base = tex.decode_level(0);
-            for (w, h, texels) in mip::build_chain(width, height, base) {
-                let bytes = tex.encode_level(&texels);
-                let level = tex.store_level(w, h, &bytes);
-                tex.levels.push(level);
-            }
+            let mut chain = Vec::with_capacity(full - 1);
+            mip::for_each_level(
+                width,
+                height,
+                |x, y| base[(y * width + x) as usize],
+                |w, h, t| chain.push(tex.store_linear(w, h, t)),
+            );
+            tex.levels.extend(chain);
         }
         Ok(tex)
     }

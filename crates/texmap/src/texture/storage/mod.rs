@@ -25,6 +25,7 @@ use super::mip;
 use crate::{Error, Result};
 
 mod blocks;
+mod fill;
 
 use blocks::BlockRef;
 
@@ -284,49 +285,20 @@ impl Texture2D {
             sat: std::sync::OnceLock::new(),
             blocks: None,
         };
-        let decode = |texels: &[u8]| -> Vec<Vec4> {
-            let lut = lut_of(format);
-            with_codec!(format, C => texels
-                .chunks_exact(format.bytes_per_texel())
-                .map(|b| C::decode_premultiplied(b, lut))
-                .collect())
-        };
-        // Level 0 in linear light, kept when the chain is built from it.
-        let mut base = None;
+        // Each level written straight into its layout, converted texel by texel; the chain
+        // is built from the given level 0 (never copied to floats) and each level stored as
+        // it is made.
+        let lut = lut_of(format);
         for (i, texels) in levels.iter().enumerate().take(given) {
             let (w, h) = ((width >> i).max(1), (height >> i).max(1));
-            let level = if stored == format {
-                tex.store_level(w, h, texels)
-            } else {
-                let linear = decode(texels);
-                let bytes = tex.encode_level(&linear);
-                if i == 0 {
-                    base = Some(linear);
-                }
-                tex.store_level(w, h, &bytes)
-            };
+            let level = tex.store_given(w, h, format, lut, texels);
             tex.levels.push(level);
         }
         if options.mipmaps && given == 1 {
-            let linear = base.unwrap_or_else(|| tex.decode_level(0));
-            for (w, h, texels) in mip::build_chain(width, height, linear) {
-                let bytes = tex.encode_level(&texels);
-                let level = tex.store_level(w, h, &bytes);
-                tex.levels.push(level);
-            }
+            let chain = tex.chain_from_given(width, height, format, lut, levels[0]);
+            tex.levels.extend(chain);
         }
         Ok(tex)
-    }
-
-    /// Linear premultiplied texels → row-major bytes of the stored format.
-    fn encode_level(&self, texels: &[Vec4]) -> Vec<u8> {
-        let bpp = self.stored.bytes_per_texel();
-        let mut bytes = vec![0u8; texels.len() * bpp];
-        for (c, out) in texels.iter().zip(bytes.chunks_exact_mut(bpp)) {
-            self.stored
-                .encode(mip::unpremultiply(*c), self.color_space, out);
-        }
-        bytes
     }
 
     /// Overwrites every level's texels with `f(level, x, y)` (linear, premultiplied), in the
@@ -336,8 +308,7 @@ impl Texture2D {
         for i in 0..self.levels.len() {
             let (w, h) = (self.levels[i].width, self.levels[i].height);
             let texels: Vec<Vec4> = (0..w * h).map(|k| f(i, k % w, k / w)).collect();
-            let bytes = self.encode_level(&texels);
-            self.levels[i] = self.store_level(w, h, &bytes);
+            self.levels[i] = self.store_linear(w, h, &texels);
         }
     }
 
@@ -381,30 +352,6 @@ impl Texture2D {
             &bytes,
             options,
         )
-    }
-
-    fn store_level(&self, width: u32, height: u32, texels: &[u8]) -> Level {
-        let bpp = self.stored.bytes_per_texel();
-        let tiles_x = width.div_ceil(4);
-        let len = match self.layout {
-            Layout::RowMajor => (width * height) as usize,
-            Layout::Tiled4x4 => (tiles_x * height.div_ceil(4) * 16) as usize,
-        };
-        let mut data = vec![0u8; len * bpp];
-        for y in 0..height {
-            for x in 0..width {
-                let src = (y * width + x) as usize * bpp;
-                let dst = texel_index(self.layout, tiles_x, width, x, y) * bpp;
-                data[dst..dst + bpp].copy_from_slice(&texels[src..src + bpp]);
-            }
-        }
-        Level {
-            width,
-            height,
-            tiles_x,
-            data,
-            block_id: None,
-        }
     }
 
     /// Level `i`'s texels, linear and premultiplied, row-major.
