@@ -83,6 +83,37 @@ pub(super) fn read_quad(
     }
 }
 
+/// A quad's probes (anisotropic filtering in lanes): for each `(t, w)` of `probes`, a fixed-point
+/// trilinear read on the levels `choice` names at `(u, v) + t·step` (one pixel per lane), the
+/// reads summed with weights `w` (which should sum to 1). Each probe's taps sum to 15-bit
+/// weights as in [`read_quad`]; its 32-bit sum is converted and weighted in float, so the
+/// result is the float path's within the same 1.6·10⁻⁴ whatever the number of probes. Pixels
+/// whose `mask` bit is clear are left zero. `None` when this texture or sampler is not one
+/// this path handles, or `choice` reads nearest texels.
+#[inline]
+pub(super) fn read_probes(
+    tex: &Texture2D,
+    s: &Sampler,
+    choice: MipChoice,
+    (u, v): (Vec4, Vec4),
+    step: glam::Vec2,
+    probes: &[(f32, f32)],
+    mask: u8,
+) -> Option<[Vec4; 4]> {
+    if !handles(tex, s) || choice.texels != TexelFilter::Linear {
+        return None;
+    }
+    #[cfg(target_arch = "x86_64")]
+    {
+        Some(sse2::probes_quad(tex, s, choice, (u, v), step, probes, mask))
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let _ = (u, v, step, probes, mask);
+        None
+    }
+}
+
 #[cfg(target_arch = "x86_64")]
 mod sse2 {
     use std::arch::x86_64::{
@@ -133,6 +164,46 @@ mod sse2 {
             // A tap whose rounded weight came out −1 can leave a sum a hair below zero.
             (sum * scale).max(Vec4::ZERO)
         })
+    }
+
+    /// [`super::read_probes`]: each probe a [`linear_quad`] read, summed in float.
+    #[inline(always)]
+    pub(super) fn probes_quad(
+        tex: &Texture2D,
+        s: &Sampler,
+        choice: MipChoice,
+        (u, v): (Vec4, Vec4),
+        step: glam::Vec2,
+        probes: &[(f32, f32)],
+        mask: u8,
+    ) -> [Vec4; 4] {
+        let (second, f) = choice
+            .blend
+            .map_or((None, 0.0), |b| (Some(b.level), b.weight));
+        let wa = ((1.0 - f.clamp(0.0, 1.0)) * ONE as f32).round() as i32;
+        let first = tex.level(choice.level);
+        let second = second.filter(|_| wa < ONE).map(|b| tex.level(b));
+        let scale = 1.0 / (ONE as f32 * ONE as f32);
+        let mut out = [Vec4::ZERO; 4];
+        for &(t, w) in probes {
+            let (pu, pv) = (u + Vec4::splat(step.x * t), v + Vec4::splat(step.y * t));
+            // SAFETY: SSE2 is part of x86_64.
+            let mut acc = [unsafe { _mm_setzero_si128() }; 4];
+            if wa > 0 {
+                accumulate(&first, s, pu, pv, wa, mask, &mut acc);
+            }
+            if let Some(lv) = &second {
+                accumulate(lv, s, pu, pv, ONE - wa, mask, &mut acc);
+            }
+            let k = w * scale;
+            for (o, a) in out.iter_mut().zip(acc) {
+                // SAFETY: SSE2 is part of x86_64.
+                *o += Vec4::from(unsafe { _mm_cvtepi32_ps(a) }) * k;
+            }
+        }
+        // Pixels outside `mask` summed nothing; a tap whose rounded weight came out −1 can
+        // leave a sum a hair below zero.
+        out.map(|o| o.max(Vec4::ZERO))
     }
 
     /// The nearest texels to `(u, v)` on `lv` (pixels outside `mask` zero).
