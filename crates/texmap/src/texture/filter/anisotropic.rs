@@ -126,13 +126,5 @@ pub(crate) fn sample_quad(
     for (i, p) in probes.iter_mut().enumerate().take(taps as usize) {
         *p = (offset(i as u32, n), 1.0 / n);
     }
-    fixed16::read_probes(
-        tex,
-        s,
-        choice,
-        uv,
-        axis_uv,
-        &probes[..taps as usize],
-        mask,
-    )
+    fixed16::read_probes(tex, s, choice, uv, axis_uv, &probes[..taps as usize], mask)
 }

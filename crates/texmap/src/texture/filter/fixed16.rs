@@ -105,7 +105,15 @@ pub(super) fn read_probes(
     }
     #[cfg(target_arch = "x86_64")]
     {
-        Some(sse2::probes_quad(tex, s, choice, (u, v), step, probes, mask))
+        Some(sse2::probes_quad(
+            tex,
+            s,
+            choice,
+            (u, v),
+            step,
+            probes,
+            mask,
+        ))
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
