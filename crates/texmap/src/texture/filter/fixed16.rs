@@ -174,7 +174,8 @@ mod sse2 {
         })
     }
 
-    /// [`super::read_probes`]: each probe a [`linear_quad`] read, summed in float.
+    /// [`super::read_probes`]: every probe's taps summed into one 32-bit accumulator per
+    /// pixel, the 15-bit weights of all of them summing to exactly `ONE`.
     #[inline(always)]
     pub(super) fn probes_quad(
         tex: &Texture2D,
@@ -188,30 +189,36 @@ mod sse2 {
         let (second, f) = choice
             .blend
             .map_or((None, 0.0), |b| (Some(b.level), b.weight));
-        let wa = ((1.0 - f.clamp(0.0, 1.0)) * ONE as f32).round() as i32;
+        let fa = 1.0 - f.clamp(0.0, 1.0);
         let first = tex.level(choice.level);
-        let second = second.filter(|_| wa < ONE).map(|b| tex.level(b));
-        let scale = 1.0 / (ONE as f32 * ONE as f32);
-        let mut out = [Vec4::ZERO; 4];
+        let second = second.map(|b| tex.level(b));
+        // SAFETY: SSE2 is part of x86_64.
+        let mut acc = [unsafe { _mm_setzero_si128() }; 4];
+        // Probe i's weight is what the running sum of weights, rounded, adds: the probes'
+        // weights sum to exactly ONE (NaN weights give 0).
+        let (mut running, mut given) = (0.0, 0);
         for &(t, w) in probes {
+            running += w;
+            let upto = ((running.clamp(0.0, 1.0) * ONE as f32).round() as i32).min(ONE);
+            let weight = upto - given;
+            given = upto;
+            let wa = (fa * weight as f32).round() as i32;
             let (pu, pv) = (u + Vec4::splat(step.x * t), v + Vec4::splat(step.y * t));
-            // SAFETY: SSE2 is part of x86_64.
-            let mut acc = [unsafe { _mm_setzero_si128() }; 4];
             if wa > 0 {
                 accumulate(&first, s, pu, pv, wa, mask, &mut acc);
             }
-            if let Some(lv) = &second {
-                accumulate(lv, s, pu, pv, ONE - wa, mask, &mut acc);
-            }
-            let k = w * scale;
-            for (o, a) in out.iter_mut().zip(acc) {
-                // SAFETY: SSE2 is part of x86_64.
-                *o += Vec4::from(unsafe { _mm_cvtepi32_ps(a) }) * k;
+            if let Some(lv) = second.as_ref().filter(|_| wa < weight) {
+                accumulate(lv, s, pu, pv, weight - wa, mask, &mut acc);
             }
         }
-        // Pixels outside `mask` summed nothing; a tap whose rounded weight came out −1 can
-        // leave a sum a hair below zero.
-        out.map(|o| o.max(Vec4::ZERO))
+        let scale = 1.0 / (ONE as f32 * ONE as f32);
+        std::array::from_fn(|j| {
+            // SAFETY: SSE2 is part of x86_64.
+            let sum = Vec4::from(unsafe { _mm_cvtepi32_ps(acc[j]) });
+            // Pixels outside `mask` summed nothing; a tap whose rounded weight came out −1
+            // can leave a sum a hair below zero.
+            (sum * scale).max(Vec4::ZERO)
+        })
     }
 
     /// The nearest texels to `(u, v)` on `lv` (pixels outside `mask` zero).
