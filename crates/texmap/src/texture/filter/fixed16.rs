@@ -19,6 +19,11 @@
 //!
 //! The levels and their weights come from [`MipChoice::gl`] like every other OpenGL read.
 //!
+//! Anisotropic filtering's taps ([`read_probes`]) are such trilinear reads at several points
+//! of a quad's major axis, all summed into the same 32-bit accumulators: each probe's share of
+//! the 15-bit total is what the running sum of the probes' weights adds when rounded, so the
+//! weights of all the taps still sum to exactly 32767.
+//!
 //! Only the repeat and clamp-to-edge wraps are handled here (indices by integer wrapping and
 //! float clamps); other wraps, other formats and other targets return `None` and the float
 //! filter serves.
@@ -85,9 +90,9 @@ pub(super) fn read_quad(
 
 /// A quad's probes (anisotropic filtering in lanes): for each `(t, w)` of `probes`, a fixed-point
 /// trilinear read on the levels `choice` names at `(u, v) + t·step` (one pixel per lane), the
-/// reads summed with weights `w` (which should sum to 1). Each probe's taps sum to 15-bit
-/// weights as in [`read_quad`]; its 32-bit sum is converted and weighted in float, so the
-/// result is the float path's within the same 1.6·10⁻⁴ whatever the number of probes. Pixels
+/// reads summed with weights `w` (which should sum to 1), every tap's 15-bit weight in one sum
+/// (a constant texture reads back its value). Against the float filter: within 1.6·10⁻⁴ over
+/// 20,000 random footprints of up to 16 taps (the property test of `filter/tests.rs`). Pixels
 /// whose `mask` bit is clear are left zero. `None` when this texture or sampler is not one
 /// this path handles, or `choice` reads nearest texels.
 #[inline]
