@@ -40,6 +40,7 @@ fn every_scene_kind_is_the_same_at_one_two_and_three_threads() {
     std::fs::create_dir_all(&d).unwrap();
     let cases: &[&[&str]] = &[
         &["builtin:plane", "--filter", "ewa"],
+        &["builtin:plane", "--filter", "aniso8"],
         &["builtin:plane", "--filter", "trilinear", "--msaa", "4"],
         &["builtin:sphere", "--shading", "phong", "--ssaa", "2"],
         &["builtin:demo"],

@@ -6,19 +6,37 @@
 //! centres of N equal segments of the major axis, each a trilinear read at λ = log2(σ₁/N), so
 //! together they cover the footprint without gaps; when the ratio exceeds `max_aniso` the level
 //! rises and the image blurs instead of aliasing, as the extension specifies.
+//!
+//! Two paths share that plan ([`plan`]): [`sample`] reads one footprint in float, for every
+//! storage; [`sample_quad`] reads a rasterizer quad's four pixels (which share their
+//! derivatives, so their tap count, level and axis) in lanes on the default 16-bit storage,
+//! each tap a fixed-point trilinear read ([`super::fixed16::read_probes`]) — as many taps as the
+//! quad's eccentricity needs, one for an isotropic footprint.
 
-use glam::Vec2;
-use glam::Vec4;
+use glam::{Vec2, Vec4};
 
-use super::{bilinear, ellipse_axes, texel_derivatives, trilinear_at, Codec};
+use super::{bilinear, ellipse_axes, fixed16, texel_derivatives, trilinear_at, Codec};
 use crate::texture::{Footprint, MipChoice, Sampler, Texture2D};
 
-pub(crate) fn sample<C: Codec>(
-    tex: &Texture2D,
-    s: &Sampler,
-    fp: &Footprint,
-    max_aniso: u32,
-) -> Vec4 {
+/// What a footprint's anisotropic read takes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Plan {
+    /// Magnification: one bilinear read of level 0.
+    Bilinear,
+    /// A degenerate (infinite) footprint: one trilinear read at this λ.
+    Trilinear(f32),
+    /// `taps` trilinear reads on the levels `choice` names, at the centres of equal segments
+    /// of `axis_uv` (the major axis, end to end, in texture coordinates).
+    Taps {
+        choice: MipChoice,
+        axis_uv: Vec2,
+        taps: u32,
+    },
+}
+
+/// The read a footprint with derivatives `duv_dx`, `duv_dy` takes.
+#[inline(always)]
+fn plan(tex: &Texture2D, s: &Sampler, fp: &Footprint, max_aniso: u32) -> Plan {
     let (dx, dy) = texel_derivatives(tex, fp);
     let (major_dir, major, minor) = ellipse_axes(dx, dy);
     let max_aniso = max_aniso.clamp(1, 16) as f32;
@@ -30,23 +48,47 @@ pub(crate) fn sample<C: Codec>(
     let n = ratio.ceil().clamp(1.0, max_aniso);
     let lod = s.adjust_lod(crate::texture::footprint::fast_log2(major / n));
     if !(major > 1.0) || !(lod > 0.0) && n == 1.0 {
-        // Magnification: the footprint is smaller than a texel.
-        return bilinear::<C>(&tex.level(0), s, fp.uv);
+        return Plan::Bilinear;
     }
     if !major.is_finite() {
-        return trilinear_at::<C>(tex, s, fp.uv, lod);
+        return Plan::Trilinear(lod);
     }
     let size = Vec2::new(tex.width() as f32, tex.height() as f32);
-    let axis_uv = major_dir * major / size;
-    let taps = n as u32;
-    // Every tap reads the same levels: choose them once.
-    let choice = MipChoice::trilinear(lod, tex.levels().len());
+    Plan::Taps {
+        // Every tap reads the same levels: chosen once.
+        choice: MipChoice::trilinear(lod, tex.levels().len()),
+        axis_uv: major_dir * major / size,
+        taps: n as u32,
+    }
+}
+
+/// The offset along the axis (in [−½, ½]) of tap `i` of `n`.
+#[inline(always)]
+fn offset(i: u32, n: f32) -> f32 {
+    (i as f32 + 0.5) / n - 0.5
+}
+
+pub(crate) fn sample<C: Codec>(
+    tex: &Texture2D,
+    s: &Sampler,
+    fp: &Footprint,
+    max_aniso: u32,
+) -> Vec4 {
+    let (choice, axis_uv, taps) = match plan(tex, s, fp, max_aniso) {
+        Plan::Bilinear => return bilinear::<C>(&tex.level(0), s, fp.uv),
+        Plan::Trilinear(lod) => return trilinear_at::<C>(tex, s, fp.uv, lod),
+        Plan::Taps {
+            choice,
+            axis_uv,
+            taps,
+        } => (choice, axis_uv, taps),
+    };
+    let n = taps as f32;
     let first = tex.level(choice.level);
     let second = choice.blend.map(|b| (tex.level(b.level), b.weight));
     let mut sum = Vec4::ZERO;
     for i in 0..taps {
-        let t = (i as f32 + 0.5) / n - 0.5;
-        let uv = fp.uv + axis_uv * t;
+        let uv = fp.uv + axis_uv * offset(i, n);
         let a = bilinear::<C>(&first, s, uv);
         sum += match second {
             Some((lv, weight)) => a.lerp(bilinear::<C>(&lv, s, uv), weight),
@@ -54,4 +96,35 @@ pub(crate) fn sample<C: Codec>(
         };
     }
     sum / n
+}
+
+/// [`sample`] for a quad's four pixels (pixel `j` at `(u[j], v[j])`, the derivatives shared)
+/// in lanes, in fixed point: `None` where [`fixed16`] does not serve the texture and sampler.
+/// Pixels whose bit in `mask` is clear are left zero.
+#[inline]
+pub(crate) fn sample_quad(
+    tex: &Texture2D,
+    s: &Sampler,
+    uv: (Vec4, Vec4),
+    duv_dx: Vec2,
+    duv_dy: Vec2,
+    mask: u8,
+    max_aniso: u32,
+) -> Option<[Vec4; 4]> {
+    let fp = Footprint::new(Vec2::ZERO, duv_dx, duv_dy);
+    let (choice, axis_uv, taps) = match plan(tex, s, &fp, max_aniso) {
+        Plan::Bilinear => (MipChoice::trilinear(0.0, 1), Vec2::ZERO, 1),
+        Plan::Trilinear(lod) => (MipChoice::trilinear(lod, tex.levels().len()), Vec2::ZERO, 1),
+        Plan::Taps {
+            choice,
+            axis_uv,
+            taps,
+        } => (choice, axis_uv, taps),
+    };
+    let n = taps as f32;
+    let mut probes = [(0.0, 0.0); 16];
+    for (i, p) in probes.iter_mut().enumerate().take(taps as usize) {
+        *p = (offset(i as u32, n), 1.0 / n);
+    }
+    fixed16::read_probes(tex, s, choice, uv, axis_uv, &probes[..taps as usize], mask)
 }

@@ -19,6 +19,11 @@
 //!
 //! The levels and their weights come from [`MipChoice::gl`] like every other OpenGL read.
 //!
+//! Anisotropic filtering's taps ([`read_probes`]) are such trilinear reads at several points
+//! of a quad's major axis, all summed into the same 32-bit accumulators: each probe's share of
+//! the 15-bit total is what the running sum of the probes' weights adds when rounded, so the
+//! weights of all the taps still sum to exactly 32767.
+//!
 //! Only the repeat and clamp-to-edge wraps are handled here (indices by integer wrapping and
 //! float clamps); other wraps, other formats and other targets return `None` and the float
 //! filter serves.
@@ -83,6 +88,45 @@ pub(super) fn read_quad(
     }
 }
 
+/// A quad's probes (anisotropic filtering in lanes): for each `(t, w)` of `probes`, a fixed-point
+/// trilinear read on the levels `choice` names at `(u, v) + t·step` (one pixel per lane), the
+/// reads summed with weights `w` (which should sum to 1), every tap's 15-bit weight in one sum
+/// (a constant texture reads back its value). Against the float filter: within 1.6·10⁻⁴ over
+/// 20,000 random footprints of up to 16 taps (the property test of `filter/tests.rs`). Pixels
+/// whose `mask` bit is clear are left zero. `None` when this texture or sampler is not one
+/// this path handles, or `choice` reads nearest texels.
+#[inline]
+pub(super) fn read_probes(
+    tex: &Texture2D,
+    s: &Sampler,
+    choice: MipChoice,
+    (u, v): (Vec4, Vec4),
+    step: glam::Vec2,
+    probes: &[(f32, f32)],
+    mask: u8,
+) -> Option<[Vec4; 4]> {
+    if !handles(tex, s) || choice.texels != TexelFilter::Linear {
+        return None;
+    }
+    #[cfg(target_arch = "x86_64")]
+    {
+        Some(sse2::probes_quad(
+            tex,
+            s,
+            choice,
+            (u, v),
+            step,
+            probes,
+            mask,
+        ))
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let _ = (u, v, step, probes, mask);
+        None
+    }
+}
+
 #[cfg(target_arch = "x86_64")]
 mod sse2 {
     use std::arch::x86_64::{
@@ -131,6 +175,53 @@ mod sse2 {
             // SAFETY: SSE2 is part of x86_64.
             let sum = Vec4::from(unsafe { _mm_cvtepi32_ps(acc[j]) });
             // A tap whose rounded weight came out −1 can leave a sum a hair below zero.
+            (sum * scale).max(Vec4::ZERO)
+        })
+    }
+
+    /// [`super::read_probes`]: every probe's taps summed into one 32-bit accumulator per
+    /// pixel, the 15-bit weights of all of them summing to exactly `ONE`.
+    #[inline(always)]
+    pub(super) fn probes_quad(
+        tex: &Texture2D,
+        s: &Sampler,
+        choice: MipChoice,
+        (u, v): (Vec4, Vec4),
+        step: glam::Vec2,
+        probes: &[(f32, f32)],
+        mask: u8,
+    ) -> [Vec4; 4] {
+        let (second, f) = choice
+            .blend
+            .map_or((None, 0.0), |b| (Some(b.level), b.weight));
+        let fa = 1.0 - f.clamp(0.0, 1.0);
+        let first = tex.level(choice.level);
+        let second = second.map(|b| tex.level(b));
+        // SAFETY: SSE2 is part of x86_64.
+        let mut acc = [unsafe { _mm_setzero_si128() }; 4];
+        // Probe i's weight is what the running sum of weights, rounded, adds: the probes'
+        // weights sum to exactly ONE (NaN weights give 0).
+        let (mut running, mut given) = (0.0, 0);
+        for &(t, w) in probes {
+            running += w;
+            let upto = ((running.clamp(0.0, 1.0) * ONE as f32).round() as i32).min(ONE);
+            let weight = upto - given;
+            given = upto;
+            let wa = (fa * weight as f32).round() as i32;
+            let (pu, pv) = (u + Vec4::splat(step.x * t), v + Vec4::splat(step.y * t));
+            if wa > 0 {
+                accumulate(&first, s, pu, pv, wa, mask, &mut acc);
+            }
+            if let Some(lv) = second.as_ref().filter(|_| wa < weight) {
+                accumulate(lv, s, pu, pv, weight - wa, mask, &mut acc);
+            }
+        }
+        let scale = 1.0 / (ONE as f32 * ONE as f32);
+        std::array::from_fn(|j| {
+            // SAFETY: SSE2 is part of x86_64.
+            let sum = Vec4::from(unsafe { _mm_cvtepi32_ps(acc[j]) });
+            // Pixels outside `mask` summed nothing; a tap whose rounded weight came out −1
+            // can leave a sum a hair below zero.
             (sum * scale).max(Vec4::ZERO)
         })
     }

@@ -84,6 +84,14 @@ pub fn sample_quad_lanes(
     mask: u8,
 ) -> [Vec4; 4] {
     let Filter::Gl { mag, min } = sampler.filter else {
+        if let Filter::Anisotropic { max_aniso } = sampler.filter {
+            // The default storage's taps in lanes, in fixed point.
+            let quad =
+                anisotropic::sample_quad(texture, sampler, uv, duv_dx, duv_dy, mask, max_aniso);
+            if let Some(quad) = quad {
+                return quad;
+            }
+        }
         return with_texture_codec!(texture, C => {
             std::array::from_fn(|j| {
                 if mask & (1 << j) == 0 {
