@@ -34,6 +34,7 @@ mod edt;
 pub mod hyper;
 mod look;
 mod mesh;
+mod noise_cache;
 mod reader;
 mod render;
 mod smooth;

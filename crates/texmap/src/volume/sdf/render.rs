@@ -27,6 +27,7 @@ use super::super::rays::{camera_ray, clip_to_box, pixel_hash, VoxelRay};
 use super::super::shade::VolumeLights;
 use super::hyper::{Hypertexture, NoiseKind};
 use super::look::{texture_from_world, SurfaceLook};
+use super::noise_cache::{NoiseCache, POINTS_PER_CELL};
 use super::reader::FieldReader;
 use crate::camera::{Camera, CameraProjection};
 use crate::frame::{Frame, FrameStats};
@@ -79,6 +80,9 @@ pub(super) struct Tracer<'a> {
     footprint: (f32, f32),
     early: f32,
     jitter: bool,
+    /// The frame's noise on a lattice, read by the shell's samples (material without
+    /// strands; `None`: evaluated directly).
+    noise_cache: Option<NoiseCache>,
 }
 
 /// Renders the distance field `vol` (world distances, negative inside) as a surface with
@@ -199,6 +203,19 @@ impl<'a> Tracer<'a> {
             }
         };
         let up = camera.up.try_normalize().unwrap_or(Vec3::Y);
+        let texture_from_world = texture_from_world(lo, hi);
+        let noise_cache = hyper
+            .filter(|h| h.amplitude > 0.0 && h.opacity > 0.0 && !h.strands)
+            .and_then(|h| {
+                // The finest octave's lattice cell, squeezed along the up by `stretch`.
+                let finest = 2f32.powi(h.octaves.clamp(1.0, 32.0).ceil() as i32 - 1);
+                let density = POINTS_PER_CELL * h.frequency * finest * h.stretch.max(1.0);
+                NoiseCache::new(
+                    texture_from_world.transform_point3(lo),
+                    texture_from_world.transform_point3(hi),
+                    density,
+                )
+            });
         Tracer {
             shadows: None,
             depth_only: false,
@@ -208,7 +225,7 @@ impl<'a> Tracer<'a> {
             lights: VolumeLights::new(params.reflectance, &params.lights),
             has_lights: !params.lights.is_empty(),
             light_list: &params.lights,
-            texture_from_world: texture_from_world(lo, hi),
+            texture_from_world,
             world_from_voxel: vol.world_from_voxel(),
             size,
             base: vol
@@ -227,6 +244,7 @@ impl<'a> Tracer<'a> {
             footprint,
             early: params.early_termination,
             jitter: params.jitter,
+            noise_cache,
         }
     }
 }
@@ -492,7 +510,13 @@ impl Tracer<'_> {
     /// is `octaves3f`'s, term by term in the same order, so a value returned is the same.
     #[inline(always)]
     fn noise_above(&self, h: &Hypertexture, p: Vec3, floor: f32) -> Option<f32> {
-        let x = self.texture_from_world.transform_point3(p) * h.frequency;
+        self.noise_above_texture(h, self.texture_from_world.transform_point3(p), floor)
+    }
+
+    /// [`Self::noise_above`] at texture-space point `t`.
+    #[inline(always)]
+    fn noise_above_texture(&self, h: &Hypertexture, t: Vec3, floor: f32) -> Option<f32> {
+        let x = t * h.frequency;
         let up = self.up;
         let x = x + up * (x.dot(up) * (h.stretch - 1.0) - h.rise * h.time);
         let absolute = h.noise == NoiseKind::Turbulence;
@@ -548,9 +572,20 @@ impl Tracer<'_> {
         } else {
             p
         };
-        // No material where the noise cannot reach this height (its finer octaves skipped).
-        let Some(n) = self.noise_above(h, at, height.max(0.0) / h.amplitude) else {
-            return (0.0, 0.0, 0);
+        // The frame's lattice of the noise where there is one; otherwise the noise itself,
+        // and no material where it cannot reach this height (its finer octaves skipped).
+        let cached = self.noise_cache.as_ref().and_then(|c| {
+            c.read(self.texture_from_world.transform_point3(at), |t| {
+                self.noise_above_texture(h, t, f32::NEG_INFINITY)
+                    .unwrap_or(0.0)
+            })
+        });
+        let n = match cached {
+            Some(n) => n,
+            None => match self.noise_above(h, at, height.max(0.0) / h.amplitude) {
+                Some(n) => n,
+                None => return (0.0, 0.0, 0),
+            },
         };
         let u = (h.amplitude * n - height.max(0.0)) / h.softness;
         if u <= 0.0 {

@@ -1,0 +1,136 @@
+//! A frame's hypertexture noise tabulated on a lattice over the field's box and read
+//! trilinearly: the shell march's samples of fire and smoke read 8 stored values instead of
+//! evaluating three octaves of noise each (a miss evaluates the noise at the lattice point
+//! and stores it).
+//!
+//! Rules:
+//! - The lattice is in texture space (the box centred, its largest side 1), `POINTS_PER_CELL`
+//!   points per cell of the finest octave's noise lattice along each axis, so the trilinear
+//!   read follows the finest octave closely (measured: ≥ 40 dB against the direct noise on
+//!   the presets' images, README's hypertexture section).
+//! - Filled lazily, in parallel: a value is a function of its lattice index alone, so which
+//!   thread stores it first (both compute the same bits) does not change the image; the
+//!   image is the same whatever the number of threads.
+//! - Made per frame (the noise drifts with time); not made when the lattice would exceed
+//!   `MAX_POINTS` (then the noise is evaluated directly).
+
+use std::sync::atomic::{AtomicU32, Ordering};
+
+use glam::Vec3;
+
+/// Lattice points per cell of the finest noise octave, along each axis.
+pub(super) const POINTS_PER_CELL: f32 = 4.0;
+/// The largest lattice made (16 MB of values).
+const MAX_POINTS: usize = 1 << 22;
+/// An empty entry (a NaN no noise value has).
+const EMPTY: u32 = u32::MAX;
+
+/// The noise `N ∈ [0, 1]` on a lattice over a box in texture space.
+pub(super) struct NoiseCache {
+    /// The lattice's first point, texture space.
+    origin: Vec3,
+    /// Lattice points per texture unit.
+    density: f32,
+    /// Points per axis.
+    dims: [usize; 3],
+    /// `f32` bits, [`EMPTY`] until read.
+    values: Vec<AtomicU32>,
+}
+
+impl NoiseCache {
+    /// A lattice over the texture-space box `[lo, hi]` with `density` points per unit, or
+    /// `None` when it would exceed [`MAX_POINTS`].
+    pub(super) fn new(lo: Vec3, hi: Vec3, density: f32) -> Option<NoiseCache> {
+        if !(density.is_finite() && density > 0.0) {
+            return None;
+        }
+        let ext = (hi - lo).max(Vec3::ZERO) * density;
+        let dims = ext.to_array().map(|e| e.ceil() as usize + 2);
+        let n = dims.iter().try_fold(1usize, |a, &d| a.checked_mul(d))?;
+        if n > MAX_POINTS {
+            return None;
+        }
+        Some(NoiseCache {
+            origin: lo,
+            density,
+            dims,
+            values: (0..n).map(|_| AtomicU32::new(EMPTY)).collect(),
+        })
+    }
+
+    /// The noise at texture point `x` read trilinearly, `noise` evaluating it at lattice
+    /// points not yet stored; `None` outside the lattice.
+    #[inline(always)]
+    pub(super) fn read(&self, x: Vec3, noise: impl Fn(Vec3) -> f32) -> Option<f32> {
+        let q = (x - self.origin) * self.density;
+        let [nx, ny, nz] = self.dims;
+        let lim = Vec3::new((nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32);
+        if !(q.cmpge(Vec3::ZERO).all() && q.cmplt(lim).all()) {
+            return None;
+        }
+        let c = q.floor();
+        let f = q - c;
+        let base = c.x as usize + nx * (c.y as usize + ny * c.z as usize);
+        let (sy, sz) = (nx, nx * ny);
+        let mut v = [0.0f32; 8];
+        for (slot, o) in v
+            .iter_mut()
+            .zip([0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1])
+        {
+            let bits = self.values[base + o].load(Ordering::Relaxed);
+            *slot = if bits == EMPTY {
+                self.fill(base + o, &noise)
+            } else {
+                f32::from_bits(bits)
+            };
+        }
+        let lerp = |t: f32, a: f32, b: f32| a + t * (b - a);
+        let x00 = lerp(f.x, v[0], v[1]);
+        let x10 = lerp(f.x, v[2], v[3]);
+        let x01 = lerp(f.x, v[4], v[5]);
+        let x11 = lerp(f.x, v[6], v[7]);
+        let y0 = lerp(f.y, x00, x10);
+        let y1 = lerp(f.y, x01, x11);
+        Some(lerp(f.z, y0, y1))
+    }
+
+    /// Evaluates and stores the noise at lattice point `idx` (a miss).
+    #[cold]
+    #[inline(never)]
+    fn fill(&self, idx: usize, noise: &impl Fn(Vec3) -> f32) -> f32 {
+        let [nx, ny, _] = self.dims;
+        let (a, b, c) = (idx % nx, (idx / nx) % ny, idx / (nx * ny));
+        let p = self.origin + Vec3::new(a as f32, b as f32, c as f32) / self.density;
+        let v = noise(p);
+        self.values[idx].store(v.to_bits(), Ordering::Relaxed);
+        v
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lattice_points_read_back_exactly_and_between_them_linearly() {
+        let cache = NoiseCache::new(Vec3::splat(-0.5), Vec3::splat(0.5), 8.0).expect("small");
+        let f = |p: Vec3| 0.25 + 0.5 * p.x - 0.125 * p.y + 0.0625 * p.z;
+        for p in [
+            Vec3::new(-0.5, -0.5, -0.5),
+            Vec3::new(0.125, -0.25, 0.375),
+            Vec3::new(0.03, 0.41, -0.27),
+        ] {
+            let v = cache.read(p, f).expect("inside");
+            // A linear function is reproduced by trilinear interpolation.
+            assert!((v - f(p)).abs() < 1e-5, "{p}: {v} vs {}", f(p));
+        }
+        assert!(cache.read(Vec3::splat(2.0), f).is_none());
+        assert!(cache.read(Vec3::splat(-0.6), f).is_none());
+    }
+
+    #[test]
+    fn an_oversized_lattice_is_not_made() {
+        assert!(NoiseCache::new(Vec3::ZERO, Vec3::ONE, 1000.0).is_none());
+        assert!(NoiseCache::new(Vec3::ZERO, Vec3::ONE, f32::NAN).is_none());
+    }
+}
