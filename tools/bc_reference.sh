@@ -11,7 +11,7 @@
 # it refuses is reported and skipped.
 set -uo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-peers="$root/../shared/peers"
+peers=${PEERS:-$root/../shared/peers}
 py="$peers/.venv/bin/python"
 [ -x "$py" ] || { echo "bc_reference: $py is missing (run ../shared/peers/setup.sh)"; exit 1; }
 if [ -z "${TEXMAP:-}" ]; then

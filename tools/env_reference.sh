@@ -17,7 +17,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 SPP=${1:-1024}
 OUT=${2:-target/env-reference}
-P=../shared/peers
+P=${PEERS:-../shared/peers}
 PY=$P/.venv/bin/python
 TEXMAP=${TEXMAP:-target/release/texmap}
 A=../shared/assets/env/equirect

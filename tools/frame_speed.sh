@@ -6,7 +6,7 @@
 #   bash tools/frame_speed.sh [FRAMES]       (needs bash ../shared/peers/setup.sh once)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-P=../shared/peers
+P=${PEERS:-../shared/peers}
 PY=$P/.venv/bin/python
 N=${1:-20}
 cargo build --release --quiet

@@ -22,7 +22,7 @@ if [ $# -eq 0 ]; then
     cargo build --release --quiet
     set -- target/release/texmap
 fi
-P=../shared/peers
+P=${PEERS:-../shared/peers}
 PY=$P/.venv/bin/python
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT

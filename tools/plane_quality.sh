@@ -8,7 +8,7 @@
 # the plane's pixels (ground_truth.py --mask-out). Prints a Markdown table.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-P=../shared/peers
+P=${PEERS:-../shared/peers}
 PY=$P/.venv/bin/python
 OUT=${1:-target/plane-quality}
 mkdir -p "$OUT"

@@ -22,7 +22,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ROUNDS=${1:-3}
 RES=${2:-128}
-P=../shared/peers
+P=${PEERS:-../shared/peers}
 PY=$P/.venv/bin/python
 A=../shared/assets
 if [ ! -x "$PY" ] || [ ! -d "$A" ]; then

@@ -21,7 +21,7 @@ cargo build --release --quiet
 TEXMAP=target/release/texmap
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
-P=../shared/peers
+P=${PEERS:-../shared/peers}
 PY=$P/.venv/bin/python
 common=(--size 1920x1080 --threads 2 --frames "$FRAMES" --stats --quiet -o "$OUT/f.png")
 X=$A/compressed/xbox_atg_fastblockcompress
