@@ -248,6 +248,13 @@ impl SceneShader<'_> {
                 refracted[j] = refract(s.normal, v, s.ior);
             }
         }
+        // Map-free Phong: the draw's own lights at the four pixels in lanes (the same
+        // factors as the per-pixel rule, bit for bit).
+        let lanes = (d.model == ShadingModel::Phong
+            && m.toon.is_none()
+            && reads.maps.is_none()
+            && self_shadow.is_none())
+        .then(|| self.phong_lanes_with(d, quad, &lighting));
         let footprint = |dirs: &[Vec3; 4], j: usize| CubeFootprint {
             dir: dirs[j],
             ddir_dx: dirs[1] - dirs[0],
@@ -258,8 +265,13 @@ impl SceneShader<'_> {
                 continue;
             }
             let s = &surfaces[j];
-            let lit = self_shadowed(self_shadow, lighting, j, &mut light_buf);
-            let (df, sp) = d.lit_factors(s, &lit, self.viewer);
+            let (df, sp) = match &lanes {
+                Some(q) => (q.d[j].truncate(), q.s[j].truncate()),
+                None => {
+                    let lit = self_shadowed(self_shadow, lighting, j, &mut light_buf);
+                    d.lit_factors(s, &lit, self.viewer)
+                }
+            };
             let (pd, ps) = self.projected(d, quad, s);
             let (mut df, sp) = (df + pd, sp + ps);
             if let Some(l) = d.light_factor(reads, j) {

@@ -2,13 +2,13 @@
 //!
 //! Two paths, chosen per draw:
 //! - **plain** (an opaque Phong draw with at most a base-colour texture, no maps, vertex
-//!   colour or procedural colour, its lights directional when lit per pixel): the four pixels
-//!   are lit in lanes ([`phong_quad`]) and coloured with no per-pixel branch; a batch's
+//!   colour or procedural colour): the four pixels are lit in lanes ([`phong_quad`], every
+//!   kind of light) and coloured with no per-pixel branch; a batch's
 //!   lighting comes first, then every texture read (staged across the quads), then the
 //!   colours;
 //! - **general**: the batch's texture reads map by map ([`read_batch`]), then each pixel's
 //!   colour, its [`Surface`] built from the maps and lit by [`illuminate`] — or, for a map-free
-//!   Phong draw under directional lights, lit in lanes too.
+//!   Phong draw, lit in lanes too (with or without the environment's terms).
 //!
 //! Both end in [`combine`] (alpha mode, premultiplied output) or its opaque special case.
 
@@ -28,9 +28,6 @@ pub(super) struct SceneShader<'a> {
     pub draws: &'a [DrawInfo<'a>],
     pub lighting: Lighting<'a>,
     pub viewer: Viewer,
-    /// Every light is directional (every loader's default light): map-free Phong pixels are
-    /// then lit a quad at a time ([`phong_quad`]).
-    pub directional_only: bool,
     /// The frame's slide projectors, when it has any (`projectors.rs`).
     pub projectors: Option<&'a Projectors<'a>>,
 }
@@ -176,13 +173,25 @@ impl SceneShader<'_> {
     /// Whether draw `d` takes the plain path.
     #[inline]
     fn is_plain(&self, d: &DrawInfo) -> bool {
-        d.plain && (d.path != LightingPath::PerPixel || self.directional_only)
+        d.plain
     }
 
-    /// The draw's own surface lit at the quad's four pixels in lanes (map-free Phong under
-    /// directional lights); double-sided back faces are lit from their side.
+    /// The draw's own surface lit at the quad's four pixels in lanes (map-free Phong);
+    /// double-sided back faces are lit from their side.
     #[inline(always)]
     fn phong_lanes(&self, d: &DrawInfo, quad: &Quad) -> QuadFactors {
+        self.phong_lanes_with(d, quad, &self.lighting)
+    }
+
+    /// [`SceneShader::phong_lanes`] under `lighting` (the environment's draws leave the
+    /// uniform ambient out).
+    #[inline(always)]
+    pub(super) fn phong_lanes_with(
+        &self,
+        d: &DrawInfo,
+        quad: &Quad,
+        lighting: &Lighting,
+    ) -> QuadFactors {
         let Some(normal) = d.layout.normal else {
             return QuadFactors::UNLIT;
         };
@@ -191,7 +200,7 @@ impl SceneShader<'_> {
             n = n.map(|l| -l);
         }
         let position = d.layout.position.map(|p| p.lanes(quad));
-        phong_quad(&d.surface, n, position, &self.lighting, self.viewer)
+        phong_quad(&d.surface, n, position, lighting, self.viewer)
     }
 
     /// The factors D and S of a plain draw's quad, one vector per pixel (fourth lanes 0).
@@ -229,13 +238,12 @@ impl SceneShader<'_> {
         let back = m.double_sided && !quad.front_facing;
         // Parallax self-shadowing: each light scaled per pixel by what the relief lets through.
         let mut light_buf = parallax::light_buffer(self_shadow);
-        // Map-free Phong under directional lights: the quad's four pixels lit in lanes.
+        // Map-free Phong: the quad's four pixels lit in lanes.
         let lit = (d.path == LightingPath::PerPixel
             && !d.projectors
             && self_shadow.is_none()
             && maps.is_none()
-            && d.model == ShadingModel::Phong
-            && self.directional_only)
+            && d.model == ShadingModel::Phong)
             .then(|| self.phong_lanes(d, quad));
         let factors = interpolated_factors(d, quad);
         for j in 0..4 {

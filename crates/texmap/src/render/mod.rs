@@ -259,7 +259,6 @@ fn draw_frame(
         .collect();
     let shader = SceneShader {
         draws: &draws,
-        directional_only: !lighting.needs_position(),
         lighting,
         viewer,
         projectors: has_projectors.then_some(&projectors),

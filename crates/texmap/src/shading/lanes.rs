@@ -1,5 +1,5 @@
 //! [`phong`](super::phong) for the four pixels of a 2×2 quad at once, one pixel per `Vec4`
-//! lane, under directional lights.
+//! lane, under every kind of light.
 //!
 //! The rasterizer hands quads whose varyings are structure of arrays (varying `k` of the four
 //! pixels in one `Vec4`), so the normals and positions arrive in lanes and the lighting runs
@@ -47,12 +47,16 @@ impl QuadFactors {
     }
 }
 
-/// The Phong factors of surface `s` at four pixels, under the directional lights of
-/// `lighting` (other lights are skipped: callers take this path only when every light is
-/// directional), each scaled by its shadow maps' visibility when it casts. `normal` holds the interpolated normals (renormalized here, zero stays
-/// zero); `position` the world positions, read for the specular view vector of a point
-/// viewer (the origin when `None`). The surface's own position and normal are not read, nor
-/// its `ambient_color` (map-free surfaces have none).
+/// The Phong factors of surface `s` at four pixels, under every light of `lighting`
+/// (directional, point and spot), each scaled by its shadow maps' visibility when it casts.
+/// `normal` holds the interpolated normals (renormalized here, zero stays zero); `position`
+/// the world positions, read by point and spot lights, shadow lookups and the specular view
+/// vector of a point viewer (the origin when `None`). The surface's own position and normal
+/// are not read, nor its `ambient_color` (map-free surfaces have none).
+///
+/// Every lane follows [`phong`](super::phong)'s operations in its order (the light's
+/// incidence, `S_i·I_i` times the visibility, then times `K_D·(N·L)`; `R = 2(N·L)N − L`), so
+/// the factors equal the per-pixel rule's bit for bit (tested).
 #[inline(always)]
 #[must_use]
 pub fn phong_quad(
@@ -68,6 +72,7 @@ pub fn phong_quad(
     let ok = rcp.cmplt(Vec4::INFINITY) & rcp.cmpgt(Vec4::ZERO);
     let rcp = Vec4::select(ok, rcp, Vec4::ZERO);
     (nx, ny, nz) = (nx * rcp, ny * rcp, nz * rcp);
+    let p = position.unwrap_or([Vec4::ZERO; 3]);
     let ambient = lighting.ambient * (s.ambient * s.occlusion);
     let mut d = splat3(ambient);
     let mut sp = splat3(s.emissive);
@@ -77,63 +82,164 @@ pub fn phong_quad(
         _ if !specular => [Vec4::ZERO; 3],
         Viewer::Direction(v) => splat3(v),
         Viewer::Point(eye) => {
-            let [px, py, pz] = position.unwrap_or([Vec4::ZERO; 3]);
-            let (x, y, z) = (
+            let [px, py, pz] = p;
+            normalize_or_zero([
                 Vec4::splat(eye.x) - px,
                 Vec4::splat(eye.y) - py,
                 Vec4::splat(eye.z) - pz,
-            );
-            let r = sqrt4(x * x + y * y + z * z).recip();
-            let r = Vec4::select(r.cmplt(Vec4::INFINITY) & r.cmpgt(Vec4::ZERO), r, Vec4::ZERO);
-            [x * r, y * r, z * r]
+            ])
         }
     };
     for (i, light) in lighting.lights.iter().enumerate() {
-        let Light::Directional {
-            direction: l,
-            color,
-        } = *light
-        else {
+        let Some(inc) = incidence(light, p) else {
             continue;
         };
-        let n_dot_l = nx * l.x + ny * l.y + nz * l.z;
-        let facing = n_dot_l.cmpgt(Vec4::ZERO);
-        let mut diffuse = Vec4::select(facing, n_dot_l * s.diffuse, Vec4::ZERO);
-        // The light's share that gets past the shadow maps (positions are the origin when
-        // `None`; callers pass them when there are shadows).
-        let visible = lighting.shadows.map(|maps| {
-            let p = position.unwrap_or([Vec4::ZERO; 3]);
-            maps.visibility_quad(i, p, [nx, ny, nz], l, facing.bitmask())
-        });
-        if let Some(v) = visible {
-            diffuse *= v;
+        let [lx, ly, lz] = inc.l;
+        let n_dot_l = nx * lx + ny * ly + nz * lz;
+        let on = inc.reaches & n_dot_l.cmpgt(Vec4::ZERO).bitmask();
+        if on == 0 {
+            continue;
         }
-        for (c, dc) in d.iter_mut().enumerate() {
-            *dc += diffuse * color[c];
+        let mask = lane_mask(on);
+        // S_i·I_i per channel, times the share that gets past the shadow maps.
+        let mut intensity = inc.intensity;
+        if let Some(maps) = lighting.shadows {
+            let v = maps.visibility_quad(i, p, [nx, ny, nz], inc.l, on);
+            intensity = intensity.map(|c| c * v);
+        }
+        let kd = n_dot_l * s.diffuse;
+        for (dc, ic) in d.iter_mut().zip(&intensity) {
+            *dc = Vec4::select(mask, *dc + *ic * kd, *dc);
         }
         if specular {
             // R·V with R = 2(N·L)N − L.
-            let n_dot_v = nx * vx + ny * vy + nz * vz;
-            let l_dot_v = vx * l.x + vy * l.y + vz * l.z;
-            let r_dot_v = n_dot_l * 2.0 * n_dot_v - l_dot_v;
-            let on = (facing & r_dot_v.cmpgt(Vec4::ZERO)).bitmask();
+            let k = n_dot_l * 2.0;
+            let (rx, ry, rz) = (nx * k - lx, ny * k - ly, nz * k - lz);
+            let r_dot_v = rx * vx + ry * vy + rz * vz;
+            let lit = on & r_dot_v.cmpgt(Vec4::ZERO).bitmask();
+            if lit == 0 {
+                continue;
+            }
             let rv = r_dot_v.to_array();
-            let mut lobe = Vec4::from_array(std::array::from_fn(|j| {
-                if on & (1 << j) != 0 {
+            let lobe = Vec4::from_array(std::array::from_fn(|j| {
+                if lit & (1 << j) != 0 {
                     s.specular * rv[j].powf(s.shininess)
                 } else {
                     0.0
                 }
             }));
-            if let Some(v) = visible {
-                lobe *= v;
-            }
-            for (c, sc) in sp.iter_mut().enumerate() {
-                *sc += lobe * (color[c] * s.specular_color[c]);
+            let mask = lane_mask(lit);
+            for (c, (sc, ic)) in sp.iter_mut().zip(&intensity).enumerate() {
+                *sc = Vec4::select(mask, *sc + *ic * s.specular_color[c] * lobe, *sc);
             }
         }
     }
     QuadFactors::from_lanes(d, sp)
+}
+
+/// What one light delivers at a quad's four points ([`Light::incidence`] in lanes).
+struct Incidence {
+    /// The unit direction towards the light, per lane.
+    l: Lanes3,
+    /// `S·I` per channel.
+    intensity: Lanes3,
+    /// The lanes the light reaches (bit `j` for pixel `j`).
+    reaches: u32,
+}
+
+/// [`Light::incidence`] at four points (x, y and z lanes), lane by lane in its order of
+/// operations; `None` when it reaches none of them.
+#[inline(always)]
+fn incidence(light: &Light, p: Lanes3) -> Option<Incidence> {
+    match *light {
+        Light::Directional { direction, color } => {
+            let len2 = direction.length_squared();
+            let l = if (len2 - 1.0).abs() < 1e-6 {
+                direction
+            } else {
+                direction.try_normalize()?
+            };
+            Some(Incidence {
+                l: splat3(l),
+                intensity: splat3(color),
+                reaches: 0b1111,
+            })
+        }
+        Light::Point {
+            position,
+            color,
+            range,
+        } => {
+            let (l, s, reaches) = point_falloff(position, p, range);
+            Some(Incidence {
+                l,
+                intensity: [0, 1, 2].map(|c| Vec4::splat(color[c]) * s),
+                reaches,
+            })
+            .filter(|_| reaches != 0)
+        }
+        Light::Spot {
+            position,
+            direction,
+            color,
+            inner_deg,
+            outer_deg,
+        } => {
+            let (l, s, mut reaches) = point_falloff(position, p, None);
+            let axis = direction.try_normalize()?;
+            let cos_outer = outer_deg.to_radians().cos();
+            let cos_inner = inner_deg.to_radians().cos();
+            let scale = 1.0 / (cos_inner - cos_outer).max(1e-3);
+            let [lx, ly, lz] = l;
+            let cos = (-lx) * axis.x + (-ly) * axis.y + (-lz) * axis.z;
+            let cone = ((cos - Vec4::splat(cos_outer)) * scale).clamp(Vec4::ZERO, Vec4::ONE);
+            reaches &= cone.cmpgt(Vec4::ZERO).bitmask();
+            let k = s * cone * cone;
+            Some(Incidence {
+                l,
+                intensity: [0, 1, 2].map(|c| Vec4::splat(color[c]) * k),
+                reaches,
+            })
+            .filter(|_| reaches != 0)
+        }
+    }
+}
+
+/// The unit directions from four points towards `position`, the inverse-square falloff
+/// (windowed by `range`) and the lanes it reaches, as the per-pixel rule's `point_falloff`.
+#[inline(always)]
+fn point_falloff(position: Vec3, p: Lanes3, range: Option<f32>) -> (Lanes3, Vec4, u32) {
+    let [px, py, pz] = p;
+    let (x, y, z) = (
+        Vec4::splat(position.x) - px,
+        Vec4::splat(position.y) - py,
+        Vec4::splat(position.z) - pz,
+    );
+    let d2 = x * x + y * y + z * z;
+    let mut reaches = (d2.cmpgt(Vec4::ZERO) & d2.cmplt(Vec4::INFINITY)).bitmask();
+    let d = sqrt4(d2);
+    let mut s = Vec4::ONE / d2;
+    if let Some(r) = range.filter(|r| *r > 0.0) {
+        let x = Vec4::from_array((d / r).to_array().map(|v| v.powi(4)));
+        let w = (Vec4::ONE - x).clamp(Vec4::ZERO, Vec4::ONE);
+        s *= w * w;
+    }
+    reaches &= s.cmpgt(Vec4::ZERO).bitmask();
+    ([x / d, y / d, z / d], s, reaches)
+}
+
+/// `normalize_or_zero` of three lanes.
+#[inline(always)]
+fn normalize_or_zero([x, y, z]: Lanes3) -> Lanes3 {
+    let r = sqrt4(x * x + y * y + z * z).recip();
+    let r = Vec4::select(r.cmplt(Vec4::INFINITY) & r.cmpgt(Vec4::ZERO), r, Vec4::ZERO);
+    [x * r, y * r, z * r]
+}
+
+/// The lanes whose bit is set in `bits`, as a select mask.
+#[inline(always)]
+fn lane_mask(bits: u32) -> glam::BVec4A {
+    glam::BVec4A::new(bits & 1 != 0, bits & 2 != 0, bits & 4 != 0, bits & 8 != 0)
 }
 
 #[inline(always)]
@@ -170,7 +276,7 @@ mod tests {
     use crate::shading::{phong, Material};
 
     #[test]
-    fn quad_lighting_equals_the_per_pixel_rule() {
+    fn quad_lighting_equals_the_per_pixel_rule_under_every_light() {
         let lights = [
             Light::Directional {
                 direction: Vec3::new(0.3, 0.8, 0.5).normalize(),
@@ -179,6 +285,23 @@ mod tests {
             Light::Directional {
                 direction: Vec3::new(-0.6, 0.2, 0.77).normalize(),
                 color: Vec3::splat(0.5),
+            },
+            Light::Point {
+                position: Vec3::new(1.0, 3.0, 2.5),
+                color: Vec3::new(8.0, 6.8, 4.8),
+                range: Some(6.0),
+            },
+            Light::Point {
+                position: Vec3::new(-2.0, 1.0, 0.5),
+                color: Vec3::splat(2.0),
+                range: None,
+            },
+            Light::Spot {
+                position: Vec3::new(0.0, 4.0, 0.0),
+                direction: Vec3::new(0.1, -1.0, 0.2).normalize(),
+                color: Vec3::new(5.0, 5.0, 4.0),
+                inner_deg: 20.0,
+                outer_deg: 50.0,
             },
         ];
         let lighting = Lighting {
@@ -194,15 +317,20 @@ mod tests {
         };
         let mut surface = Surface::new(&material, Vec3::ZERO, Vec3::ZERO);
         surface.specular_color = Vec3::new(1.0, 0.5, 0.25);
-        // Unnormalized normals (one zero), positions spread out, some facing away.
+        // Unnormalized normals (one zero), positions spread out (one outside the spot's
+        // cone, one beyond the first point light's range), some facing away.
         let normals = [
             Vec3::new(0.1, 2.0, 0.3),
             Vec3::new(-1.0, 0.2, 0.9),
             Vec3::ZERO,
             Vec3::new(0.2, -1.0, 0.1),
         ];
-        let positions: [Vec3; 4] =
-            std::array::from_fn(|j| Vec3::new(j as f32 - 1.5, 0.1 * j as f32, -2.0 + j as f32));
+        let positions = [
+            Vec3::new(-4.0, 0.0, -5.0),
+            Vec3::new(-0.5, 0.1, -1.0),
+            Vec3::new(0.5, 0.2, 0.0),
+            Vec3::new(1.5, 0.3, 1.0),
+        ];
         let lanes = |v: &[Vec3; 4]| -> Lanes3 {
             std::array::from_fn(|c| Vec4::from_array(std::array::from_fn(|j| v[j][c])))
         };
@@ -222,8 +350,9 @@ mod tests {
                     };
                     let (d, sp) = phong(&s, &lighting, viewer);
                     let (qd, qs) = (q.d[j].truncate(), q.s[j].truncate());
+                    // The same operations in the same order: equal, not just close.
                     assert!(
-                        (d - qd).abs().max_element() < 1e-5 && (sp - qs).abs().max_element() < 1e-5,
+                        d == qd && sp == qs,
                         "pixel {j} {viewer:?} back {back}: {d} {sp} vs {qd} {qs}"
                     );
                 }

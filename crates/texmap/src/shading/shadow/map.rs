@@ -167,14 +167,14 @@ impl ShadowMap {
                 let s = 2.0 * tan_half / size;
                 let (rx, ry) = (qx / depth, qy / depth);
                 let facing = (nz - nx * rx - ny * ry).max(tiny);
-                let ds = depth * s;
+                // In `locate`'s order of operations: each lane equals it bit for bit.
                 Receivers {
                     u: (rx + Vec4::splat(tan_half)) / s,
                     v: (Vec4::splat(tan_half) - ry) / s,
                     depth,
-                    du: ds * nx / facing,
-                    dv: -ds * ny / facing,
-                    texel: ds,
+                    du: depth * nx * s / facing,
+                    dv: -depth * ny * s / facing,
+                    texel: depth * s,
                 }
             }
         };
@@ -196,7 +196,7 @@ impl ShadowMap {
             }
             MapView::Perspective { tan_half } => {
                 let [_, _, z] = transform_lanes(&self.view_from_world, p, 1.0);
-                (-z).max(Vec4::ZERO) * (2.0 * tan_half / self.size as f32)
+                (-z).max(Vec4::ZERO) * 2.0 * tan_half / self.size as f32
             }
         }
     }

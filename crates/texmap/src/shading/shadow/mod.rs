@@ -311,9 +311,11 @@ impl ShadowMaps {
         }
     }
 
-    /// [`ShadowMaps::visibility`] at a quad's four pixels, in lanes (`p` and `n` as x, y and
-    /// z lanes): pixels whose bit in `facing` is clear (facing away from the light) get 1
-    /// without a lookup. The steps up to the filter run in lanes, the filters pixel by pixel.
+    /// [`ShadowMaps::visibility`] at a quad's four pixels, in lanes (`p`, `n` and `l` as x,
+    /// y and z lanes): pixels whose bit in `facing` is clear (facing away from the light, or
+    /// out of its reach) get 1 without a lookup. The steps up to the filter run in lanes, in
+    /// the per-pixel lookup's order of operations (so each lane equals it bit for bit), the
+    /// filters pixel by pixel.
     #[inline]
     #[must_use]
     pub fn visibility_quad(
@@ -321,7 +323,7 @@ impl ShadowMaps {
         i: usize,
         p: [Vec4; 3],
         n: [Vec4; 3],
-        l: Vec3,
+        l: [Vec4; 3],
         facing: u32,
     ) -> Vec4 {
         let Some(Some(shadow)) = self.lights.get(i) else {
@@ -342,7 +344,7 @@ impl ShadowMaps {
                         if facing & (1 << j) == 0 {
                             1.0
                         } else {
-                            self.lookup(shadow, lane(p, j), lane(n, j), l)
+                            self.lookup(shadow, lane(p, j), lane(n, j), lane(l, j))
                         }
                     }));
                 }
@@ -354,7 +356,7 @@ impl ShadowMaps {
         if map.outside_quad(p, self.params.normal_offset + 1.0) {
             return Vec4::ONE;
         }
-        let cos = (n[0] * l.x + n[1] * l.y + n[2] * l.z).clamp(Vec4::splat(1e-6), Vec4::ONE);
+        let cos = (n[0] * l[0] + n[1] * l[1] + n[2] * l[2]).clamp(Vec4::splat(1e-6), Vec4::ONE);
         let sin = Vec4::from_array(
             (Vec4::ONE - cos * cos)
                 .max(Vec4::ZERO)
