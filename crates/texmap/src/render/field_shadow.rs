@@ -135,4 +135,5 @@ fn trace_into(map: &mut ShadowMap, casters: &[FieldCaster]) {
             map.depth[at] = d;
         }
     }
+    map.refresh_tiles();
 }

@@ -484,6 +484,7 @@ fn directional(towards: Vec3, bounds: (Vec3, Vec3), casting: &[&Mesh], n: u32) -
         far: -lo.z + depth_pad,
         size: n,
         depth: Vec::new(),
+        tiles: Vec::new(),
     }
 }
 
@@ -509,6 +510,7 @@ fn perspective(eye: Vec3, axis: Vec3, tan_half: f32, bounds: (Vec3, Vec3), n: u3
         far,
         size: n,
         depth: Vec::new(),
+        tiles: Vec::new(),
     }
 }
 

@@ -43,6 +43,84 @@ pub struct ShadowMap {
     /// too; [`ShadowMap::index`]), so a filter's window is a few cache lines of one page
     /// rather than rows a map's width apart. [`ShadowMap::set_rows`] fills it.
     pub depth: Vec<f32>,
+    /// For each block (in the same order), what bounds its depths ([`Tile`]): so a filter's
+    /// window, which touches one to four blocks, can be known lit or shadowed without reading
+    /// it. Empty: unknown (every window is read). [`ShadowMap::set_rows`] and
+    /// [`ShadowMap::refresh_tiles`] make them.
+    pub tiles: Vec<Tile>,
+}
+
+/// What bounds the depths of one block: the least and greatest, and — when they are all
+/// finite — the plane `c + a·x + b·y` fitted to them (least squares; `x`, `y` the texel's
+/// column and row in the block) with `below`, how far the plane rises above the depths at
+/// most (every depth ≥ plane − below). A receiver lying on a caster seen at a slope (a floor
+/// in a sun's map) is surely lit where its own plane stays under the fitted one by more than
+/// `below`, though the block's least depth is nearer the light than the receiver.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tile {
+    pub lo: f32,
+    pub hi: f32,
+    pub a: f32,
+    pub b: f32,
+    pub c: f32,
+    /// +∞ when some depth is not finite (no plane).
+    pub below: f32,
+}
+
+impl Tile {
+    /// The bounds of one block's depths (`BLOCK²`, row by row).
+    #[must_use]
+    pub fn of(depths: &[f32]) -> Tile {
+        let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
+        let mut finite = true;
+        // Sums for the least-squares plane: Σd, Σx·d, Σy·d.
+        let (mut sd, mut sxd, mut syd) = (0.0f64, 0.0f64, 0.0f64);
+        for (k, &d) in depths.iter().enumerate() {
+            if d.is_nan() {
+                (lo, hi) = (f32::NEG_INFINITY, f32::INFINITY);
+            } else {
+                lo = lo.min(d);
+                hi = hi.max(d);
+            }
+            finite &= d.is_finite();
+            let d = f64::from(d);
+            sd += d;
+            sxd += (k % BLOCK) as f64 * d;
+            syd += (k / BLOCK) as f64 * d;
+        }
+        let none = Tile {
+            lo,
+            hi,
+            a: 0.0,
+            b: 0.0,
+            c: 0.0,
+            below: f32::INFINITY,
+        };
+        if !finite || depths.len() != BLOCK * BLOCK {
+            return none;
+        }
+        // A full grid: x and y are independent, so each slope is its own regression.
+        let side = BLOCK as f64;
+        let mean = (side - 1.0) * 0.5;
+        let var = side * side * (side * side - 1.0) / 12.0;
+        let a = (sxd - mean * sd) / var;
+        let b = (syd - mean * sd) / var;
+        let c = sd / (side * side) - (a + b) * mean;
+        let (a, b, c) = (a as f32, b as f32, c as f32);
+        let below = depths.iter().enumerate().fold(0.0f32, |m, (k, &d)| {
+            m.max(c + a * (k % BLOCK) as f32 + b * (k / BLOCK) as f32 - d)
+        });
+        if !below.is_finite() {
+            return none;
+        }
+        Tile {
+            a,
+            b,
+            c,
+            below,
+            ..none
+        }
+    }
 }
 
 /// Where a receiving point falls in a map, and the plane it lies on.
@@ -246,6 +324,48 @@ impl ShadowMap {
             let at = self.index(k % n, k / n);
             self.depth[at] = d;
         }
+        self.refresh_tiles();
+    }
+
+    /// Makes [`ShadowMap::tiles`] from the depths (after any change to them).
+    pub fn refresh_tiles(&mut self) {
+        let blocks = (self.size as usize).div_ceil(BLOCK);
+        if self.depth.len() != blocks * blocks * BLOCK * BLOCK {
+            self.tiles.clear();
+            return;
+        }
+        self.tiles = self
+            .depth
+            .chunks_exact(BLOCK * BLOCK)
+            .map(Tile::of)
+            .collect();
+    }
+
+    /// Folds `f` over the tiles a window of `w × w` texels (`w` ≤ [`BLOCK`], inside the
+    /// map) whose first texel is `(i, j)` touches — one to four — each with `(i, j)` from
+    /// its block's first texel; `None` without tiles.
+    #[inline(always)]
+    pub fn fold_tiles<T>(
+        &self,
+        (i, j): (usize, usize),
+        w: usize,
+        init: T,
+        mut f: impl FnMut(T, &Tile, f32, f32) -> T,
+    ) -> Option<T> {
+        if self.tiles.is_empty() {
+            return None;
+        }
+        let blocks = (self.size as usize).div_ceil(BLOCK);
+        let mut acc = init;
+        for by in j / BLOCK..=(j + w - 1) / BLOCK {
+            for bx in i / BLOCK..=(i + w - 1) / BLOCK {
+                // Negative in the blocks to the right and below.
+                let x = i as f32 - (bx * BLOCK) as f32;
+                let y = j as f32 - (by * BLOCK) as f32;
+                acc = f(acc, &self.tiles[by * blocks + bx], x, y);
+            }
+        }
+        Some(acc)
     }
 
     /// The depth of texel `(i, j)`, clamped to the map's edges.
@@ -331,6 +451,7 @@ mod tests {
             far: 20.0,
             size,
             depth: vec![f32::INFINITY; (size.div_ceil(8) * 8).pow(2) as usize],
+            tiles: Vec::new(),
         }
     }
 
@@ -442,6 +563,7 @@ mod tests {
             far: 10.0,
             size: 8,
             depth: vec![f32::INFINITY; 64],
+            tiles: Vec::new(),
         };
         let r = m.locate(Vec3::ZERO, Vec3::Y).unwrap();
         assert!(

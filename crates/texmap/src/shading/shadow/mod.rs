@@ -29,7 +29,7 @@ mod map;
 use glam::{Vec3, Vec4};
 
 pub use filter::{MAX_PCSS_RADIUS, MIN_PCSS_RADIUS, POISSON_RADIUS};
-pub use map::{MapView, Receiver, Receivers, ShadowMap, BLOCK, MAX_SLOPE};
+pub use map::{MapView, Receiver, Receivers, ShadowMap, Tile, BLOCK, MAX_SLOPE};
 
 use crate::texture::UnknownName;
 use crate::{Error, Result};
