@@ -20,7 +20,7 @@ use super::{bilinear, ellipse_axes, fetch, floor_index, texel_derivatives, Codec
 use crate::texture::storage::LevelRef;
 use crate::texture::{Footprint, Sampler, Texture2D};
 
-const TABLE_SIZE: usize = 128;
+pub(super) const TABLE_SIZE: usize = 128;
 /// The ellipse's semi-axes as a multiple of the derivatives' singular values.
 const RADIUS: f32 = 0.8;
 /// The reconstruction disc's squared radius in texels, added to the footprint's.
@@ -28,7 +28,7 @@ const RECONSTRUCTION: f32 = 0.5;
 /// Gaussian falloff: weight = e^(−α r²) − e^(−α), r² ∈ [0, 1).
 const ALPHA: f32 = 2.0;
 
-fn weights() -> &'static [f32; TABLE_SIZE] {
+pub(super) fn weights() -> &'static [f32; TABLE_SIZE] {
     static TABLE: OnceLock<[f32; TABLE_SIZE]> = OnceLock::new();
     TABLE.get_or_init(|| {
         let mut t = [0.0; TABLE_SIZE];
@@ -40,12 +40,33 @@ fn weights() -> &'static [f32; TABLE_SIZE] {
     })
 }
 
-pub(crate) fn sample<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint, max_ecc: f32) -> Vec4 {
+/// What a footprint's EWA read takes: shared by [`sample`] and the quad path in lanes
+/// ([`super::ewa_lanes`]), which must choose exactly the same.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Plan {
+    /// Magnification: one bilinear read of level 0.
+    Bilinear,
+    /// The ellipse (unit major direction, semi-axes in texels of level 0, eccentricity
+    /// clamped) read on level `d`, blended with level `d + 1` by `f` unless `f ≤ 0` or `d` is
+    /// the `last` level.
+    Ellipse {
+        dir: Vec2,
+        major: f32,
+        minor: f32,
+        d: f32,
+        f: f32,
+        last: f32,
+    },
+}
+
+/// The read a footprint with derivatives `duv_dx`, `duv_dy` takes (its `uv` is not used).
+#[inline(always)]
+pub(super) fn plan(tex: &Texture2D, s: &Sampler, fp: &Footprint, max_ecc: f32) -> Plan {
     let (dx, dy) = texel_derivatives(tex, fp);
     let (major_dir, major, mut minor) = ellipse_axes(dx, dy);
     if !(major > 1.0) || !major.is_finite() {
         // Magnification: the footprint is smaller than a texel.
-        return bilinear::<C>(&tex.level(0), s, fp.uv);
+        return Plan::Bilinear;
     }
     // Clamp ellipse eccentricity.
     let max_ecc = max_ecc.max(1.0);
@@ -57,8 +78,34 @@ pub(crate) fn sample<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint, max
         .adjust_lod(crate::texture::footprint::fast_log2(minor))
         .clamp(0.0, last);
     let d = lod.floor();
-    let f = lod - d;
-    let a = ewa_level::<C>(&tex.level(d as usize), s, fp.uv, major_dir, major, minor, d);
+    Plan::Ellipse {
+        dir: major_dir,
+        major,
+        minor,
+        d,
+        f: lod - d,
+        last,
+    }
+}
+
+pub(crate) fn sample<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint, max_ecc: f32) -> Vec4 {
+    let Plan::Ellipse {
+        dir,
+        major,
+        minor,
+        d,
+        f,
+        last,
+    } = plan(tex, s, fp, max_ecc)
+    else {
+        return bilinear::<C>(&tex.level(0), s, fp.uv);
+    };
+    let a = ewa_level::<C>(
+        &tex.level(d as usize),
+        s,
+        fp.uv,
+        &Form::new(dir, major, minor, d),
+    );
     if f <= 0.0 || d >= last {
         a
     } else {
@@ -67,42 +114,67 @@ pub(crate) fn sample<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint, max
                 &tex.level(d as usize + 1),
                 s,
                 fp.uv,
-                major_dir,
-                major,
-                minor,
-                d + 1.0,
+                &Form::new(dir, major, minor, d + 1.0),
             ),
             f,
         )
     }
 }
 
-/// The Gaussian-weighted average over the ellipse on one level; axes are in texels of level 0.
-fn ewa_level<C: Codec>(
-    lv: &LevelRef,
-    s: &Sampler,
-    uv: Vec2,
-    dir: Vec2,
-    major: f32,
-    minor: f32,
-    level: f32,
-) -> Vec4 {
-    let scale = (-level).exp2();
-    // Semi-axes on this level, convolved with the one-texel reconstruction disc.
-    let (r1, r2) = (RADIUS * major * scale, RADIUS * minor * scale);
-    let (q1, q2) = (
-        1.0 / (r1 * r1 + RECONSTRUCTION),
-        1.0 / (r2 * r2 + RECONSTRUCTION),
-    );
-    // Quadratic form r² = A·x² + B·x·y + C·y² with x, y texel offsets.
-    let (c, sn) = (dir.x, dir.y);
-    let a = q1 * c * c + q2 * sn * sn;
-    let b = 2.0 * (q1 - q2) * c * sn;
-    let cc = q1 * sn * sn + q2 * c * c;
-    // Bounding box of the ellipse r² = 1.
-    let det = 4.0 * a * cc - b * b;
-    let ext_x = (4.0 * cc / det).sqrt();
-    let ext_y = (4.0 * a / det).sqrt();
+/// The ellipse on one level as the quadratic form `r² = a·x² + b·x·y + cc·y²` of texel
+/// offsets `(x, y)` from its centre, and the half-extents of its bounding box (`r² = 1`).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Form {
+    pub a: f32,
+    pub b: f32,
+    pub cc: f32,
+    pub ext_x: f32,
+    pub ext_y: f32,
+}
+
+impl Form {
+    /// The form of the ellipse with unit major direction `dir` and semi-axes `major`, `minor`
+    /// (texels of level 0) on level `level`.
+    #[inline(always)]
+    pub(super) fn new(dir: Vec2, major: f32, minor: f32, level: f32) -> Form {
+        let scale = (-level).exp2();
+        // Semi-axes on this level, convolved with the one-texel reconstruction disc.
+        let (r1, r2) = (RADIUS * major * scale, RADIUS * minor * scale);
+        let (q1, q2) = (
+            1.0 / (r1 * r1 + RECONSTRUCTION),
+            1.0 / (r2 * r2 + RECONSTRUCTION),
+        );
+        let (c, sn) = (dir.x, dir.y);
+        let a = q1 * c * c + q2 * sn * sn;
+        let b = 2.0 * (q1 - q2) * c * sn;
+        let cc = q1 * sn * sn + q2 * c * c;
+        // Bounding box of the ellipse r² = 1.
+        let det = 4.0 * a * cc - b * b;
+        Form {
+            a,
+            b,
+            cc,
+            ext_x: (4.0 * cc / det).sqrt(),
+            ext_y: (4.0 * a / det).sqrt(),
+        }
+    }
+}
+
+/// The weight of a texel at `r2 < 1` from the table.
+#[inline(always)]
+pub(super) fn weight(table: &[f32; TABLE_SIZE], r2: f32) -> f32 {
+    table[((r2 * (TABLE_SIZE - 1) as f32) as usize).min(TABLE_SIZE - 1)]
+}
+
+/// The Gaussian-weighted average over the ellipse `form` centred at `uv` on one level.
+pub(super) fn ewa_level<C: Codec>(lv: &LevelRef, s: &Sampler, uv: Vec2, form: &Form) -> Vec4 {
+    let &Form {
+        a,
+        b,
+        cc,
+        ext_x,
+        ext_y,
+    } = form;
     let px = uv.x * lv.w as f32 - 0.5;
     let py = uv.y * lv.h as f32 - 0.5;
     let (x0, x1) = (floor_index(px - ext_x) + 1, floor_index(px + ext_x));
@@ -116,7 +188,7 @@ fn ewa_level<C: Codec>(
             let tx = x as f32 - px;
             let r2 = a * tx * tx + b * tx * ty + cc * ty * ty;
             if r2 < 1.0 {
-                let w = table[((r2 * (TABLE_SIZE - 1) as f32) as usize).min(TABLE_SIZE - 1)];
+                let w = weight(table, r2);
                 sum += fetch::<C>(lv, s, x, y) * w;
                 total += w;
             }

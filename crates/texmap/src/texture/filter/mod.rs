@@ -7,6 +7,7 @@
 
 pub(crate) mod anisotropic;
 pub(crate) mod ewa;
+mod ewa_lanes;
 mod fixed16;
 pub(crate) mod summed_area;
 
@@ -91,6 +92,12 @@ pub fn sample_quad_lanes(
             if let Some(quad) = quad {
                 return quad;
             }
+        }
+        if let Filter::Ewa { max_eccentricity } = sampler.filter {
+            // The quad's ellipse once, its texels read once for the four pixels.
+            return with_texture_codec!(texture, C => ewa_lanes::sample_quad::<C>(
+                texture, sampler, uv, duv_dx, duv_dy, mask, max_eccentricity
+            ));
         }
         return with_texture_codec!(texture, C => {
             std::array::from_fn(|j| {

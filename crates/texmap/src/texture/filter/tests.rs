@@ -457,3 +457,58 @@ proptest! {
         }
     }
 }
+
+/// Random EWA footprints: any angle, anisotropy up to 64:1 (past the eccentricity clamp),
+/// from magnification to past the last level of a 64×48 texture, and coordinates some way
+/// off the image.
+fn ewa_footprint_strategy() -> impl Strategy<Value = Footprint> {
+    (
+        -4.0f32..4.0,
+        -4.0f32..4.0,
+        0.0f32..std::f32::consts::PI,
+        -9.0f32..0.0,
+        0.0f32..6.0,
+    )
+        .prop_map(|(u, v, angle, log_minor, log_ratio)| {
+            let minor = log_minor.exp2();
+            let (s, c) = angle.sin_cos();
+            Footprint::new(
+                Vec2::new(u, v),
+                Vec2::new(c, s) * minor * log_ratio.exp2(),
+                Vec2::new(-s, c) * minor,
+            )
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(500))]
+
+    /// EWA of a quad in lanes (`ewa_lanes`) is the float filter read one pixel at a time,
+    /// bit for bit (tolerance 0), on every wrap, storage and eccentricity clamp, with
+    /// neighbours near and far (a wrap between the pixels) and any mask.
+    #[test]
+    fn ewa_quads_in_lanes_equal_the_float_filter_exactly(fp in ewa_footprint_strategy(), w in 0usize..5, mask in 1u8..16, spread in 0usize..3, ecc in 0usize..3, float in any::<bool>()) {
+        let tex = if float {
+            Texture2D::from_fn(37, 23, TextureOptions::default(), |x, y| {
+                let h = (x * 7919 + y * 104_729) % 1000;
+                Vec4::new(h as f32 / 999.0, (h % 17) as f32 / 16.0, 0.5, 1.0 - (h % 5) as f32 / 8.0)
+            }).unwrap()
+        } else {
+            noisy(64, 48)
+        };
+        let max_eccentricity = [16.0, 4.0, 64.0][ecc];
+        let mut s = Sampler::new(Filter::Ewa { max_eccentricity }, WRAPS[w]);
+        s.border = Vec4::new(0.1, 0.2, 0.3, 0.4);
+        let step = [0.007, 0.05, 0.6][spread];
+        let uvs = [fp.uv, fp.uv + Vec2::new(step, 0.0), fp.uv + Vec2::new(0.0, step * 1.3), fp.uv + Vec2::new(step, step * 1.3)];
+        let quad = crate::texture::sample_quad(&tex, &s, &uvs, fp.duv_dx, fp.duv_dy, mask);
+        for j in 0..4 {
+            let want = if mask & (1 << j) == 0 {
+                Vec4::ZERO
+            } else {
+                sample(&tex, &s, &Footprint::new(uvs[j], fp.duv_dx, fp.duv_dy))
+            };
+            prop_assert!(quad[j].to_array().map(f32::to_bits) == want.to_array().map(f32::to_bits), "{:?} pixel {}: {} vs {}", s.wrap_u, j, quad[j], want);
+        }
+    }
+}

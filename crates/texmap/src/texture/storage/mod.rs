@@ -523,6 +523,35 @@ impl LevelRef<'_> {
         (self.data, self.tiles_x)
     }
 
+    /// The texel index of in-range `(0, y)`: with [`LevelRef::column`], a row's indices with
+    /// the row's part computed once (`texel_index` split in two; the sum is the same index).
+    #[inline(always)]
+    pub fn row_start(&self, y: i32) -> usize {
+        let y = y as u32;
+        match self.layout {
+            Layout::RowMajor => (y * self.w as u32) as usize,
+            Layout::Tiled4x4 => ((y >> 2) * self.tiles_x * 16 + ((y & 3) << 2)) as usize,
+        }
+    }
+
+    /// What in-range column `x` adds to a row's [`LevelRef::row_start`].
+    #[inline(always)]
+    pub fn column(&self, x: i32) -> usize {
+        let x = x as u32;
+        match self.layout {
+            Layout::RowMajor => x as usize,
+            Layout::Tiled4x4 => (((x >> 2) << 4) + (x & 3)) as usize,
+        }
+    }
+
+    /// Linear, premultiplied texel at index `i` (`row_start + column`) of a level not held as
+    /// blocks (callers check `C::BLOCKS`).
+    #[inline(always)]
+    pub fn texel_at<C: Codec>(&self, i: usize) -> Vec4 {
+        let i = i * C::BPP;
+        C::decode_premultiplied(&self.data[i..i + C::BPP], self.lut)
+    }
+
     /// Linear, premultiplied texel at in-range `(x, y)`.
     #[inline(always)]
     pub fn texel<C: Codec>(&self, x: i32, y: i32) -> Vec4 {
