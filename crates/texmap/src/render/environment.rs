@@ -21,7 +21,8 @@ use super::settings::Settings;
 use crate::pipeline::Quad;
 use crate::scene::Scene;
 use crate::shading::ibl::{
-    environment_terms, point_rays, reflect, refract, EnvLight, EnvMaterial, EnvRays,
+    environment_terms, metallic_roughness_lit, point_rays, reflect, refract, EnvLight, EnvMaterial,
+    EnvRays,
 };
 use crate::shading::{combine, Lighting, MapChannel, ShadingModel, Surface, Viewer};
 use crate::texture::CubeFootprint;
@@ -202,13 +203,14 @@ impl SceneShader<'_> {
         let mut kept = quad.mask;
         let back = m.double_sided && !quad.front_facing;
         let lighting = d.env_lighting(e, &self.lighting);
+        let one_pass =
+            d.model == ShadingModel::MetallicRoughness && m.toon.is_none() && e.replaces_ambient;
         // Parallax self-shadowing, as in the general path.
         let mut light_buf = light_buffer(self_shadow);
         let kt = e.transmission_map.as_ref().map(|t| t.quad(quad));
-        // Every pixel's surface, helpers included: their directions give the derivatives.
-        // Built in place (a surface is a few hundred bytes: no default array to overwrite).
-        // Helper pixels (outside the triangle) give only their reflected and refracted
-        // directions: their normal is all they take from the maps.
+        // Every pixel's directions, helpers included: they give the derivatives. Helper
+        // pixels (outside the triangle) give only their reflected and refracted directions:
+        // their normal is all they take from the maps.
         let covered = |j: usize| quad.mask & (1 << j) != 0;
         let colors: [Vec4; 4] = std::array::from_fn(|j| {
             if covered(j) {
@@ -217,35 +219,46 @@ impl SceneShader<'_> {
                 Vec4::ZERO
             }
         });
-        // Each surface is written in place: a surface is a few hundred bytes, and building
-        // one then moving it into the array copied it twice more.
-        let mut surfaces = [d.surface; 4];
-        for (j, s) in surfaces.iter_mut().enumerate() {
-            if let Some(n) = d.layout.normal {
-                s.normal = n.pixel3(quad, j).normalize_or_zero();
-            }
-            if let Some(p) = d.layout.position {
-                s.position = p.pixel3(quad, j);
-            }
-            if let Some(maps) = &reads.maps {
-                if covered(j) || d.solid_bump.is_some() {
-                    d.apply_maps(maps, quad, j, colors[j], s);
-                } else {
-                    s.normal = d.mapped_normal(maps, quad, j, s.normal);
-                }
-            }
-            if back {
-                s.normal = -s.normal;
-                s.clearcoat_normal = -s.clearcoat_normal;
-            }
-        }
+        // A covered pixel's surface is written in place (a surface is a few hundred bytes:
+        // building one then moving it copied it twice more); a helper pixel gets no surface,
+        // only its normal and position, for its directions.
+        let mut surfaces: [Option<Surface>; 4] = [None; 4];
         let mut reflected = [Vec3::ZERO; 4];
         let mut refracted = [Vec3::ZERO; 4];
-        for (j, s) in surfaces.iter().enumerate() {
-            let v = self.viewer.towards(s.position);
-            reflected[j] = reflect(s.normal, v);
+        for j in 0..4 {
+            let mut normal = d
+                .layout
+                .normal
+                .map_or(d.surface.normal, |n| n.pixel3(quad, j).normalize_or_zero());
+            let position = d
+                .layout
+                .position
+                .map_or(d.surface.position, |p| p.pixel3(quad, j));
+            let mut ior = d.surface.ior;
+            if covered(j) || (reads.maps.is_some() && d.solid_bump.is_some()) {
+                let s = surfaces[j].insert(d.surface);
+                s.normal = normal;
+                s.position = position;
+                if let Some(maps) = &reads.maps {
+                    d.apply_maps(maps, quad, j, colors[j], s);
+                }
+                if back {
+                    s.normal = -s.normal;
+                    s.clearcoat_normal = -s.clearcoat_normal;
+                }
+                (normal, ior) = (s.normal, s.ior);
+            } else {
+                if let Some(maps) = &reads.maps {
+                    normal = d.mapped_normal(maps, quad, j, normal);
+                }
+                if back {
+                    normal = -normal;
+                }
+            }
+            let v = self.viewer.towards(position);
+            reflected[j] = reflect(normal, v);
             if e.refracts {
-                refracted[j] = refract(s.normal, v, s.ior);
+                refracted[j] = refract(normal, v, ior);
             }
         }
         // Map-free Phong: the draw's own lights at the four pixels in lanes (the same
@@ -264,19 +277,9 @@ impl SceneShader<'_> {
             if quad.mask & (1 << j) == 0 {
                 continue;
             }
-            let s = &surfaces[j];
-            let (df, sp) = match &lanes {
-                Some(q) => (q.d[j].truncate(), q.s[j].truncate()),
-                None => {
-                    let lit = self_shadowed(self_shadow, lighting, j, &mut light_buf);
-                    d.lit_factors(s, &lit, self.viewer)
-                }
+            let Some(s) = &surfaces[j] else {
+                continue;
             };
-            let (pd, ps) = self.projected(d, quad, s);
-            let (mut df, sp) = (df + pd, sp + ps);
-            if let Some(l) = d.light_factor(reads, j) {
-                df *= l;
-            }
             let mut material = e.material;
             if let Some(k) = &kt {
                 material.transmission *= k[j].x;
@@ -285,7 +288,27 @@ impl SceneShader<'_> {
                 reflected: footprint(&reflected, j),
                 refracted: footprint(&refracted, j),
             };
-            let (ed, es) = environment_terms(d.model, s, &material, self.viewer, &rays, e.light);
+            // Metallic-roughness under image-based light: the lights and the environment
+            // share one lobe (the same factors as the two calls below).
+            let ((df, sp), (ed, es)) = if one_pass {
+                let lit = self_shadowed(self_shadow, lighting, j, &mut light_buf);
+                metallic_roughness_lit(s, &material, &lit, self.viewer, &rays, e.light)
+            } else {
+                let lit = match &lanes {
+                    Some(q) => (q.d[j].truncate(), q.s[j].truncate()),
+                    None => {
+                        let lit = self_shadowed(self_shadow, lighting, j, &mut light_buf);
+                        d.lit_factors(s, &lit, self.viewer)
+                    }
+                };
+                let env = environment_terms(d.model, s, &material, self.viewer, &rays, e.light);
+                (lit, env)
+            };
+            let (pd, ps) = self.projected(d, quad, s);
+            let (mut df, sp) = (df + pd, sp + ps);
+            if let Some(l) = d.light_factor(reads, j) {
+                df *= l;
+            }
             match combine(m.alpha_mode, colors[j], df + ed, sp + es) {
                 Some(color) => out[j] = color,
                 None => kept &= !(1 << j),

@@ -60,7 +60,7 @@ impl DrawInfo<'_> {
     /// Pixel `j`'s normal `n` tilted by its draw's normal map, object-space normal map and
     /// bump maps (the solid bump is [`DrawInfo::apply_maps`]'s): all a helper pixel of a
     /// quad needs for its reflected direction.
-    #[inline]
+    #[inline(always)]
     pub(super) fn mapped_normal(&self, maps: &QuadMaps, quad: &Quad, j: usize, n: Vec3) -> Vec3 {
         let mut n = n;
         if let (Some(texel), Some(map)) = (&maps.normals, &self.normal_map) {

@@ -87,35 +87,87 @@ pub fn alpha(roughness: f32) -> f32 {
     r * r
 }
 
+/// What every light and the ambient or environment term of the metallic-roughness model
+/// share at one surface point: the lobe's reflectances, its α and the view direction.
+#[derive(Clone, Copy, Debug)]
+pub struct MrLobe {
+    pub metallic: f32,
+    /// KHR_materials_specular's f0 and f90 (f90 = 1 without it: Schlick exactly), the
+    /// metal's base colour blended in.
+    pub f0: Vec3,
+    pub f90: f32,
+    /// GGX α (roughness², clamped).
+    pub a: f32,
+    /// Unit direction towards the viewer.
+    pub v: Vec3,
+    /// N·V, kept just above 0 (normal-mapped normals can face away from the viewer).
+    pub n_dot_v: f32,
+}
+
+impl MrLobe {
+    /// The lobe of surface `s` seen by `viewer`.
+    #[inline(always)]
+    #[must_use]
+    pub fn new(s: &Surface, viewer: Viewer) -> Self {
+        let metallic = s.metallic.clamp(0.0, 1.0);
+        let (f0_d, f90_d) = s.lobes.dielectric(super::ibl::dielectric_f0(s.ior));
+        let v = viewer.towards(s.position);
+        MrLobe {
+            metallic,
+            f0: f0_d.lerp(s.base_color, metallic),
+            f90: f90_d + (1.0 - f90_d) * metallic,
+            a: alpha(s.roughness),
+            v,
+            n_dot_v: s.normal.dot(v).max(1e-4),
+        }
+    }
+
+    /// The directional albedo of the specular lobe, `E = f0·A + B·f90` (see
+    /// [`specular_albedo`]).
+    #[inline(always)]
+    #[must_use]
+    pub fn albedo(&self) -> Vec3 {
+        let e = specular_albedo(self.n_dot_v, self.a.sqrt());
+        self.f0 * e.x + Vec3::splat(e.y * self.f90)
+    }
+}
+
 /// The factors `(D, S)` of the metallic-roughness model at surface `s` seen by `viewer`, with
 /// `I = C·D + S` (see the module docs). Includes the ambient term and `s.emissive`.
 #[inline(never)]
 #[must_use]
 pub fn metallic_roughness(s: &Surface, lighting: &Lighting, viewer: Viewer) -> (Vec3, Vec3) {
-    let metallic = s.metallic.clamp(0.0, 1.0);
-    // KHR_materials_specular's f0 and f90 (f90 = 1 without it: today's Schlick exactly).
-    let (f0_d, f90_d) = s.lobes.dielectric(super::ibl::dielectric_f0(s.ior));
-    let f0 = f0_d.lerp(s.base_color, metallic);
-    let f90 = f90_d + (1.0 - f90_d) * metallic;
-    let a = alpha(s.roughness);
-    let n = s.normal;
-    let v = viewer.towards(s.position);
-    // Normal-mapped normals can face away from the viewer; keep N·V just above 0.
-    let n_dot_v = n.dot(v).max(1e-4);
-    let diffuse_weight = 1.0 - metallic;
-
+    let lobe = MrLobe::new(s, viewer);
     let ambient = lighting.ambient * (s.ambient * s.occlusion);
-    let (mut d, mut sp) = if ambient == Vec3::ZERO {
+    let start = if ambient == Vec3::ZERO {
         // No ambient light (the environment lights instead): the lobe's albedo is not needed.
         (Vec3::ZERO, s.emissive)
     } else {
-        let e = specular_albedo(n_dot_v, a.sqrt());
-        let e = f0 * e.x + Vec3::splat(e.y * f90);
+        let e = lobe.albedo();
         (
-            ambient * diffuse_weight * (Vec3::ONE - e),
+            ambient * (1.0 - lobe.metallic) * (Vec3::ONE - e),
             s.emissive + ambient * e,
         )
     };
+    let (d, sp) = lights(s, lighting, &lobe, start);
+    if s.lobes.layered() {
+        return layered(s, lighting, lobe.v, lobe.n_dot_v, (d, sp));
+    }
+    (d, sp)
+}
+
+/// `start` plus every light's diffuse and specular terms of the metallic-roughness `lobe` at
+/// `s` (shadows included; not the clearcoat and sheen layers).
+#[inline(always)]
+#[must_use]
+pub fn lights(
+    s: &Surface,
+    lighting: &Lighting,
+    lobe: &MrLobe,
+    (mut d, mut sp): (Vec3, Vec3),
+) -> (Vec3, Vec3) {
+    let (n, v, a) = (s.normal, lobe.v, lobe.a);
+    let diffuse_weight = 1.0 - lobe.metallic;
     for (i, light) in lighting.lights.iter().enumerate() {
         let Some((l, mut intensity)) = light.incidence(s.position) else {
             continue;
@@ -128,14 +180,11 @@ pub fn metallic_roughness(s: &Surface, lighting: &Lighting, viewer: Viewer) -> (
             intensity *= shadows.visibility(i, s.position, n, l);
         }
         let h = (l + v).normalize_or_zero();
-        let f = fresnel_f90(f0, f90, v.dot(h));
+        let f = fresnel_f90(lobe.f0, lobe.f90, v.dot(h));
         let n_dot_h = n.dot(h).max(0.0);
         d += intensity * (Vec3::ONE - f) * (diffuse_weight * n_dot_l);
-        let spec = PI * distribution(n_dot_h, a) * visibility(n_dot_l, n_dot_v, a) * n_dot_l;
+        let spec = PI * distribution(n_dot_h, a) * visibility(n_dot_l, lobe.n_dot_v, a) * n_dot_l;
         sp += intensity * f * spec;
-    }
-    if s.lobes.layered() {
-        return layered(s, lighting, v, n_dot_v, (d, sp));
     }
     (d, sp)
 }
@@ -213,18 +262,27 @@ pub fn specular_albedo(n_dot_v: f32, roughness: f32) -> Vec2 {
     const N: usize = 32;
     static TABLE: OnceLock<Vec<Vec2>> = OnceLock::new();
     let table = TABLE.get_or_init(|| {
-        let mut t = Vec::with_capacity(N * N);
-        for j in 0..N {
-            for i in 0..N {
-                let sqrt_nv = i as f32 / (N - 1) as f32;
-                let nv = (sqrt_nv * sqrt_nv).max(1e-3);
+        // Rows in parallel (each cell on its own: the same table at any thread count), the
+        // sample set's azimuths shared by every cell.
+        use rayon::prelude::*;
+        let azimuths = azimuths(2048);
+        let rows: Vec<Vec<Vec2>> = (0..N)
+            .into_par_iter()
+            .map(|j| {
                 let r = (j as f32 / (N - 1) as f32).max(MIN_ROUGHNESS);
-                let e = integrate_specular_albedo(nv, r * r, 2048);
-                // The true albedo is at most 1; near grazing the estimate's noise is not.
-                t.push(e / (e.x + e.y).max(1.0));
-            }
-        }
-        t
+                (0..N)
+                    .map(|i| {
+                        let sqrt_nv = i as f32 / (N - 1) as f32;
+                        let nv = (sqrt_nv * sqrt_nv).max(1e-3);
+                        let e = integrate_with(nv, r * r, &azimuths);
+                        // The true albedo is at most 1; near grazing the estimate's noise is
+                        // not.
+                        e / (e.x + e.y).max(1.0)
+                    })
+                    .collect()
+            })
+            .collect();
+        rows.concat()
     });
     let x = n_dot_v.clamp(0.0, 1.0).sqrt() * (N - 1) as f32;
     let y = roughness.clamp(0.0, 1.0) * (N - 1) as f32;
@@ -240,18 +298,35 @@ pub fn specular_albedo(n_dot_v: f32, roughness: f32) -> Vec2 {
 /// points of a 2D low-discrepancy set: for `H` with density `D·(N·H)`, the estimator of
 /// `∫ F·D·Vis·(N·L) dω_L` is `F·Vis·(N·L)·4(V·H)/(N·H)`, and `F = f0·(1 − m) + m` with
 /// `m = (1 − V·H)⁵` splits it into `A` (the `1 − m` part) and `B` (the `m` part).
+#[cfg(test)]
 fn integrate_specular_albedo(n_dot_v: f32, alpha: f32, samples: u32) -> Vec2 {
+    integrate_with(n_dot_v, alpha, &azimuths(samples))
+}
+
+/// `(cos φ, sin φ)` of each of `samples` points' azimuth, `φ = 2π·radical_inverse(k)`.
+fn azimuths(samples: u32) -> Vec<(f32, f32)> {
+    (0..samples)
+        .map(|k| {
+            let phi = 2.0 * PI * radical_inverse_base2(k);
+            (phi.cos(), phi.sin())
+        })
+        .collect()
+}
+
+/// The estimate of `integrate_specular_albedo` (the tests' form) over the sample set whose
+/// azimuths are `azimuths`: `(A, B)` by importance-sampling the GGX distribution of half
+/// vectors (the estimator `F·Vis·(N·L)·4(V·H)/(N·H)`, split by `m = (1 − V·H)⁵`).
+fn integrate_with(n_dot_v: f32, alpha: f32, azimuths: &[(f32, f32)]) -> Vec2 {
+    let samples = azimuths.len() as u32;
     let v = Vec3::new((1.0 - n_dot_v * n_dot_v).max(0.0).sqrt(), 0.0, n_dot_v);
     let a2 = alpha * alpha;
     let mut sum = glam::DVec2::ZERO;
-    for k in 0..samples {
+    for (k, &(cos_phi, sin_phi)) in azimuths.iter().enumerate() {
         let u1 = (k as f32 + 0.5) / samples as f32;
-        let u2 = radical_inverse_base2(k);
         // Invert the GGX CDF of cos θ_h; φ uniform.
         let cos_h = ((1.0 - u1) / (1.0 + (a2 - 1.0) * u1)).sqrt();
         let sin_h = (1.0 - cos_h * cos_h).max(0.0).sqrt();
-        let phi = 2.0 * PI * u2;
-        let h = Vec3::new(sin_h * phi.cos(), sin_h * phi.sin(), cos_h);
+        let h = Vec3::new(sin_h * cos_phi, sin_h * sin_phi, cos_h);
         let v_dot_h = v.dot(h);
         let l = h * (2.0 * v_dot_h) - v;
         let n_dot_l = l.z;

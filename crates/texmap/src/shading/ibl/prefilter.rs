@@ -86,17 +86,26 @@ impl FaceSet {
         let n = self.n as u32 as f32;
         let m = self.n + 2;
         // Texel centre i sits at face coordinate 2(i + ½)/n − 1; the apron shifts by one.
-        // `max` then `min` (no NaN assertion) and signed conversions: this is the hot read of
+        // `max` then `min` (no NaN assertion: `max` maps NaN to 0): x and y are finite and in
+        // [0, n + 1], so the truncations below need no saturation. This is the hot read of
         // image-based light.
         let x = ((sc + 1.0) * 0.5 * n + 0.5).max(0.0).min(n + 1.0);
         let y = ((tc + 1.0) * 0.5 * n + 0.5).max(0.0).min(n + 1.0);
-        let (xi, yi) = ((x as i32).min(self.n as i32), (y as i32).min(self.n as i32));
-        let (fx, fy) = (x - xi as f32, y - yi as f32);
-        let (x0, y0) = (xi as usize, yi as usize);
+        // SAFETY: x and y are finite, non-negative and at most n + 1 (clamped above), so
+        // they fit in a u32 (`n` is a face size of at most a few thousand texels).
+        let (xt, yt): (u32, u32) = unsafe { (x.to_int_unchecked(), y.to_int_unchecked()) };
+        let (x0, y0) = (
+            xt.min(self.n as u32) as usize,
+            yt.min(self.n as u32) as usize,
+        );
+        let (fx, fy) = (x - x0 as f32, y - y0 as f32);
         let base = f * m * m + y0 * m + x0;
-        let t = &self.texels[base..base + m + 2];
-        let top = t[0].lerp(t[1], fx);
-        let bottom = t[m].lerp(t[m + 1], fx);
+        let (top, bottom) = (
+            &self.texels[base..base + 2],
+            &self.texels[base + m..base + m + 2],
+        );
+        let top = top[0].lerp(top[1], fx);
+        let bottom = bottom[0].lerp(bottom[1], fx);
         top.lerp(bottom, fy)
     }
 }

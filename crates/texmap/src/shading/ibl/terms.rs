@@ -14,6 +14,8 @@ pub struct EnvLight<'a> {
     pub env: &'a Environment,
     /// World → map directions (the inverse of the map's rotation).
     pub env_from_world: Mat3,
+    /// The map is rotated (`env_from_world` is not the identity).
+    pub rotated: bool,
     /// `None` unless image-based light is on and some draw needs it.
     pub irradiance: Option<&'a FaceSet>,
     pub specular: Option<&'a [FaceSet]>,
@@ -32,10 +34,21 @@ impl<'a> EnvLight<'a> {
         EnvLight {
             env,
             env_from_world: Mat3::from_rotation_y(-env.rotation_deg.to_radians()),
+            rotated: env.rotation_deg.rem_euclid(360.0) != 0.0,
             irradiance: diffuse.then(|| env.irradiance()),
             specular: specular.then(|| env.specular_levels()),
             sharp: specular.then(|| env.mirror_cube()),
             sampler: env.sampler,
+        }
+    }
+
+    /// A world direction in the map's frame (the identity unless the map is rotated).
+    #[inline(always)]
+    fn in_map_frame(&self, d: Vec3) -> Vec3 {
+        if self.rotated {
+            self.env_from_world * d
+        } else {
+            d
         }
     }
 
@@ -51,7 +64,7 @@ impl<'a> EnvLight<'a> {
     #[must_use]
     pub fn irradiance_a(&self, n: Vec3) -> Vec3A {
         match self.irradiance {
-            Some(f) => f.read(self.env_from_world * n) * self.env.intensity,
+            Some(f) => f.read(self.in_map_frame(n)) * self.env.intensity,
             None => Vec3A::ZERO,
         }
     }
@@ -61,11 +74,10 @@ impl<'a> EnvLight<'a> {
     #[inline]
     #[must_use]
     pub fn mirror(&self, fp: &CubeFootprint) -> Vec3 {
-        let m = self.env_from_world;
         let local = CubeFootprint {
-            dir: m * fp.dir,
-            ddir_dx: m * fp.ddir_dx,
-            ddir_dy: m * fp.ddir_dy,
+            dir: self.in_map_frame(fp.dir),
+            ddir_dx: self.in_map_frame(fp.ddir_dx),
+            ddir_dy: self.in_map_frame(fp.ddir_dy),
         };
         self.env.map.sample(&self.sampler, &local).truncate() * self.env.intensity
     }
@@ -99,7 +111,7 @@ impl<'a> EnvLight<'a> {
         // of this roughness does (linear in roughness, a roughness-0.3 metal was 26% too
         // bright where a bright sky leaks into its reflection of the ground).
         let frac = ((a2.min(1.0) - A2_AT[k]) * INV_A2_STEP[k]).clamp(0.0, 1.0);
-        let dir = self.env_from_world * fp.dir;
+        let dir = self.in_map_frame(fp.dir);
         let intensity = self.env.intensity;
         // The reads and their blend in SIMD vectors (Vec3A), one conversion at the end.
         let c: Vec3A = if k == 0 {
@@ -107,11 +119,10 @@ impl<'a> EnvLight<'a> {
                 .sharp
                 .filter(|_| self.sampler.filter == Filter::TRILINEAR)
             {
-                let m = self.env_from_world;
                 let local = CubeFootprint {
                     dir,
-                    ddir_dx: m * fp.ddir_dx,
-                    ddir_dy: m * fp.ddir_dy,
+                    ddir_dx: self.in_map_frame(fp.ddir_dx),
+                    ddir_dy: self.in_map_frame(fp.ddir_dy),
                 };
                 let (lower, (f, sc, tc)) = sharp.read(&self.sampler, &local);
                 if frac <= 0.0 {
@@ -231,12 +242,11 @@ pub fn environment_terms(
 ) -> (Vec3, Vec3) {
     let env = light.env;
     let n = s.normal;
-    let v = viewer.towards(s.position);
-    let n_dot_v = n.dot(v).max(1e-4);
     let mut d = Vec3::ZERO;
     let mut sp = Vec3::ZERO;
     match model {
         crate::shading::ShadingModel::Phong => {
+            let n_dot_v = n.dot(viewer.towards(s.position)).max(1e-4);
             if env.ibl {
                 let ambient = light.irradiance(n) * (s.ambient * s.occlusion);
                 match s.ambient_color {
@@ -261,44 +271,88 @@ pub fn environment_terms(
             }
         }
         crate::shading::ShadingModel::MetallicRoughness => {
-            // In SIMD vectors (Vec3A: the same operations in the same order, one instruction
-            // where Vec3 takes three): this runs at every pixel of image-based light.
-            let metallic = s.metallic.clamp(0.0, 1.0);
-            let (f0_d, f90_d) = s.lobes.dielectric(dielectric_f0(s.ior));
-            let f0 = Vec3A::from(f0_d).lerp(s.base_color.into(), metallic);
-            let f90 = f90_d + (1.0 - f90_d) * metallic;
-            let roughness = s.roughness.clamp(0.0, 1.0);
-            let ab = pbr::specular_albedo(n_dot_v, pbr::alpha(roughness).sqrt());
-            let e = f0 * ab.x + Vec3A::splat(ab.y * f90);
-            let diffuse = (Vec3A::ONE - e) * (1.0 - metallic);
-            let transmission = if env.reflections {
-                m.transmission.clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let (mut da, mut sa) = (Vec3A::ZERO, Vec3A::ZERO);
-            if env.ibl {
-                // A metal (or a fully transmitting surface) has no diffuse lobe: its
-                // irradiance read is skipped, not multiplied by zero.
-                let kd = diffuse * (s.occlusion * (1.0 - transmission));
-                if kd != Vec3A::ZERO {
-                    da += light.irradiance_a(n) * kd;
-                }
-                sa += light.radiance_a(&rays.reflected, roughness) * e * s.occlusion;
-            }
-            if transmission > 0.0 {
-                // KHR_materials_volume: Beer–Lambert through the thickness.
-                let through = Vec3A::from(s.lobes.transmittance(s.lobes.thickness));
-                da +=
-                    light.radiance_a(&rays.refracted, roughness) * diffuse * through * transmission;
-            }
-            (d, sp) = (d + Vec3::from(da), sp + Vec3::from(sa));
+            let lobe = pbr::MrLobe::new(s, viewer);
+            (d, sp) = metallic_roughness_env(s, m, &lobe, rays, light);
             if s.lobes.layered() && env.ibl {
-                return layered_env(s, v, n_dot_v, rays, light, (d, sp));
+                return layered_env(s, lobe.v, lobe.n_dot_v, rays, light, (d, sp));
             }
         }
     }
     (d, sp)
+}
+
+/// The metallic-roughness factors of `s` under `lighting`'s lights and the environment in one
+/// pass: `(lights, environment)`, each pair `(D, S)` exactly as [`pbr::metallic_roughness`]
+/// and [`environment_terms`] give them (the lights' pair with the emission, no ambient term:
+/// the caller's `lighting` has none, image-based light replacing it), the lobe they share
+/// computed once.
+#[inline]
+#[must_use]
+pub fn metallic_roughness_lit(
+    s: &Surface,
+    m: &EnvMaterial,
+    lighting: &crate::shading::Lighting,
+    viewer: Viewer,
+    rays: &EnvRays,
+    light: &EnvLight,
+) -> ((Vec3, Vec3), (Vec3, Vec3)) {
+    debug_assert!(lighting.ambient == Vec3::ZERO || s.ambient * s.occlusion == 0.0);
+    if s.lobes.layered() {
+        return (
+            pbr::metallic_roughness(s, lighting, viewer),
+            environment_terms(
+                crate::shading::ShadingModel::MetallicRoughness,
+                s,
+                m,
+                viewer,
+                rays,
+                light,
+            ),
+        );
+    }
+    let lobe = pbr::MrLobe::new(s, viewer);
+    let lit = pbr::lights(s, lighting, &lobe, (Vec3::ZERO, s.emissive));
+    (lit, metallic_roughness_env(s, m, &lobe, rays, light))
+}
+
+/// The metallic-roughness environment terms `(D, S)` of `s` with its `lobe` (no clearcoat or
+/// sheen: [`layered_env`] lays them over).
+#[inline(always)]
+fn metallic_roughness_env(
+    s: &Surface,
+    m: &EnvMaterial,
+    lobe: &pbr::MrLobe,
+    rays: &EnvRays,
+    light: &EnvLight,
+) -> (Vec3, Vec3) {
+    let env = light.env;
+    // In SIMD vectors (Vec3A: the same operations in the same order, one instruction where
+    // Vec3 takes three): this runs at every pixel of image-based light.
+    let metallic = lobe.metallic;
+    let roughness = s.roughness.clamp(0.0, 1.0);
+    let e = Vec3A::from(lobe.albedo());
+    let diffuse = (Vec3A::ONE - e) * (1.0 - metallic);
+    let transmission = if env.reflections {
+        m.transmission.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let (mut da, mut sa) = (Vec3A::ZERO, Vec3A::ZERO);
+    if env.ibl {
+        // A metal (or a fully transmitting surface) has no diffuse lobe: its irradiance read
+        // is skipped, not multiplied by zero.
+        let kd = diffuse * (s.occlusion * (1.0 - transmission));
+        if kd != Vec3A::ZERO {
+            da += light.irradiance_a(s.normal) * kd;
+        }
+        sa += light.radiance_a(&rays.reflected, roughness) * e * s.occlusion;
+    }
+    if transmission > 0.0 {
+        // KHR_materials_volume: Beer–Lambert through the thickness.
+        let through = Vec3A::from(s.lobes.transmittance(s.lobes.thickness));
+        da += light.radiance_a(&rays.refracted, roughness) * diffuse * through * transmission;
+    }
+    (da.into(), sa.into())
 }
 
 /// The clearcoat and sheen over the environment's base factors ([`pbr`]'s layering, the
