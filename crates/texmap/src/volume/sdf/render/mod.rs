@@ -13,6 +13,9 @@
 //! - A crossing (distance from > 0 to ≤ 0) is placed by bisecting the last step to 1/100
 //!   voxel (at most 16 times; a sphere-traced step is short, a shell step longer), and
 //!   shaded with the normal from central differences (±½ voxel) of the trilinear field.
+//! - The melted core (melt, core displacement) is sphere-traced with a Lipschitz bound:
+//!   far from it by the warp's lattices less their margin ([`warp`]), near it by the noises
+//!   themselves, in steps of at least ¼ voxel; its crossing is placed by false position.
 //! - Colours are linear and premultiplied, as meshes' are (not the display values of
 //!   transfer functions): the frame holds them as they are.
 //! - The image does not depend on the number of threads (per-pixel work, fixed tile order).
