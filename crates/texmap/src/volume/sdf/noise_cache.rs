@@ -70,20 +70,29 @@ impl NoiseCache {
         }
         let c = q.floor();
         let f = q - c;
-        let base = c.x as usize + nx * (c.y as usize + ny * c.z as usize);
+        // In range and not negative (checked above): the casts need no saturation.
+        let (cx, cy, cz) = (
+            c.x as u32 as usize,
+            c.y as u32 as usize,
+            c.z as u32 as usize,
+        );
+        let base = cx + nx * (cy + ny * cz);
         let (sy, sz) = (nx, nx * ny);
-        let mut v = [0.0f32; 8];
-        for (slot, o) in v
-            .iter_mut()
-            .zip([0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1])
-        {
-            let bits = self.values[base + o].load(Ordering::Relaxed);
-            *slot = if bits == EMPTY {
-                self.fill(base + o, &noise)
-            } else {
-                f32::from_bits(bits)
-            };
+        let offsets = [0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1];
+        let corners = &self.values[base..=base + sz + sy + 1];
+        let mut bits = [0u32; 8];
+        for (b, &o) in bits.iter_mut().zip(&offsets) {
+            *b = corners[o].load(Ordering::Relaxed);
         }
+        // One test for the eight (all stored, after the lattice's first reads).
+        if bits.contains(&EMPTY) {
+            for (b, &o) in bits.iter_mut().zip(&offsets) {
+                if *b == EMPTY {
+                    *b = self.fill(base + o, &noise).to_bits();
+                }
+            }
+        }
+        let v = bits.map(f32::from_bits);
         let lerp = |t: f32, a: f32, b: f32| a + t * (b - a);
         let x00 = lerp(f.x, v[0], v[1]);
         let x10 = lerp(f.x, v[2], v[3]);

@@ -12,13 +12,24 @@
 
 use glam::{Mat3, Mat4, Vec3};
 
-use super::super::cell::corners_at;
+use super::super::cell::voxel_count;
 use super::super::grid::Volume;
 
 /// A distance field's reads, with the transforms of its grid.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct FieldReader<'a> {
     vol: &'a Volume,
+    /// The field's 16-bit levels (x fastest); empty when short of the grid (reads give 0).
+    levels: &'a [u16],
+    /// Voxels per row and per slice.
+    nx: usize,
+    nxy: usize,
+    /// The highest voxel coordinate along each axis (`dims − 1`).
+    top: Vec3,
+    /// The highest cell corner along each axis (`dims − 2`, 0 on a one-voxel axis).
+    last_cell: [u32; 3],
+    /// Index steps to the next voxel along x, y and z (0 on a one-voxel axis).
+    strides: [usize; 3],
     pub voxel_from_world: Mat4,
     /// Voxel-space gradient → world-space gradient.
     pub grad_to_world: Mat3,
@@ -31,8 +42,21 @@ pub(crate) struct FieldReader<'a> {
 impl<'a> FieldReader<'a> {
     pub fn new(vol: &'a Volume) -> Self {
         let voxel_from_world = vol.world_from_voxel().inverse();
+        let dims = vol.dims();
+        let [nx, ny, nz] = dims;
+        let whole = nx > 0 && ny > 0 && nz > 0 && vol.quantized().len() >= voxel_count(dims);
         FieldReader {
             vol,
+            levels: if whole { vol.quantized() } else { &[] },
+            nx: nx as usize,
+            nxy: nx as usize * ny as usize,
+            top: Vec3::from_array(dims.map(|d| d.saturating_sub(1) as f32)),
+            last_cell: dims.map(|d| d.saturating_sub(2)),
+            strides: [
+                usize::from(nx > 1),
+                if ny > 1 { nx as usize } else { 0 },
+                if nz > 1 { nx as usize * ny as usize } else { 0 },
+            ],
             voxel_from_world,
             grad_to_world: Mat3::from_mat4(voxel_from_world).transpose(),
             hi: Vec3::from_array(vol.dims().map(|d| (d - 1) as f32)),
@@ -40,35 +64,81 @@ impl<'a> FieldReader<'a> {
         }
     }
 
+    /// The cell of voxel-space `q` (clamped to the box): its eight levels in
+    /// [`super::super::cell::blend_cell`]'s order and `q`'s place inside it; `None` when
+    /// the data is short of the grid. The same cell, corners and fractions as
+    /// [`super::super::cell::Cell::locate`] (so the same bits as `Volume::value_at`), with
+    /// the grid's checks and strides made once in [`FieldReader::new`].
+    #[inline(always)]
+    fn cell(&self, q: Vec3) -> Option<FieldCell> {
+        if self.levels.is_empty() {
+            return None;
+        }
+        let x = q.x.clamp(0.0, self.top.x);
+        let y = q.y.clamp(0.0, self.top.y);
+        let z = q.z.clamp(0.0, self.top.z);
+        let [lx, ly, lz] = self.last_cell;
+        let (ix, iy, iz) = ((x as u32).min(lx), (y as u32).min(ly), (z as u32).min(lz));
+        let i = iz as usize * self.nxy + iy as usize * self.nx + ix as usize;
+        let [sx, sy, sz] = self.strides;
+        let data = self.levels;
+        // SAFETY: the cell's corner is at most `dims − 2` along an axis of stride > 0 (else 0),
+        // so the largest index, i + sx + sy + sz, is a voxel of the grid, which `levels`
+        // holds (checked in `new`).
+        let g = |k: usize| f32::from(unsafe { *data.get_unchecked(k) });
+        Some(FieldCell {
+            c: [
+                g(i),
+                g(i + sx),
+                g(i + sy),
+                g(i + sx + sy),
+                g(i + sz),
+                g(i + sx + sz),
+                g(i + sy + sz),
+                g(i + sx + sy + sz),
+            ],
+            f: Vec3::new(x - ix as f32, y - iy as f32, z - iz as f32),
+        })
+    }
+
     /// The trilinear distance at voxel-space `q` (clamped to the box), world units.
     #[inline(always)]
     pub fn distance(&self, q: Vec3) -> f32 {
-        self.vol.value_at(q)
+        self.vol
+            .value_of(self.cell(q).map_or(0.0, |c| c.blend().level))
     }
 
     /// The trilinear distance at `q` and its gradient inside `q`'s cell, world space (one
     /// cell read).
     #[inline(always)]
     pub fn distance_and_gradient(&self, q: Vec3) -> (f32, Vec3) {
-        let v = self.vol;
-        let Some(c) = corners_at(v.quantized(), v.dims(), q, f32::from) else {
-            return (0.0, Vec3::ZERO);
-        };
-        let [c0, c1, c2, c3, c4, c5, c6, c7] = c.values;
-        let f = c.frac;
-        let (gy, gz) = (1.0 - f.y, 1.0 - f.z);
-        let x00 = c0 + (c1 - c0) * f.x;
-        let x10 = c2 + (c3 - c2) * f.x;
-        let x01 = c4 + (c5 - c4) * f.x;
-        let x11 = c6 + (c7 - c6) * f.x;
-        let y0 = x00 + (x10 - x00) * f.y;
-        let y1 = x01 + (x11 - x01) * f.y;
-        let level = y0 + (y1 - y0) * f.z;
-        let dx = gz * (gy * (c1 - c0) + f.y * (c3 - c2)) + f.z * (gy * (c5 - c4) + f.y * (c7 - c6));
-        let dy = gz * (x10 - x00) + f.z * (x11 - x01);
-        let dz = y1 - y0;
-        let g = Vec3::new(dx, dy, dz) * v.value_step();
-        (v.value_of(level), self.grad_to_world * g)
+        let (d, g) = self.distance_and_lazy_gradient(q);
+        (d, g.gradient())
+    }
+
+    /// [`Self::distance_and_gradient`] with the gradient left for later: read it from the
+    /// returned value only where it is needed (the same bits).
+    #[inline(always)]
+    pub fn distance_and_lazy_gradient(&self, q: Vec3) -> (f32, LazyGradient<'_>) {
+        match self.cell(q) {
+            None => (
+                0.0,
+                LazyGradient {
+                    reader: self,
+                    blend: None,
+                },
+            ),
+            Some(c) => {
+                let b = c.blend();
+                (
+                    self.vol.value_of(b.level),
+                    LazyGradient {
+                        reader: self,
+                        blend: Some(b),
+                    },
+                )
+            }
+        }
     }
 
     /// The world-space gradient of `e` (a function of voxel-space points) at `q` by central
@@ -82,5 +152,84 @@ impl<'a> FieldReader<'a> {
             e(q + Vec3::Z * h) - e(q - Vec3::Z * h),
         ) / (2.0 * h);
         self.grad_to_world * g
+    }
+}
+
+/// A cell's eight levels and a point's place inside it.
+#[derive(Clone, Copy, Debug)]
+struct FieldCell {
+    c: [f32; 8],
+    f: Vec3,
+}
+
+/// A cell's trilinear blend, x then y then z, with what its gradient reuses.
+#[derive(Clone, Copy, Debug)]
+struct Blend {
+    cell: FieldCell,
+    x00: f32,
+    x10: f32,
+    x01: f32,
+    x11: f32,
+    y0: f32,
+    y1: f32,
+    level: f32,
+}
+
+impl FieldCell {
+    #[inline(always)]
+    fn blend(self) -> Blend {
+        let [c0, c1, c2, c3, c4, c5, c6, c7] = self.c;
+        let f = self.f;
+        let x00 = c0 + (c1 - c0) * f.x;
+        let x10 = c2 + (c3 - c2) * f.x;
+        let x01 = c4 + (c5 - c4) * f.x;
+        let x11 = c6 + (c7 - c6) * f.x;
+        let y0 = x00 + (x10 - x00) * f.y;
+        let y1 = x01 + (x11 - x01) * f.y;
+        let level = y0 + (y1 - y0) * f.z;
+        Blend {
+            cell: self,
+            x00,
+            x10,
+            x01,
+            x11,
+            y0,
+            y1,
+            level,
+        }
+    }
+}
+
+/// The gradient of a field read, computed when asked ([`FieldReader::distance_and_lazy_gradient`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct LazyGradient<'r> {
+    reader: &'r FieldReader<'r>,
+    blend: Option<Blend>,
+}
+
+impl<'r> LazyGradient<'r> {
+    /// No gradient (zero when asked).
+    #[inline(always)]
+    pub fn zero(reader: &'r FieldReader<'r>) -> Self {
+        LazyGradient {
+            reader,
+            blend: None,
+        }
+    }
+
+    /// The gradient inside the cell, world space (zero where the read had no cell).
+    #[inline(always)]
+    pub fn gradient(&self) -> Vec3 {
+        let Some(b) = self.blend else {
+            return Vec3::ZERO;
+        };
+        let [c0, c1, c2, c3, c4, c5, c6, c7] = b.cell.c;
+        let f = b.cell.f;
+        let (gy, gz) = (1.0 - f.y, 1.0 - f.z);
+        let dx = gz * (gy * (c1 - c0) + f.y * (c3 - c2)) + f.z * (gy * (c5 - c4) + f.y * (c7 - c6));
+        let dy = gz * (b.x10 - b.x00) + f.z * (b.x11 - b.x01);
+        let dz = b.y1 - b.y0;
+        let g = Vec3::new(dx, dy, dz) * self.reader.vol.value_step();
+        self.reader.grad_to_world * g
     }
 }

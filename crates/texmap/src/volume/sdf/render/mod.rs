@@ -13,9 +13,14 @@
 //! - A crossing (distance from > 0 to ≤ 0) is placed by bisecting the last step to 1/100
 //!   voxel (at most 16 times; a sphere-traced step is short, a shell step longer), and
 //!   shaded with the normal from central differences (±½ voxel) of the trilinear field.
+//! - The melted core (melt, core displacement) is sphere-traced with a Lipschitz bound:
+//!   far from it by the warp's lattices less their margin ([`warp`]), near it by the noises
+//!   themselves, in steps of at least ¼ voxel; its crossing is placed by false position.
 //! - Colours are linear and premultiplied, as meshes' are (not the display values of
 //!   transfer functions): the frame holds them as they are.
 //! - The image does not depend on the number of threads (per-pixel work, fixed tile order).
+
+mod warp;
 
 use glam::{Vec3, Vec4};
 
@@ -28,17 +33,20 @@ use super::super::shade::VolumeLights;
 use super::hyper::{Hypertexture, NoiseKind};
 use super::look::{texture_from_world, SurfaceLook};
 use super::noise_cache::{NoiseCache, POINTS_PER_CELL};
-use super::reader::FieldReader;
+use super::reader::{FieldReader, LazyGradient};
 use crate::camera::{Camera, CameraProjection};
 use crate::frame::{Frame, FrameStats};
 use crate::shading::shadow::ShadowMaps;
-use crate::texture::procedural::perlin::{noise3f, octaves3f, NOISE_BOUND};
+use crate::texture::procedural::perlin::{noise3f, NOISE_BOUND};
 use crate::Result;
+use warp::Warp;
 
 /// Most steps one ray takes.
 const MAX_STEPS: u32 = 8192;
 /// Most bisections that place a crossing; they stop once the interval is under 1/100 voxel.
 const BISECTIONS: u32 = 16;
+/// The least step of the melted core's sphere tracing, voxels.
+const WARPED_STEP: f32 = 0.25;
 /// Entries of the density shaping table (bias and gain of `u ∈ [0, 1]`).
 const SHAPE_LUT: usize = 1024;
 
@@ -83,6 +91,8 @@ pub(super) struct Tracer<'a> {
     /// The frame's noise on a lattice, read by the shell's samples (material without
     /// strands; `None`: evaluated directly).
     noise_cache: Option<NoiseCache>,
+    /// The melt's noises on lattices (`None`: no melt and no core displacement).
+    warp: Option<Warp>,
 }
 
 /// Renders the distance field `vol` (world distances, negative inside) as a surface with
@@ -216,6 +226,15 @@ impl<'a> Tracer<'a> {
                     density,
                 )
             });
+        let warp = hyper
+            .filter(|h| h.melt != 0.0 || h.core_displacement != 0.0)
+            .map(|h| {
+                // The highest point of the box above its lowest, in object sizes.
+                let heights = vol.world_corners().map(|c| c.dot(up));
+                let top = heights.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b))
+                    - heights.iter().fold(f32::INFINITY, |a, &b| a.min(b));
+                Warp::new(h, &texture_from_world, lo, hi, size, top / size)
+            });
         Tracer {
             shadows: None,
             depth_only: false,
@@ -245,6 +264,7 @@ impl<'a> Tracer<'a> {
             early: params.early_termination,
             jitter: params.jitter,
             noise_cache,
+            warp,
         }
     }
 }
@@ -265,8 +285,11 @@ impl Tracer<'_> {
         let mut reads = 0u64;
         let mut t = span.t0;
         let mut t_prev: Option<f32> = None;
+        // The core distance at `t_prev` where the melted core's tracing read it.
+        let mut e_prev: Option<f32> = None;
         let mut jittered = false;
         let min_step = self.field.voxel * 0.05;
+        let warped_step = self.field.voxel * WARPED_STEP;
         let mut at_end = false;
         // Only the material reads the gradient; sphere-traced steps read the distance alone.
         let medium = !self.depth_only
@@ -288,15 +311,16 @@ impl Tracer<'_> {
             let q = ray.at(t);
             let p = eye + dir * t;
             let (mut d, mut g) = if in_reach {
-                self.field.distance_and_gradient(q)
+                self.field.distance_and_lazy_gradient(q)
             } else {
-                (self.field.distance(q), Vec3::ZERO)
+                (self.field.distance(q), LazyGradient::zero(&self.field))
             };
             reads += 1;
             if d > self.reach {
                 // Sphere tracing to the reach.
                 in_reach = false;
                 t_prev = Some(t);
+                e_prev = None;
                 // Inside a shell, stepping less than a shell step gains nothing.
                 let least = if self.reach > 0.0 {
                     self.step
@@ -308,19 +332,32 @@ impl Tracer<'_> {
             }
             if medium && !in_reach {
                 in_reach = true;
-                (d, g) = self.field.distance_and_gradient(q);
+                (d, g) = self.field.distance_and_lazy_gradient(q);
             }
             if !medium && self.reach.is_finite() {
                 // No material: sphere tracing of the (melted, displaced) core itself.
-                let e = if self.warped() {
-                    self.core_step_distance(p)
-                } else {
-                    d
+                let warped = self.warped();
+                let e = match (self.hyper, &self.warp) {
+                    (Some(h), Some(w)) => {
+                        // Far from the core the lattices' distance, less their error, is a
+                        // bound to step by; near it the noises are evaluated.
+                        let far = self.core_distance_lattice(h, w, p) - w.margin;
+                        if far * 0.9 / self.lipschitz > warped_step {
+                            far
+                        } else {
+                            self.core_step_distance(p)
+                        }
+                    }
+                    _ if warped => self.core_step_distance(p),
+                    _ => d,
                 };
                 if e <= 0.0 {
-                    let (hit, n) = match t_prev {
-                        Some(tp) => self.bisect(eye, dir, tp, t),
-                        None => (t, 0),
+                    let (hit, n) = match (t_prev, e_prev) {
+                        (Some(tp), Some(ep)) if warped => {
+                            self.false_position(eye, dir, (tp, ep), (t, e))
+                        }
+                        (Some(tp), _) => self.bisect(eye, dir, tp, t),
+                        (None, _) => (t, 0),
                     };
                     hit_t = hit;
                     if self.depth_only {
@@ -331,7 +368,10 @@ impl Tracer<'_> {
                     break;
                 }
                 t_prev = Some(t);
-                t += (e * 0.9 / self.lipschitz).max(min_step);
+                e_prev = Some(e);
+                // The melted core: steps not below `warped_step`, a crossing placed by false position.
+                let least = if warped { warped_step } else { min_step };
+                t += (e * 0.9 / self.lipschitz).max(least);
                 continue;
             }
             if !jittered && medium {
@@ -363,7 +403,7 @@ impl Tracer<'_> {
                 break;
             }
             if let Some(h) = self.hyper {
-                let (c, a, n) = self.material(h, p, d, g, dir);
+                let (c, a, n) = self.material(h, p, d, || g.gradient(), dir);
                 reads += n;
                 if a > 0.0 {
                     acc += (c * a).extend(a) * (1.0 - acc.w);
@@ -397,10 +437,35 @@ impl Tracer<'_> {
         }
         let height = ((p.dot(self.up) - self.base) / self.size).max(0.0);
         // Drips: noise across the up axis, slowly varying along it.
-        let x = self.texture_from_world.transform_point3(p) * (h.frequency * 0.5);
-        let along = x.dot(self.up);
-        let n = octaves3f(x - self.up * (along * 0.9), 2.0, 2.0, 0.5, false);
+        let n = warp::sag_noise(h, self.up, self.texture_from_world.transform_point3(p));
         self.up * (h.melt * h.time * height * (1.0 + 1.5 * n).max(0.0) * self.size)
+    }
+
+    /// [`Self::core_distance`] with the warp's noises read from their lattices (off by at
+    /// most the warp's margin).
+    #[inline]
+    fn core_distance_lattice(&self, h: &Hypertexture, w: &Warp, p: Vec3) -> f32 {
+        let t = self.texture_from_world.transform_point3(p);
+        let sag = if h.melt == 0.0 || h.time == 0.0 {
+            0.0
+        } else {
+            let height = ((p.dot(self.up) - self.base) / self.size).max(0.0);
+            let n = w.sag_noise(h, self.up, t);
+            h.melt * h.time * height * (1.0 + 1.5 * n).max(0.0) * self.size
+        };
+        let pm = p + self.up * sag;
+        let d = self
+            .field
+            .distance(self.field.voxel_from_world.transform_point3(pm));
+        if h.core_displacement == 0.0 {
+            d
+        } else {
+            let n = w.displacement_noise(t, |t| {
+                self.noise_above_texture(h, t, f32::NEG_INFINITY)
+                    .unwrap_or(0.0)
+            });
+            d - h.core_displacement * self.shell * n
+        }
     }
 
     /// The distance to the core surface (melted and displaced), world.
@@ -456,6 +521,42 @@ impl Tracer<'_> {
                 hi = mid;
             } else {
                 lo = mid;
+            }
+        }
+        (0.5 * (lo + hi), n)
+    }
+
+    /// The crossing between `lo` (outside) and `hi` (inside), each a ray distance and its
+    /// core distance, to 1/100 voxel by false position (Illinois: a side kept twice has its
+    /// distance halved), and the reads it took.
+    fn false_position(&self, eye: Vec3, dir: Vec3, lo: (f32, f32), hi: (f32, f32)) -> (f32, u32) {
+        let ((mut lo, mut e_lo), (mut hi, mut e_hi)) = (lo, hi);
+        let tolerance = 0.01 * self.field.voxel;
+        let mut n = 0;
+        let mut kept = 0i8;
+        while n < BISECTIONS && hi - lo > tolerance {
+            n += 1;
+            let w = e_lo - e_hi;
+            let guess = if e_lo > 0.0 && w > 0.0 {
+                lo + (hi - lo) * (e_lo / w)
+            } else {
+                0.5 * (lo + hi)
+            };
+            // Not on an end, so the bracket shrinks by at least half the tolerance.
+            let m = guess.clamp(lo + 0.5 * tolerance, hi - 0.5 * tolerance);
+            let e = self.core_distance(eye + dir * m);
+            if e <= 0.0 {
+                (hi, e_hi) = (m, e);
+                if kept < 0 {
+                    e_lo *= 0.5;
+                }
+                kept = kept.min(0) - 1;
+            } else {
+                (lo, e_lo) = (m, e);
+                if kept > 0 {
+                    e_hi *= 0.5;
+                }
+                kept = kept.max(0) + 1;
             }
         }
         (0.5 * (lo + hi), n)
@@ -552,7 +653,13 @@ impl Tracer<'_> {
     /// The density at world point `p` with field distance `d` and gradient `g`, in `[0, 1]`,
     /// its ramp value `u` and its entry in the tables (`shape`, `alpha`).
     #[inline(always)]
-    fn density(&self, h: &Hypertexture, p: Vec3, d: f32, g: Vec3) -> (f32, f32, usize) {
+    fn density(
+        &self,
+        h: &Hypertexture,
+        p: Vec3,
+        d: f32,
+        g: impl Fn() -> Vec3,
+    ) -> (f32, f32, usize) {
         if h.amplitude == 0.0 || h.opacity == 0.0 {
             return (0.0, 0.0, 0);
         }
@@ -568,7 +675,7 @@ impl Tracer<'_> {
             return (0.0, 0.0, 0);
         }
         let at = if h.strands {
-            p - g.try_normalize().unwrap_or(Vec3::ZERO) * d
+            p - g().try_normalize().unwrap_or(Vec3::ZERO) * d
         } else {
             p
         };
@@ -596,7 +703,24 @@ impl Tracer<'_> {
     }
 
     /// The material at one sample: its colour, opacity over the step, and the reads taken.
-    fn material(&self, h: &Hypertexture, p: Vec3, d: f32, g: Vec3, dir: Vec3) -> (Vec3, f32, u64) {
+    fn material(
+        &self,
+        h: &Hypertexture,
+        p: Vec3,
+        d: f32,
+        g: impl Fn() -> Vec3,
+        dir: Vec3,
+    ) -> (Vec3, f32, u64) {
+        // The gradient read once, where the strands or the lighting first need it.
+        let memo = std::cell::Cell::new(None::<Vec3>);
+        let g = || match memo.get() {
+            Some(v) => v,
+            None => {
+                let v = g();
+                memo.set(Some(v));
+                v
+            }
+        };
         let (dens, u, i) = self.density(h, p, d, g);
         if dens <= 0.0 {
             return (Vec3::ZERO, 0.0, 0);
@@ -606,7 +730,7 @@ impl Tracer<'_> {
         if h.emission > 0.0 {
             return (ramp * h.emission, a, 0);
         }
-        let lit = self.lit(ramp, g, dir, p);
+        let lit = self.lit(ramp, g(), dir, p);
         if !(h.shadows && self.has_lights) {
             return (lit, a, 0);
         }
@@ -629,7 +753,7 @@ impl Tracer<'_> {
                 tau = f32::INFINITY;
                 break;
             }
-            tau += h.opacity * self.density(h, ps, dd, gg).0 * ds / self.shell;
+            tau += h.opacity * self.density(h, ps, dd, || gg).0 * ds / self.shell;
         }
         let ambient = ramp * 0.2;
         (
