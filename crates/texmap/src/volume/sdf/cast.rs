@@ -3,7 +3,7 @@
 //! (`render/field_shadow.rs`).
 //!
 //! Rules:
-//! - The core surface is found as the frame's rays find it (`render.rs`: sphere tracing,
+//! - The core surface is found as the frame's rays find it (`render/mod.rs`: sphere tracing,
 //!   the crossing bisected to 1/100 voxel), melted and displaced as the frame draws it, so
 //!   the shadow has the shape the eye sees; nothing is shaded.
 //! - A hypertexture's material does not cast (a depth map holds one opaque depth per texel),
