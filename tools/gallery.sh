@@ -18,6 +18,10 @@ a=../shared/assets
 if [ -d "$a" ]; then
   "$t" render "$a/gltf/DamagedHelmet/glTF-Binary/DamagedHelmet.glb" \
     --env "$a/env/equirect/venice_sunset_1k.hdr" --size 320x180 --ssaa 2 -q -o docs/gallery/helmet.png
+  "$t" render "$a/gltf/AnisotropyBarnLamp/glTF-KTX2-Basisu/AnisotropyBarnLamp.gltf" \
+    --env "$a/env/equirect/venice_sunset_1k.hdr" --background color \
+    --eye -0.42,-0.09,0.18 --target 0,-0.07,0.11 --size 280x300 --ssaa 2 -q \
+    -o docs/gallery/barn_lamp.png
   "$t" render "$a/volumes/tooth_ct/tooth.nhdr" --shade --size 320x180 -q -o docs/gallery/tooth_ct.png
   mni="$a/volumes/mni152_t1/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz"
   "$t" render "$mni" --shade --size 320x180 -q -o docs/gallery/mni_mri.png

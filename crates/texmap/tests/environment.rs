@@ -520,3 +520,65 @@ fn gouraud_and_flat_take_the_environment_too() {
     let f = render(&dark, &cam, &settings).unwrap();
     assert!(f.color.iter().all(|c| c.truncate().max_element() < 1e-6));
 }
+
+/// `KHR_materials_transmission` sees the frame's other surfaces: a clear glass sphere in front
+/// of an unlit green board (the left half of the view, behind the sphere) shows the board
+/// where it is behind, and the environment, the same bytes as the sphere alone, where it is
+/// not.
+#[test]
+fn transmission_sees_the_surfaces_behind_it() {
+    let glass = Material {
+        transmission: 1.0,
+        ..pbr(Vec3::ONE, 0.0, 0.0)
+    };
+    let board = Material {
+        unlit: true,
+        base_color: Vec4::new(0.0, 1.0, 0.0, 1.0),
+        ..Material::default()
+    };
+    let sphere = Primitive::Sphere {
+        radius: 1.0,
+        segments: 128,
+        rings: 65,
+    }
+    .mesh(0);
+    let mut plane = Primitive::Plane {
+        width: 4.0,
+        depth: 8.0,
+        divisions: 1,
+    }
+    .mesh(1);
+    // Facing +z, covering x in [−4, 0], 3 behind the sphere.
+    plane.world_from_object = Mat4::from_translation(Vec3::new(-2.0, 0.0, -3.0))
+        * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    let env = || env_of(panorama(256, 128, world));
+    let alone = Scene {
+        meshes: vec![sphere.clone()],
+        materials: vec![glass.clone(), board.clone()],
+        environment: Some(env()),
+        ..Scene::default()
+    };
+    let with_board = Scene {
+        meshes: vec![sphere, plane],
+        materials: vec![glass, board],
+        environment: Some(env()),
+        ..Scene::default()
+    };
+    let cam = camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 40.0);
+    let settings = Settings::new(96, 96);
+    let a = render(&alone, &cam, &settings).unwrap();
+    let b = render(&with_board, &cam, &settings).unwrap();
+    let px = |f: &Frame, x: usize, y: usize| f.color[y * 96 + x];
+    // Through the sphere, left of centre: the board (green), not the sky or ground.
+    for x in [30, 38, 44] {
+        let c = px(&b, x, 48);
+        assert!(c.y > 2.0 * c.x && c.y > 2.0 * c.z, "pixel {x}: {c}");
+        assert_ne!(c, px(&a, x, 48));
+    }
+    // Right of centre nothing is behind the glass: the environment, exactly as alone.
+    for y in 30..66 {
+        for x in 52..66 {
+            assert_eq!(px(&b, x, y), px(&a, x, y), "pixel ({x}, {y})");
+        }
+    }
+}

@@ -12,6 +12,7 @@
 
 use glam::{Vec3, Vec4};
 
+use super::behind;
 use super::draw::{DrawInfo, LightingPath};
 use super::fragment::SceneShader;
 use super::layers::surface_color;
@@ -284,9 +285,21 @@ impl SceneShader<'_> {
             if let Some(k) = &kt {
                 material.transmission *= k[j].x;
             }
+            // The frame's other surfaces behind a transmitting metallic-roughness pixel, at
+            // the point its refracted ray leaves it (behind.rs).
+            let behind = self
+                .behind
+                .filter(|_| {
+                    d.model == ShadingModel::MetallicRoughness && material.transmission > 0.0
+                })
+                .map(|b| {
+                    let exit = s.position + refracted[j] * s.lobes.thickness;
+                    b.read(exit, behind::lod(b.width(), s.roughness, s.ior))
+                });
             let rays = EnvRays {
                 reflected: footprint(&reflected, j),
                 refracted: footprint(&refracted, j),
+                behind,
             };
             // Metallic-roughness under image-based light: the lights and the environment
             // share one lobe (the same factors as the two calls below).

@@ -14,6 +14,7 @@
 
 use glam::{Vec3, Vec4};
 
+use super::behind::SceneBehind;
 use super::draw::{DrawInfo, LightingPath};
 use super::layers::{apply_outline, fold_layers, surface_color};
 use super::maps::{lobe, MapRead, QuadMaps, QuadReads};
@@ -30,6 +31,8 @@ pub(super) struct SceneShader<'a> {
     pub viewer: Viewer,
     /// The frame's slide projectors, when it has any (`projectors.rs`).
     pub projectors: Option<&'a Projectors<'a>>,
+    /// The opaque scene behind transmitting surfaces, when the frame has any (`behind.rs`).
+    pub behind: Option<&'a SceneBehind>,
 }
 
 impl FragmentShader for SceneShader<'_> {

@@ -31,6 +31,7 @@
 //! sorts every triangle instead.
 
 mod background;
+mod behind;
 mod draw;
 mod environment;
 mod field_shadow;
@@ -58,7 +59,7 @@ pub use crate::pipeline::{CullMode, Interpolation};
 use crate::scene::{Mesh, Scene};
 use crate::shading::ibl::{Background, EnvLight};
 use crate::shading::shadow::{LightShadow, ShadowMaps};
-use crate::shading::{AlphaMode, Light, Lighting};
+use crate::shading::{AlphaMode, Light, Lighting, ShadingModel};
 use crate::{Error, Result};
 
 use draw::DrawInfo;
@@ -262,6 +263,7 @@ fn draw_frame(
         lighting,
         viewer,
         projectors: has_projectors.then_some(&projectors),
+        behind: None,
     };
     let bg = match scene.environment.as_ref().map(|e| e.background) {
         Some(Background::Environment | Background::None) => Vec4::ZERO,
@@ -278,6 +280,12 @@ fn draw_frame(
         clear_color: (bg.truncate() * bg.w).extend(bg.w),
         interpolation: settings.interpolation,
         depth_sort: settings.visibility == Visibility::DepthSort,
+    };
+    // Transmitting metallic-roughness surfaces see the frame's other surfaces (behind.rs).
+    let behind = scene_behind(&calls, &shader, &target, clip_from_world);
+    let shader = SceneShader {
+        behind: behind.as_ref(),
+        ..shader
     };
     let st = if n == 1 {
         let st = pipeline::draw_into(&calls, &shader, &target, &mut frame.color);
@@ -308,6 +316,42 @@ fn draw_frame(
         virtual_pages: VirtualPageStats::default(),
     };
     Ok(())
+}
+
+/// The frame drawn without its transmitting and blended draws onto a transparent target,
+/// when a transmitting metallic-roughness draw will read it (behind.rs); else `None`.
+fn scene_behind(
+    calls: &[DrawCall],
+    shader: &SceneShader,
+    target: &Target,
+    clip_from_world: Mat4,
+) -> Option<behind::SceneBehind> {
+    let sees = |d: &DrawInfo| {
+        d.model == ShadingModel::MetallicRoughness && d.env.as_ref().is_some_and(|e| e.refracts)
+    };
+    if !shader.draws.iter().any(sees) {
+        return None;
+    }
+    let through = |d: &DrawInfo| {
+        d.env.as_ref().is_some_and(|e| e.refracts) || d.material.alpha_mode == AlphaMode::Blend
+    };
+    let opaque: Vec<DrawCall> = calls
+        .iter()
+        .zip(shader.draws)
+        .map(|(c, d)| DrawCall {
+            vertices: c.vertices,
+            indices: if through(d) { &[] } else { c.indices },
+            state: c.state,
+        })
+        .collect();
+    let target = Target {
+        clear_color: Vec4::ZERO,
+        ..*target
+    };
+    let mut color = Vec::new();
+    pipeline::draw_into(&opaque, shader, &target, &mut color);
+    let (w, h) = (target.width as usize, target.height as usize);
+    Some(behind::SceneBehind::new(color, w, h, clip_from_world))
 }
 
 /// The scene's meshes with the blended ones moved to the end and sorted back to front by the

@@ -193,6 +193,10 @@ pub struct EnvMaterial {
 pub struct EnvRays {
     pub reflected: CubeFootprint,
     pub refracted: CubeFootprint,
+    /// What the frame's other surfaces show where the refracted ray leaves the surface
+    /// (premultiplied, alpha their coverage), when the frame drew them first: seen through a
+    /// transmitting metallic-roughness surface in front of the environment.
+    pub behind: Option<Vec4>,
 }
 
 /// The unit reflection of the view direction: `R = 2(N·V)N − V`.
@@ -350,7 +354,12 @@ fn metallic_roughness_env(
     if transmission > 0.0 {
         // KHR_materials_volume: Beer–Lambert through the thickness.
         let through = Vec3A::from(s.lobes.transmittance(s.lobes.thickness));
-        da += light.radiance_a(&rays.refracted, roughness) * diffuse * through * transmission;
+        let mut seen = light.radiance_a(&rays.refracted, roughness);
+        if let Some(b) = rays.behind {
+            // Surfaces over the environment (none there: the environment exactly).
+            seen = Vec3A::from(b.truncate()) + seen * (1.0 - b.w);
+        }
+        da += seen * diffuse * through * transmission;
     }
     (da.into(), sa.into())
 }
@@ -412,6 +421,7 @@ pub fn point_rays(s: &Surface, viewer: Viewer) -> EnvRays {
             dir: refract(s.normal, v, s.ior),
             ..Default::default()
         },
+        behind: None,
     }
 }
 
