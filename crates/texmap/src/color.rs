@@ -31,37 +31,66 @@ pub fn linear_to_srgb(c: f32) -> f32 {
 ///
 /// No `powf` per channel (which dominated building a texture's mip chain): a 4096-bucket
 /// table gives the code at the bucket's start, and at most two thresholds fall inside a
-/// bucket, so a short walk finishes.
+/// bucket, so a short walk finishes. Encoding many values, [`Srgb8Encoder`] looks the table
+/// up once.
 #[inline]
 #[must_use]
 pub fn linear_to_srgb8(c: f32) -> u8 {
-    const BUCKETS: usize = 4096;
-    struct Table {
-        thresholds: [f32; 255],
-        start: Vec<u8>,
+    Srgb8Encoder::new().encode(c)
+}
+
+/// [`linear_to_srgb8`] with its table at hand: for loops over a frame's pixels.
+#[derive(Clone, Copy)]
+pub struct Srgb8Encoder {
+    table: &'static Srgb8Table,
+}
+
+const BUCKETS: usize = 4096;
+
+struct Srgb8Table {
+    thresholds: [f32; 255],
+    start: [u8; BUCKETS],
+}
+
+impl Default for Srgb8Encoder {
+    fn default() -> Self {
+        Self::new()
     }
-    static TABLE: OnceLock<Table> = OnceLock::new();
-    let t = TABLE.get_or_init(|| {
-        let thresholds = std::array::from_fn(|k| srgb_to_linear((k as f32 + 0.5) / 255.0));
-        let start = (0..BUCKETS)
-            .map(|i| {
+}
+
+impl Srgb8Encoder {
+    /// The encoder (its table is built on first use, once per process).
+    #[must_use]
+    pub fn new() -> Self {
+        static TABLE: OnceLock<Srgb8Table> = OnceLock::new();
+        let table = TABLE.get_or_init(|| {
+            let thresholds = std::array::from_fn(|k| srgb_to_linear((k as f32 + 0.5) / 255.0));
+            let start = std::array::from_fn(|i| {
                 let v = i as f32 / BUCKETS as f32;
                 thresholds.partition_point(|&x| x <= v) as u8
-            })
-            .collect();
-        Table { thresholds, start }
-    });
-    if !(c > 0.0) {
-        return 0;
+            });
+            Srgb8Table { thresholds, start }
+        });
+        Srgb8Encoder { table }
     }
-    if c >= 1.0 {
-        return 255;
+
+    /// [`linear_to_srgb8`] of `c`.
+    #[inline]
+    #[must_use]
+    pub fn encode(self, c: f32) -> u8 {
+        if !(c > 0.0) {
+            return 0;
+        }
+        if c >= 1.0 {
+            return 255;
+        }
+        let t = self.table;
+        let mut k = t.start[((c * BUCKETS as f32) as usize).min(BUCKETS - 1)] as usize;
+        while k < 255 && t.thresholds[k] <= c {
+            k += 1;
+        }
+        k as u8
     }
-    let mut k = t.start[((c * BUCKETS as f32) as usize).min(BUCKETS - 1)] as usize;
-    while k < 255 && t.thresholds[k] <= c {
-        k += 1;
-    }
-    k as u8
 }
 
 /// Encodes a linear value to an 8-bit code without a transfer function (round to nearest).

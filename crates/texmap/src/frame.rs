@@ -7,8 +7,13 @@
 //! alpha for compositing ([`Frame::to_srgba8`]).
 
 use glam::Vec4;
+use rayon::prelude::*;
 
-use crate::color::{linear_to_srgb8, linear_to_unorm8};
+use crate::color::{linear_to_unorm8, Srgb8Encoder};
+
+/// Pixels per parallel task of the 8-bit encodings (the order of the bytes does not depend on
+/// it: every pixel is encoded on its own).
+const CHUNK: usize = 16 * 1024;
 
 /// What a frame cost.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -70,10 +75,15 @@ impl Frame {
     /// RGB8 rows, sRGB-encoded (the premultiplied colour, i.e. composited over black).
     #[must_use]
     pub fn to_srgb8(&self) -> Vec<u8> {
-        let mut out = Vec::with_capacity(self.color.len() * 3);
-        for c in &self.color {
-            out.extend([c.x, c.y, c.z].map(linear_to_srgb8));
-        }
+        let e = Srgb8Encoder::new();
+        let mut out = vec![0; self.color.len() * 3];
+        out.par_chunks_mut(3 * CHUNK)
+            .zip(self.color.par_chunks(CHUNK))
+            .for_each(|(out, color)| {
+                for (o, c) in out.chunks_exact_mut(3).zip(color) {
+                    o.copy_from_slice(&[e.encode(c.x), e.encode(c.y), e.encode(c.z)]);
+                }
+            });
         out
     }
 
@@ -99,17 +109,20 @@ impl Frame {
     /// ```
     #[must_use]
     pub fn to_srgba8(&self) -> Vec<u8> {
-        let mut out = Vec::with_capacity(self.color.len() * 4);
-        for c in &self.color {
-            // Also NaN: nothing to divide by.
-            if !(c.w > 0.0) {
-                out.extend([0; 4]);
-                continue;
-            }
-            let straight = c.truncate() / c.w.min(1.0);
-            out.extend([straight.x, straight.y, straight.z].map(linear_to_srgb8));
-            out.push(linear_to_unorm8(c.w));
-        }
+        let e = Srgb8Encoder::new();
+        let mut out = vec![0; self.color.len() * 4];
+        out.par_chunks_mut(4 * CHUNK)
+            .zip(self.color.par_chunks(CHUNK))
+            .for_each(|(out, color)| {
+                for (o, c) in out.chunks_exact_mut(4).zip(color) {
+                    // Also NaN: nothing to divide by (the pixel stays zero).
+                    if c.w > 0.0 {
+                        let s = c.truncate() / c.w.min(1.0);
+                        let a = linear_to_unorm8(c.w);
+                        o.copy_from_slice(&[e.encode(s.x), e.encode(s.y), e.encode(s.z), a]);
+                    }
+                }
+            });
         out
     }
 }
@@ -117,7 +130,7 @@ impl Frame {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::color::srgb_to_linear;
+    use crate::color::{linear_to_srgb8, srgb_to_linear};
 
     fn frame(color: Vec<Vec4>) -> Frame {
         Frame {
