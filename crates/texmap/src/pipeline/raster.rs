@@ -14,6 +14,13 @@
 //! their work. Colour and depth live in the tile buffer; the finished tile goes to the
 //! target's rows with streaming stores.
 //!
+//! With one sample a pixel, a tile with two or more primitives of draws that test and write
+//! depth, do not blend and keep every pixel they shade ([`super::DrawState::keeps_all`]) is
+//! rasterized twice: a depth pre-pass finds those primitives' nearest depth per pixel, then
+//! their quads are shaded only where they reach it (`z ≤` that depth, besides `z <` the stored
+//! one), so hidden surfaces cost no shading. The first fragment at the nearest depth is still
+//! the one kept: the image is the single pass's, ties and discarding draws included.
+//!
 //! MSAA sample positions are Direct3D's standard patterns (in 1/16 pixel from the centre),
 //! exact in the 1/256-pixel fixed-point grid.
 
