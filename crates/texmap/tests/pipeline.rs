@@ -656,3 +656,78 @@ fn alpha_mask_discards_below_the_cutoff_and_is_opaque_above() {
         assert_eq!(c, want, "alpha {alpha}");
     }
 }
+
+/// Colours each pixel by its draw and position; draw 3 drops a pattern of pixels (an alpha
+/// test's discard).
+struct ByDraw;
+impl FragmentShader for ByDraw {
+    fn shade(&self, draw: u32, q: &Quad, out: &mut [Vec4; 4]) -> u8 {
+        let mut kept = q.mask;
+        for (j, o) in out.iter_mut().enumerate() {
+            let (x, y) = (q.x + (j as u32 & 1), q.y + (j as u32 >> 1));
+            *o = Vec4::new(draw as f32 + 1.0, x as f32, y as f32, 1.0);
+            if draw == 3 && (x + 2 * y) % 3 == 0 {
+                kept &= !(1 << j);
+            }
+        }
+        kept
+    }
+}
+
+#[test]
+fn the_depth_pre_pass_changes_no_pixel_and_shades_fewer() {
+    // Overlapping opaque draws: a far square, a nearer one, the far one again (a tie the
+    // first draw wins), a discarding draw between them, and a tilted triangle crossing them.
+    let square = |x0: f32, y0: f32, x1: f32, y1: f32, z: f32| {
+        [(x0, y0), (x1, y0), (x1, y1), (x0, y0), (x1, y1), (x0, y1)].map(|(x, y)| ClipVertex {
+            clip: Vec4::new(x, y, z, 1.0),
+            varyings: [0.0; MAX_VARYINGS],
+        })
+    };
+    let tilted =
+        [(-0.9, -0.8, -0.5), (0.8, -0.6, 0.9), (0.1, 0.9, 0.1)].map(|(x, y, z)| ClipVertex {
+            clip: Vec4::new(x, y, z, 1.0),
+            varyings: [0.0; MAX_VARYINGS],
+        });
+    let draws: Vec<Vec<ClipVertex>> = vec![
+        square(-0.8, -0.8, 0.7, 0.6, 0.5).to_vec(),
+        square(-0.3, -0.5, 0.4, 0.8, 0.2).to_vec(),
+        square(-0.8, -0.8, 0.7, 0.6, 0.5).to_vec(),
+        square(-0.6, -0.2, 0.2, 0.3, 0.3).to_vec(),
+        tilted.to_vec(),
+    ];
+    let indices: Vec<u32> = (0..6).collect();
+    let run = |pre: bool| {
+        let calls: Vec<DrawCall> = draws
+            .iter()
+            .enumerate()
+            .map(|(k, v)| DrawCall {
+                vertices: v,
+                indices: &indices[..v.len()],
+                state: DrawState {
+                    keeps_all: pre && k != 3,
+                    ..Default::default()
+                },
+            })
+            .collect();
+        pipeline::draw(&calls, &ByDraw, &target(67, 45, 1))
+    };
+    let (with, with_stats) = run(true);
+    let (without, without_stats) = run(false);
+    let bits = |c: &[Vec4]| {
+        c.iter()
+            .flat_map(|v| v.to_array().map(f32::to_bits))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(bits(&with), bits(&without));
+    // Every draw shows somewhere, and the hidden parts of the far square were not shaded.
+    for k in [1.0, 2.0, 4.0, 5.0] {
+        assert!(with.iter().any(|c| c.x == k), "draw {k} missing");
+    }
+    assert!(
+        with_stats.pixels_shaded < without_stats.pixels_shaded,
+        "{} vs {}",
+        with_stats.pixels_shaded,
+        without_stats.pixels_shaded
+    );
+}

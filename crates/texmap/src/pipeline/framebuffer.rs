@@ -17,6 +17,8 @@ pub struct TileBuffer {
     pub samples: usize,
     pub color: Vec<Vec4>,
     pub depth: Vec<f32>,
+    /// The depth pre-pass's nearest depths (one a pixel; `raster.rs`).
+    pub zmin: Vec<f32>,
 }
 
 impl TileBuffer {
@@ -28,6 +30,7 @@ impl TileBuffer {
             samples,
             color: vec![clear; n],
             depth: vec![1.0; n],
+            zmin: vec![1.0; (TILE * TILE) as usize],
         }
     }
 

@@ -103,6 +103,10 @@ pub struct DrawState {
     pub blend: bool,
     /// Texture reads the shader makes per shaded pixel (statistics only).
     pub texture_reads: u32,
+    /// The shader keeps every pixel it is given (no alpha test, no discard): with one
+    /// sample a pixel, such opaque draws first find each pixel's nearest depth, and only
+    /// the quads that reach it are shaded (`raster.rs`).
+    pub keeps_all: bool,
 }
 
 impl Default for DrawState {
@@ -115,6 +119,7 @@ impl Default for DrawState {
             depth_write: true,
             blend: false,
             texture_reads: 0,
+            keeps_all: false,
         }
     }
 }

@@ -14,6 +14,13 @@
 //! their work. Colour and depth live in the tile buffer; the finished tile goes to the
 //! target's rows with streaming stores.
 //!
+//! With one sample a pixel, a tile with two or more primitives of draws that test and write
+//! depth, do not blend and keep every pixel they shade ([`super::DrawState::keeps_all`]) is
+//! rasterized twice: a depth pre-pass finds those primitives' nearest depth per pixel, then
+//! their quads are shaded only where they reach it (`z ≤` that depth, besides `z <` the stored
+//! one), so hidden surfaces cost no shading. The first fragment at the nearest depth is still
+//! the one kept: the image is the single pass's, ties and discarding draws included.
+//!
 //! MSAA sample positions are Direct3D's standard patterns (in 1/16 pixel from the centre),
 //! exact in the 1/256-pixel fixed-point grid.
 
@@ -115,13 +122,40 @@ pub fn rasterize_tile(
     // Colour and depth live in the tile buffer (in cache) and go to the target's rows once,
     // with streaming stores.
     buf.clear(ctx.target.clear_color);
-    let (color, depth) = (&mut buf.color[..], &mut buf.depth[..]);
+    let (color, depth, zmin) = (&mut buf.color[..], &mut buf.depth[..], &mut buf.zmin[..]);
     match buf.samples {
-        1 => raster_prims::<1>(ctx, rect, prims, color, depth, &mut stats),
-        2 => raster_prims::<2>(ctx, rect, prims, color, depth, &mut stats),
-        4 => raster_prims::<4>(ctx, rect, prims, color, depth, &mut stats),
-        8 => raster_prims::<8>(ctx, rect, prims, color, depth, &mut stats),
-        _ => raster_prims::<16>(ctx, rect, prims, color, depth, &mut stats),
+        1 => {
+            // The depth pre-pass, when two primitives or more could hide each other.
+            let pre = prims
+                .iter()
+                .filter(|&&pi| prepassed(ctx, pi))
+                .nth(1)
+                .is_some();
+            if pre {
+                zmin.fill(1.0);
+                let z = Depths {
+                    zmin: &mut *zmin,
+                    pre: true,
+                };
+                raster_prims::<1, true>(ctx, rect, prims, color, depth, z, &mut stats);
+                let z = Depths { zmin, pre: true };
+                raster_prims::<1, false>(ctx, rect, prims, color, depth, z, &mut stats);
+            } else {
+                raster_prims::<1, false>(
+                    ctx,
+                    rect,
+                    prims,
+                    color,
+                    depth,
+                    Depths::none(),
+                    &mut stats,
+                );
+            }
+        }
+        2 => raster_prims::<2, false>(ctx, rect, prims, color, depth, Depths::none(), &mut stats),
+        4 => raster_prims::<4, false>(ctx, rect, prims, color, depth, Depths::none(), &mut stats),
+        8 => raster_prims::<8, false>(ctx, rect, prims, color, depth, Depths::none(), &mut stats),
+        _ => raster_prims::<16, false>(ctx, rect, prims, color, depth, Depths::none(), &mut stats),
     }
     for (ly, row) in rows.iter_mut().enumerate() {
         buf.resolve_row(ly, row);
@@ -139,16 +173,45 @@ pub fn sample_count(target: &Target) -> usize {
     }
 }
 
+/// Whether primitive `pi` takes part in the depth pre-pass: its draw tests and writes depth,
+/// does not blend and keeps every pixel it shades ([`super::DrawState::keeps_all`]).
+#[inline]
+fn prepassed(ctx: &RasterContext, pi: u32) -> bool {
+    let state = ctx.calls[ctx.prims[pi as usize].call as usize].state;
+    state.keeps_all && state.depth_test && state.depth_write && !state.blend
+}
+
+/// The nearest depth per pixel of the pre-passed primitives (one sample a pixel, the depth
+/// buffer's layout), and whether it was made for this tile.
+struct Depths<'a> {
+    zmin: &'a mut [f32],
+    pre: bool,
+}
+
+impl Depths<'static> {
+    /// No pre-pass.
+    fn none() -> Self {
+        Depths {
+            zmin: &mut [],
+            pre: false,
+        }
+    }
+}
+
 /// Rasterizes `prims` into the tile's samples: sample `s` of tile pixel `(x, y)` is at
-/// `(y·TILE + x)·S + s` in `color` and `depth`.
-fn raster_prims<const S: usize>(
+/// `(y·TILE + x)·S + s` in `color` and `depth`. With `PRE` (one sample a pixel), only the
+/// depths of the pre-passed primitives ([`prepassed`]) are found, into `z.zmin`; after it
+/// (`z.pre`), their quads are also tested against it (module docs).
+fn raster_prims<const S: usize, const PRE: bool>(
     ctx: &RasterContext,
     rect: TileRect,
     prims: &[u32],
     color: &mut [Vec4],
     depth: &mut [f32],
+    z: Depths,
     stats: &mut TileStats,
 ) {
+    let zmin = z.zmin;
     let positions = sample_positions(S as u32);
     let tile = super::bin::TILE as usize;
     let mut batch = Batch::new();
@@ -156,6 +219,10 @@ fn raster_prims<const S: usize>(
         let prim = &ctx.prims[pi as usize];
         let call = &ctx.calls[prim.call as usize];
         let state = call.state;
+        let nearest = z.pre && prepassed(ctx, pi);
+        if PRE && !nearest {
+            continue;
+        }
         let v = prim.v.map(|r| ctx.vertex(call, r));
         let x0 = prim.bbox[0].max(rect.x0 as i32) & !1;
         let y0 = prim.bbox[1].max(rect.y0 as i32) & !1;
@@ -246,7 +313,8 @@ fn raster_prims<const S: usize>(
                     let pl = planes.get_or_insert_with(|| {
                         let p = Planes::new(
                             v,
-                            state.varyings,
+                            // The pre-pass needs only depth (the same plane either way).
+                            if PRE { 0 } else { state.varyings },
                             !prim.affine,
                             rect.x0 as i32,
                             rect.y0 as i32,
@@ -276,7 +344,26 @@ fn raster_prims<const S: usize>(
                         } else {
                             0b1111
                         };
-                        qmask = pmask & nearer;
+                        if nearest {
+                            let near =
+                                Vec4::new(zmin[i], zmin[i + 1], zmin[i + tile], zmin[i + tile + 1]);
+                            if PRE {
+                                // Only the nearest depth: nothing is shaded (qmask stays 0).
+                                let m = pmask & Vec4::from_array(zp).cmplt(near).bitmask() as u8;
+                                for (j, &z) in zp.iter().enumerate() {
+                                    if m & (1 << j) != 0 {
+                                        zmin[i + (j & 1) + (j >> 1) * tile] = z;
+                                    }
+                                }
+                            } else {
+                                // Shaded only where nothing pre-passed lies nearer.
+                                qmask = pmask
+                                    & nearer
+                                    & Vec4::from_array(zp).cmple(near).bitmask() as u8;
+                            }
+                        } else {
+                            qmask = pmask & nearer;
+                        }
                         pass = std::array::from_fn(|j| u32::from(qmask >> j) & 1);
                     }
                     for j in 0..4 {

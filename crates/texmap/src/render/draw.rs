@@ -472,6 +472,8 @@ impl<'a> DrawInfo<'a> {
                 + u32::from(self.sampler_3d.is_some())
                 + u32::from(self.env.is_some())
                 + self.layers.len() as u32,
+            // Only the alpha test (`combine`) drops a shaded pixel.
+            keeps_all: self.material.alpha_mode == AlphaMode::Opaque,
         }
     }
 }

@@ -22,8 +22,8 @@ use super::settings::Settings;
 use crate::pipeline::Quad;
 use crate::scene::Scene;
 use crate::shading::ibl::{
-    environment_terms, metallic_roughness_lit, point_rays, reflect, refract, EnvLight, EnvMaterial,
-    EnvRays,
+    environment_terms, environment_terms_with, metallic_roughness_lit, point_rays, reflect,
+    refract, EnvLight, EnvMaterial, EnvRays,
 };
 use crate::shading::{combine, Lighting, MapChannel, ShadingModel, Surface, Viewer};
 use crate::texture::CubeFootprint;
@@ -274,6 +274,8 @@ impl SceneShader<'_> {
             ddir_dx: dirs[1] - dirs[0],
             ddir_dy: dirs[2] - dirs[0],
         };
+        // The last irradiance read (a flat surface's pixels share it).
+        let mut irradiance = None;
         for j in 0..4 {
             if quad.mask & (1 << j) == 0 {
                 continue;
@@ -314,7 +316,15 @@ impl SceneShader<'_> {
                         d.lit_factors(s, &lit, self.viewer)
                     }
                 };
-                let env = environment_terms(d.model, s, &material, self.viewer, &rays, e.light);
+                let env = environment_terms_with(
+                    d.model,
+                    s,
+                    &material,
+                    self.viewer,
+                    &rays,
+                    e.light,
+                    &mut irradiance,
+                );
                 (lit, env)
             };
             let (pd, ps) = self.projected(d, quad, s);

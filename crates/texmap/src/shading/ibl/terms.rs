@@ -244,6 +244,22 @@ pub fn environment_terms(
     rays: &EnvRays,
     light: &EnvLight,
 ) -> (Vec3, Vec3) {
+    environment_terms_with(model, s, m, viewer, rays, light, &mut None)
+}
+
+/// [`environment_terms`] with the last irradiance a Phong surface read, `(normal, I_env)`:
+/// reused when `s` has that normal, bit for bit (a flat surface's pixels read it once), and
+/// replaced otherwise.
+#[must_use]
+pub fn environment_terms_with(
+    model: crate::shading::ShadingModel,
+    s: &Surface,
+    m: &EnvMaterial,
+    viewer: Viewer,
+    rays: &EnvRays,
+    light: &EnvLight,
+    last: &mut Option<([u32; 3], Vec3)>,
+) -> (Vec3, Vec3) {
     let env = light.env;
     let n = s.normal;
     let mut d = Vec3::ZERO;
@@ -252,7 +268,16 @@ pub fn environment_terms(
         crate::shading::ShadingModel::Phong => {
             let n_dot_v = n.dot(viewer.towards(s.position)).max(1e-4);
             if env.ibl {
-                let ambient = light.irradiance(n) * (s.ambient * s.occlusion);
+                let key = n.to_array().map(f32::to_bits);
+                let irradiance = match *last {
+                    Some((k, i)) if k == key => i,
+                    _ => {
+                        let i = light.irradiance(n);
+                        *last = Some((key, i));
+                        i
+                    }
+                };
+                let ambient = irradiance * (s.ambient * s.occlusion);
                 match s.ambient_color {
                     None => d += ambient,
                     Some(a) => sp += ambient * a,

@@ -13,7 +13,7 @@
 
 use glam::Vec4;
 
-use super::map::{Receiver, ShadowMap};
+use super::map::{Receiver, Receivers, ShadowMap, BLOCK};
 use super::{LightExtent, ShadowFilter};
 
 /// 16 points of a Poisson disc in the unit disc (best-candidate, minimum distance 0.44,
@@ -187,24 +187,42 @@ fn pcf3(map: &ShadowMap, r: &Receiver, bias: f32) -> f32 {
     }
     // The plane's depth at the centre of texel (i0, j0): (i0 + ½) − u = −1 − a.
     let corner = r.depth - bias - r.du * (1.0 + a) - r.dv * (1.0 + b);
-    let mut plane = Vec4::splat(corner) + Vec4::new(0.0, 1.0, 2.0, 3.0) * r.du;
-    let step = Vec4::splat(r.dv);
+    let at = (i0 as usize, j0 as usize);
+    // The tiles may tell every compare at once: the same sum as the loop's, without a read.
+    match window_known(map, at, corner, r.du, r.dv) {
+        Some(true) => known_lit(a, b),
+        Some(false) => 0.0,
+        None => read_window(map, at, corner, (r.du, r.dv), (a, b)),
+    }
+}
+
+/// The PCF 3×3 sum of a window every compare of which passes (`a`, `b` the position inside
+/// the texel): exactly what [`read_window`] adds up there.
+#[inline(always)]
+fn known_lit(a: f32, b: f32) -> f32 {
+    let all = Vec4::new(1.0 - a, 1.0, 1.0, a).element_sum();
+    let mut sum = 0.0;
+    for wy in [1.0 - b, 1.0, 1.0, b] {
+        sum += wy * all;
+    }
+    sum * (1.0 / 9.0)
+}
+
+/// The PCF 3×3 sum over the 4×4 window from texel `at` (inside the map), the receiver plane
+/// `corner` at its first texel's centre and `(du, dv)` per texel, `(a, b)` the position inside
+/// the texel.
+#[inline(always)]
+fn read_window(
+    map: &ShadowMap,
+    (i0, j0): (usize, usize),
+    corner: f32,
+    (du, dv): (f32, f32),
+    (a, b): (f32, f32),
+) -> f32 {
+    let mut plane = Vec4::splat(corner) + Vec4::new(0.0, 1.0, 2.0, 3.0) * du;
+    let step = Vec4::splat(dv);
     let wx = Vec4::new(1.0 - a, 1.0, 1.0, a);
     let wy = [1.0 - b, 1.0, 1.0, b];
-    let (i0, j0) = (i0 as usize, j0 as usize);
-    // The tiles may tell every compare at once: the same sum as the loop's, without a read.
-    match window_known(map, (i0, j0), corner, r.du, r.dv) {
-        Some(true) => {
-            let all = wx.element_sum();
-            let mut sum = 0.0;
-            for wy in wy {
-                sum += wy * all;
-            }
-            return sum * (1.0 / 9.0);
-        }
-        Some(false) => return 0.0,
-        None => {}
-    }
     let mut sum = 0.0;
     for (y, wy) in wy.iter().enumerate() {
         let texels = map.four_at(i0, j0 + y);
@@ -213,6 +231,133 @@ fn pcf3(map: &ShadowMap, r: &Receiver, bias: f32) -> f32 {
         plane += step;
     }
     sum * (1.0 / 9.0)
+}
+
+/// The most blocks [`pcf3_quad`] tests in lanes; a quad whose windows spread wider (a map
+/// seen from far, several texels a pixel) is filtered pixel by pixel.
+const QUAD_BLOCKS: usize = 9;
+
+/// [`pcf3`] at a quad's four receivers `r` (receiver depths lowered by `bias`), for the lanes
+/// set in `todo` (the others get 1). The tiles' test of [`window_known`] runs in lanes, once
+/// per block the four windows touch, each lane over its own window's blocks in that
+/// function's order of operations, so each lane is known exactly when its pixel's window is
+/// and every fraction equals [`pcf3`]'s bit for bit (tested). Lanes left open read their
+/// window; windows at the map's edges take the clamped box, as in [`pcf3`].
+#[inline]
+pub(super) fn pcf3_quad(map: &ShadowMap, r: &Receivers, bias: Vec4, todo: u32) -> Vec4 {
+    let mut out = [1.0f32; 4];
+    if todo == 0 {
+        return Vec4::ONE;
+    }
+    let half = Vec4::splat(0.5);
+    let (fx, fy) = (r.u - half, r.v - half);
+    let (ix, iy) = (fx.floor(), fy.floor());
+    let (a, b) = (fx - ix, fy - iy);
+    // In pcf3's order of operations, lane by lane.
+    let corner = r.depth - bias - r.du * (Vec4::ONE + a) - r.dv * (Vec4::ONE + b);
+    let (ix, iy) = (ix.to_array(), iy.to_array());
+    let n = map.size as i32;
+    let mut at = [(0usize, 0usize); 4];
+    let mut inside = 0u32;
+    for j in 0..4 {
+        if todo & (1 << j) == 0 {
+            continue;
+        }
+        let (i0, j0) = (ix[j] as i32 - 1, iy[j] as i32 - 1);
+        if i0 >= 0 && j0 >= 0 && i0 + 4 <= n && j0 + 4 <= n {
+            at[j] = (i0 as usize, j0 as usize);
+            inside |= 1 << j;
+        } else {
+            out[j] = pcf_box::<3>(map, &r.lane(j), bias[j]);
+        }
+    }
+    let (lit, dark) = quad_known(map, &at, inside, corner, r.du, r.dv).unwrap_or((0, 0));
+    let (a4, b4, c4) = (a.to_array(), b.to_array(), corner.to_array());
+    let (du, dv) = (r.du.to_array(), r.dv.to_array());
+    for j in 0..4 {
+        if inside & (1 << j) == 0 {
+            continue;
+        }
+        out[j] = if lit & (1 << j) != 0 {
+            known_lit(a4[j], b4[j])
+        } else if dark & (1 << j) != 0 {
+            0.0
+        } else {
+            read_window(map, at[j], c4[j], (du[j], dv[j]), (a4[j], b4[j]))
+        };
+    }
+    Vec4::from_array(out)
+}
+
+/// [`window_known`] for the windows from `at` of the lanes in `lanes`, in lanes: the lanes
+/// known lit and those known shadowed, as bits; `None` without tiles or when the windows
+/// touch more than [`QUAD_BLOCKS`] blocks (then every lane is tested alone).
+#[inline(always)]
+fn quad_known(
+    map: &ShadowMap,
+    at: &[(usize, usize); 4],
+    lanes: u32,
+    corner: Vec4,
+    du: Vec4,
+    dv: Vec4,
+) -> Option<(u32, u32)> {
+    if map.tiles.is_empty() || lanes == 0 {
+        return None;
+    }
+    // Each lane's blocks: columns bx0..=bx1, rows by0..=by1.
+    let mut span = [(usize::MAX, 0usize, usize::MAX, 0usize); 4];
+    let (mut x0, mut x1, mut y0, mut y1) = (usize::MAX, 0, usize::MAX, 0);
+    for j in 0..4 {
+        if lanes & (1 << j) != 0 {
+            let (i, k) = at[j];
+            span[j] = (i / BLOCK, (i + 3) / BLOCK, k / BLOCK, (k + 3) / BLOCK);
+            x0 = x0.min(span[j].0);
+            x1 = x1.max(span[j].1);
+            y0 = y0.min(span[j].2);
+            y1 = y1.max(span[j].3);
+        }
+    }
+    if (x1 - x0 + 1) * (y1 - y0 + 1) > QUAD_BLOCKS {
+        return None;
+    }
+    let three = Vec4::splat(3.0);
+    let reach = three * (du.abs() + dv.abs());
+    let m1 = (corner.abs() + reach) * 1e-5;
+    let (near, far) = (corner + reach + m1, corner - reach - m1);
+    let m0 = corner.abs() + reach;
+    let ci = Vec4::from_array(at.map(|(i, _)| i as f32));
+    let cj = Vec4::from_array(at.map(|(_, k)| k as f32));
+    let blocks = (map.size as usize).div_ceil(BLOCK);
+    let (mut lit, mut dark) = (lanes, lanes);
+    for by in y0..=y1 {
+        for bx in x0..=x1 {
+            let mut touch = 0u32;
+            for (j, &(sx0, sx1, sy0, sy1)) in span.iter().enumerate() {
+                if (sx0..=sx1).contains(&bx) && (sy0..=sy1).contains(&by) {
+                    touch |= 1 << j;
+                }
+            }
+            if touch & (lit | dark) == 0 {
+                continue;
+            }
+            let t = &map.tiles[by * blocks + bx];
+            // As window_known, lane-wise (x, y from the block's first texel).
+            let x = ci - Vec4::splat((bx * BLOCK) as f32);
+            let y = cj - Vec4::splat((by * BLOCK) as f32);
+            let (ta, tb) = (Vec4::splat(t.a), Vec4::splat(t.b));
+            let g = corner - (Vec4::splat(t.c) + ta * x + tb * y)
+                + three * ((du - ta).max(Vec4::ZERO) + (dv - tb).max(Vec4::ZERO));
+            let m2 =
+                (m0 + Vec4::splat(t.c.abs()) + Vec4::splat(12.0 * (t.a.abs() + t.b.abs()))) * 1e-5;
+            let on_plane = (g + Vec4::splat(t.below) + m2).cmple(Vec4::ZERO);
+            let lit_t = (near.cmple(Vec4::splat(t.lo)) | on_plane).bitmask();
+            let dark_t = far.cmpgt(Vec4::splat(t.hi)).bitmask();
+            lit &= lit_t | !touch;
+            dark &= dark_t | !touch;
+        }
+    }
+    // Lit wins, as in window_known.
+    Some((lit, dark & !lit))
 }
 
 /// Whether the receiver plane (`corner` at the centre of texel `at`, `du` and `dv` per
@@ -445,6 +590,87 @@ mod tests {
         }
         // Many windows are known (the floor's own depths lie on its plane; with no bias the
         // receiver touches it and the margin leaves the window to be read).
+        assert!(known * 5 > total, "{known} of {total}");
+    }
+
+    #[test]
+    fn pcf3_in_quads_equals_pcf3_pixel_by_pixel() {
+        // The sloped floor casting on itself with a blocker over part of it (known lit,
+        // known shadowed and read windows), quads of four receivers a little apart or
+        // spread over many blocks, inside the map and over its edges, some lanes skipped.
+        let (ka, kb) = (0.3f32, -0.2f32);
+        let floor_y = |x: f32, z: f32| ka * x + kb * z;
+        let mut m = map(|_, _| false, 0.0);
+        let n = 16;
+        m.set_rows((0..n * n).map(|k| {
+            let (i, j) = ((k % n) as f32, (k / n) as f32);
+            let (x, z) = (i + 0.5 - 8.0, j + 0.5 - 8.0);
+            if (3.0..7.0).contains(&i) && j < 9.0 {
+                2.0
+            } else {
+                10.0 - floor_y(x, z)
+            }
+        }));
+        let mut bare = m.clone();
+        bare.tiles.clear();
+        let normal = Vec3::new(-ka, 1.0, -kb).normalize();
+        let (mut known, mut total) = (0, 0);
+        for k in 0..600 {
+            let (x, z) = (
+                -8.0 + 0.0267 * k as f32,
+                -7.9 + 0.0263 * ((k * 53) % 600) as f32,
+            );
+            let spread = [0.4, 1.3, 6.0][k % 3];
+            let mut r = [Receiver {
+                u: 0.0,
+                v: 0.0,
+                depth: 0.0,
+                du: 0.0,
+                dv: 0.0,
+                texel: 0.0,
+            }; 4];
+            for (j, r) in r.iter_mut().enumerate() {
+                let (x, z) = (x + spread * (j % 2) as f32, z + spread * (j / 2) as f32);
+                *r = m.locate(Vec3::new(x, floor_y(x, z), z), normal).unwrap();
+            }
+            let lanes = |f: fn(&Receiver) -> f32| Vec4::from_array(r.map(|r| f(&r)));
+            let quad = Receivers {
+                u: lanes(|r| r.u),
+                v: lanes(|r| r.v),
+                depth: lanes(|r| r.depth),
+                du: lanes(|r| r.du),
+                dv: lanes(|r| r.dv),
+                texel: lanes(|r| r.texel),
+            };
+            for (bias, todo) in [(0.0, 0b1111), (0.05, 0b1011), (0.3, 0b0110)] {
+                let b = Vec4::new(bias, bias * 0.9, bias * 1.1, bias);
+                for map in [&m, &bare] {
+                    let got = pcf3_quad(map, &quad, b, todo);
+                    for j in 0..4 {
+                        let want = if todo & (1 << j) == 0 {
+                            1.0
+                        } else {
+                            pcf3(map, &r[j], b[j])
+                        };
+                        assert_eq!(got[j].to_bits(), want.to_bits(), "{k} lane {j}");
+                    }
+                }
+                let (fx, fy) = (quad.u - Vec4::splat(0.5), quad.v - Vec4::splat(0.5));
+                let corner = quad.depth
+                    - b
+                    - quad.du * (Vec4::ONE + fx - fx.floor())
+                    - quad.dv * (Vec4::ONE + fy - fy.floor());
+                let at = std::array::from_fn(|j| {
+                    let (i, k) = (fx[j].floor() as i64 - 1, fy[j].floor() as i64 - 1);
+                    (i.clamp(0, 12) as usize, k.clamp(0, 12) as usize)
+                });
+                if let Some((lit, dark)) = quad_known(&m, &at, todo, corner, quad.du, quad.dv) {
+                    known += (lit | dark).count_ones();
+                }
+                total += todo.count_ones();
+            }
+        }
+        // The quads' test decides many windows (as the per-pixel one does).
         assert!(known * 5 > total, "{known} of {total}");
     }
 

@@ -369,9 +369,20 @@ impl ShadowMaps {
         let r = map.locate_quad(moved, n);
         let bias = r.texel * (Vec4::splat(self.params.bias) + tan * self.params.slope_bias);
         let perspective = matches!(map.view, MapView::Perspective { .. });
-        Vec4::from_array(std::array::from_fn(|j| {
+        // The lanes that look the map up (the others are lit).
+        let todo = (0..4).fold(0u32, |todo, j| {
             let behind = perspective && !(r.depth[j] > 0.0);
             if facing & (1 << j) == 0 || behind || map.outside(r.u[j], r.v[j]) {
+                todo
+            } else {
+                todo | 1 << j
+            }
+        });
+        if self.params.filter == ShadowFilter::Pcf3 {
+            return filter::pcf3_quad(map, &r, bias, todo);
+        }
+        Vec4::from_array(std::array::from_fn(|j| {
+            if todo & (1 << j) == 0 {
                 1.0
             } else {
                 filter::lit_fraction(map, &r.lane(j), bias[j], self.params.filter, shadow.extent)
