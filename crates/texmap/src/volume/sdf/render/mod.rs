@@ -14,9 +14,9 @@
 //!   voxel (at most 16 times; a sphere-traced step is short, a shell step longer), and
 //!   shaded with the normal from central differences (±½ voxel) of the trilinear field.
 //! - The melted core (melt, core displacement) is sphere-traced with a Lipschitz bound:
-//!   far from it by the warp's lattices less their margin ([`warp`]), near it by the noises
-//!   themselves, in steps of at least ¼ voxel; its crossing is placed by false position
-//!   ([`melted`]).
+//!   far from it through the empty balls of a lattice of its exact distance ([`warp`]),
+//!   near it by the noises themselves, in steps of at least ¼ voxel; its crossing is placed
+//!   by false position ([`melted`]).
 //! - Colours are linear and premultiplied, as meshes' are (not the display values of
 //!   transfer functions): the frame holds them as they are.
 //! - The image does not depend on the number of threads (per-pixel work, fixed tile order).
@@ -230,13 +230,7 @@ impl<'a> Tracer<'a> {
             });
         let warp = hyper
             .filter(|h| h.melt != 0.0 || h.core_displacement != 0.0)
-            .map(|h| {
-                // The highest point of the box above its lowest, in object sizes.
-                let heights = vol.world_corners().map(|c| c.dot(up));
-                let top = heights.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b))
-                    - heights.iter().fold(f32::INFINITY, |a, &b| a.min(b));
-                Warp::new(h, &texture_from_world, lo, hi, size, top / size)
-            });
+            .and_then(|_| Warp::new(field.hi, &vol.world_from_voxel()));
         Tracer {
             shadows: None,
             depth_only: false,
@@ -312,6 +306,21 @@ impl Tracer<'_> {
             }
             let q = ray.at(t);
             let p = eye + dir * t;
+            if let Some(w) = self
+                .warp
+                .as_ref()
+                .filter(|_| !medium && self.reach.is_finite())
+            {
+                // Through the melted core's empty balls, without reading the field.
+                if let Some(b) = w.ball_step(p, q, dir, warped_step, self.lipschitz, |c| {
+                    self.core_distance(c)
+                }) {
+                    t_prev = Some(t);
+                    e_prev = Some(b.lower);
+                    t += b.advance;
+                    continue;
+                }
+            }
             let (mut d, mut g) = if in_reach {
                 self.field.distance_and_lazy_gradient(q)
             } else {
@@ -339,19 +348,10 @@ impl Tracer<'_> {
             if !medium && self.reach.is_finite() {
                 // No material: sphere tracing of the (melted, displaced) core itself.
                 let warped = self.warped();
-                let e = match (self.hyper, &self.warp) {
-                    (Some(h), Some(w)) => {
-                        // Far from the core the lattices' distance, less their error, is a
-                        // bound to step by; near it the noises are evaluated.
-                        let far = self.core_distance_lattice(h, w, p) - w.margin;
-                        if far * 0.9 / self.lipschitz > warped_step {
-                            far
-                        } else {
-                            self.core_step_distance(p)
-                        }
-                    }
-                    _ if warped => self.core_step_distance(p),
-                    _ => d,
+                let e = if warped {
+                    self.core_step_distance(p)
+                } else {
+                    d
                 };
                 if e <= 0.0 {
                     let (hit, n) = match (t_prev, e_prev) {
@@ -490,7 +490,9 @@ impl Tracer<'_> {
         let whole = octaves.floor() as u32;
         let (mut sum, mut amp, mut freq) = (0.0f32, 1.0f32, 1.0f32);
         let mut rest = self.noise_weight * NOISE_BOUND;
-        for i in 0..=whole {
+        // `0..=whole` by hand: the inclusive range's end flag costs more than the octave.
+        let mut i = 0;
+        loop {
             let weight = if i < whole {
                 amp
             } else {
@@ -508,6 +510,10 @@ impl Tracer<'_> {
             if sum + rest < s_floor {
                 return None;
             }
+            if i == whole {
+                break;
+            }
+            i += 1;
         }
         Some((offset + scale * sum).clamp(0.0, 1.0))
     }
