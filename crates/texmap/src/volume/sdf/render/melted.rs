@@ -17,8 +17,7 @@ impl Tracer<'_> {
     /// True when the core surface is not the field's zero set (melted or displaced).
     #[inline(always)]
     pub(super) fn warped(&self) -> bool {
-        self.hyper
-            .is_some_and(|h| h.melt != 0.0 || h.core_displacement != 0.0)
+        self.warped
     }
 
     /// The melt's displacement of world point `p`: the field is read that far up.

@@ -93,8 +93,10 @@ pub(super) struct Tracer<'a> {
     /// The frame's noise on a lattice, read by the shell's samples (material without
     /// strands; `None`: evaluated directly).
     noise_cache: Option<NoiseCache>,
-    /// The melt's noises on lattices (`None`: no melt and no core displacement).
+    /// The melted core's distance on a lattice (`None`: no melt and no core displacement).
     warp: Option<Warp>,
+    /// The core surface is melted or displaced (not the field's zero set).
+    warped: bool,
 }
 
 /// Renders the distance field `vol` (world distances, negative inside) as a surface with
@@ -261,6 +263,7 @@ impl<'a> Tracer<'a> {
             jitter: params.jitter,
             noise_cache,
             warp,
+            warped: hyper.is_some_and(|h| h.melt != 0.0 || h.core_displacement != 0.0),
         }
     }
 }
@@ -320,6 +323,29 @@ impl Tracer<'_> {
                     t += b.advance;
                     continue;
                 }
+            }
+            if self.warp.is_some() && !medium && self.reach.is_finite() {
+                // Near the melted core: its own distance (the plain field's says nothing).
+                let e = self.core_step_distance(p);
+                reads += 1;
+                if e <= 0.0 {
+                    let (hit, n) = match (t_prev, e_prev) {
+                        (Some(tp), Some(ep)) => self.false_position(eye, dir, (tp, ep), (t, e)),
+                        (Some(tp), None) => self.bisect(eye, dir, tp, t),
+                        (None, _) => (t, 0),
+                    };
+                    hit_t = hit;
+                    if self.depth_only {
+                        break;
+                    }
+                    reads += u64::from(n) + 6;
+                    acc = self.shade_core(eye + dir * hit, dir, hit);
+                    break;
+                }
+                t_prev = Some(t);
+                e_prev = Some(e);
+                t += (e * 0.9 / self.lipschitz).max(warped_step);
+                continue;
             }
             let (mut d, mut g) = if in_reach {
                 self.field.distance_and_lazy_gradient(q)
