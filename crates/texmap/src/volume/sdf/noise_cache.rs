@@ -70,12 +70,10 @@ impl NoiseCache {
         }
         let c = q.floor();
         let f = q - c;
-        // In range and not negative (checked above): the casts need no saturation.
-        let (cx, cy, cz) = (
-            c.x as u32 as usize,
-            c.y as u32 as usize,
-            c.z as u32 as usize,
-        );
+        // SAFETY: in range and not negative (checked above, NaN failing the checks): the
+        // truncations need none of `as`'s saturation.
+        let whole = |v: f32| unsafe { v.to_int_unchecked::<u32>() } as usize;
+        let (cx, cy, cz) = (whole(c.x), whole(c.y), whole(c.z));
         let base = cx + nx * (cy + ny * cz);
         let (sy, sz) = (nx, nx * ny);
         let offsets = [0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1];

@@ -74,11 +74,15 @@ impl<'a> FieldReader<'a> {
         if self.levels.is_empty() {
             return None;
         }
-        let x = q.x.clamp(0.0, self.top.x);
-        let y = q.y.clamp(0.0, self.top.y);
-        let z = q.z.clamp(0.0, self.top.z);
+        // `max` before `min`: a NaN coordinate becomes 0, so every value is in [0, top].
+        let x = q.x.max(0.0).min(self.top.x);
+        let y = q.y.max(0.0).min(self.top.y);
+        let z = q.z.max(0.0).min(self.top.z);
         let [lx, ly, lz] = self.last_cell;
-        let (ix, iy, iz) = ((x as u32).min(lx), (y as u32).min(ly), (z as u32).min(lz));
+        // SAFETY: finite and in [0, top] (above), which `u32` holds: the truncation needs
+        // none of `as`'s saturation.
+        let whole = |v: f32| unsafe { v.to_int_unchecked::<u32>() };
+        let (ix, iy, iz) = (whole(x).min(lx), whole(y).min(ly), whole(z).min(lz));
         let i = iz as usize * self.nxy + iy as usize * self.nx + ix as usize;
         let [sx, sy, sz] = self.strides;
         let data = self.levels;

@@ -2,23 +2,22 @@
 //! bound, and the placing of its crossing (bisection, false position).
 //!
 //! Rules:
-//! - Far from the core a step reads the warp's lattices less their margin ([`super::warp`]),
-//!   near it the noises themselves, in steps of at least ¼ voxel.
+//! - Far from the core a step crosses an empty ball of the core's distance lattice
+//!   ([`super::warp`]), near it reads the noises themselves, in steps of at least ¼ voxel.
 //! - A crossing of the plain field is bisected; the melted core's by false position
 //!   (Illinois), whose few reads matter because each reads the noises.
 
 use glam::Vec3;
 
 use super::super::hyper::Hypertexture;
-use super::warp::{self, Warp};
+use super::warp;
 use super::{Tracer, BISECTIONS};
 
 impl Tracer<'_> {
     /// True when the core surface is not the field's zero set (melted or displaced).
     #[inline(always)]
     pub(super) fn warped(&self) -> bool {
-        self.hyper
-            .is_some_and(|h| h.melt != 0.0 || h.core_displacement != 0.0)
+        self.warped
     }
 
     /// The melt's displacement of world point `p`: the field is read that far up.
@@ -31,33 +30,6 @@ impl Tracer<'_> {
         // Drips: noise across the up axis, slowly varying along it.
         let n = warp::sag_noise(h, self.up, self.texture_from_world.transform_point3(p));
         self.up * (h.melt * h.time * height * (1.0 + 1.5 * n).max(0.0) * self.size)
-    }
-
-    /// [`Self::core_distance`] with the warp's noises read from their lattices (off by at
-    /// most the warp's margin).
-    #[inline]
-    pub(super) fn core_distance_lattice(&self, h: &Hypertexture, w: &Warp, p: Vec3) -> f32 {
-        let t = self.texture_from_world.transform_point3(p);
-        let sag = if h.melt == 0.0 || h.time == 0.0 {
-            0.0
-        } else {
-            let height = ((p.dot(self.up) - self.base) / self.size).max(0.0);
-            let n = w.sag_noise(h, self.up, t);
-            h.melt * h.time * height * (1.0 + 1.5 * n).max(0.0) * self.size
-        };
-        let pm = p + self.up * sag;
-        let d = self
-            .field
-            .distance(self.field.voxel_from_world.transform_point3(pm));
-        if h.core_displacement == 0.0 {
-            d
-        } else {
-            let n = w.displacement_noise(t, |t| {
-                self.noise_above_texture(h, t, f32::NEG_INFINITY)
-                    .unwrap_or(0.0)
-            });
-            d - h.core_displacement * self.shell * n
-        }
     }
 
     /// The distance to the core surface (melted and displaced), world.

@@ -14,9 +14,9 @@
 //!   voxel (at most 16 times; a sphere-traced step is short, a shell step longer), and
 //!   shaded with the normal from central differences (±½ voxel) of the trilinear field.
 //! - The melted core (melt, core displacement) is sphere-traced with a Lipschitz bound:
-//!   far from it by the warp's lattices less their margin ([`warp`]), near it by the noises
-//!   themselves, in steps of at least ¼ voxel; its crossing is placed by false position
-//!   ([`melted`]).
+//!   far from it through the empty balls of a lattice of its exact distance ([`warp`]),
+//!   near it by the noises themselves, in steps of at least ¼ voxel; its crossing is placed
+//!   by false position ([`melted`]).
 //! - Colours are linear and premultiplied, as meshes' are (not the display values of
 //!   transfer functions): the frame holds them as they are.
 //! - The image does not depend on the number of threads (per-pixel work, fixed tile order).
@@ -93,8 +93,10 @@ pub(super) struct Tracer<'a> {
     /// The frame's noise on a lattice, read by the shell's samples (material without
     /// strands; `None`: evaluated directly).
     noise_cache: Option<NoiseCache>,
-    /// The melt's noises on lattices (`None`: no melt and no core displacement).
+    /// The melted core's distance on a lattice (`None`: no melt and no core displacement).
     warp: Option<Warp>,
+    /// The core surface is melted or displaced (not the field's zero set).
+    warped: bool,
 }
 
 /// Renders the distance field `vol` (world distances, negative inside) as a surface with
@@ -230,13 +232,7 @@ impl<'a> Tracer<'a> {
             });
         let warp = hyper
             .filter(|h| h.melt != 0.0 || h.core_displacement != 0.0)
-            .map(|h| {
-                // The highest point of the box above its lowest, in object sizes.
-                let heights = vol.world_corners().map(|c| c.dot(up));
-                let top = heights.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b))
-                    - heights.iter().fold(f32::INFINITY, |a, &b| a.min(b));
-                Warp::new(h, &texture_from_world, lo, hi, size, top / size)
-            });
+            .and_then(|_| Warp::new(field.hi, &vol.world_from_voxel()));
         Tracer {
             shadows: None,
             depth_only: false,
@@ -267,6 +263,7 @@ impl<'a> Tracer<'a> {
             jitter: params.jitter,
             noise_cache,
             warp,
+            warped: hyper.is_some_and(|h| h.melt != 0.0 || h.core_displacement != 0.0),
         }
     }
 }
@@ -312,6 +309,44 @@ impl Tracer<'_> {
             }
             let q = ray.at(t);
             let p = eye + dir * t;
+            if let Some(w) = self
+                .warp
+                .as_ref()
+                .filter(|_| !medium && self.reach.is_finite())
+            {
+                // Through the melted core's empty balls, without reading the field.
+                if let Some(b) = w.ball_step(p, q, dir, warped_step, self.lipschitz, |c| {
+                    self.core_distance(c)
+                }) {
+                    t_prev = Some(t);
+                    e_prev = Some(b.lower);
+                    t += b.advance;
+                    continue;
+                }
+            }
+            if self.warp.is_some() && !medium && self.reach.is_finite() {
+                // Near the melted core: its own distance (the plain field's says nothing).
+                let e = self.core_step_distance(p);
+                reads += 1;
+                if e <= 0.0 {
+                    let (hit, n) = match (t_prev, e_prev) {
+                        (Some(tp), Some(ep)) => self.false_position(eye, dir, (tp, ep), (t, e)),
+                        (Some(tp), None) => self.bisect(eye, dir, tp, t),
+                        (None, _) => (t, 0),
+                    };
+                    hit_t = hit;
+                    if self.depth_only {
+                        break;
+                    }
+                    reads += u64::from(n) + 6;
+                    acc = self.shade_core(eye + dir * hit, dir, hit);
+                    break;
+                }
+                t_prev = Some(t);
+                e_prev = Some(e);
+                t += (e * 0.9 / self.lipschitz).max(warped_step);
+                continue;
+            }
             let (mut d, mut g) = if in_reach {
                 self.field.distance_and_lazy_gradient(q)
             } else {
@@ -339,19 +374,10 @@ impl Tracer<'_> {
             if !medium && self.reach.is_finite() {
                 // No material: sphere tracing of the (melted, displaced) core itself.
                 let warped = self.warped();
-                let e = match (self.hyper, &self.warp) {
-                    (Some(h), Some(w)) => {
-                        // Far from the core the lattices' distance, less their error, is a
-                        // bound to step by; near it the noises are evaluated.
-                        let far = self.core_distance_lattice(h, w, p) - w.margin;
-                        if far * 0.9 / self.lipschitz > warped_step {
-                            far
-                        } else {
-                            self.core_step_distance(p)
-                        }
-                    }
-                    _ if warped => self.core_step_distance(p),
-                    _ => d,
+                let e = if warped {
+                    self.core_step_distance(p)
+                } else {
+                    d
                 };
                 if e <= 0.0 {
                     let (hit, n) = match (t_prev, e_prev) {
@@ -490,7 +516,9 @@ impl Tracer<'_> {
         let whole = octaves.floor() as u32;
         let (mut sum, mut amp, mut freq) = (0.0f32, 1.0f32, 1.0f32);
         let mut rest = self.noise_weight * NOISE_BOUND;
-        for i in 0..=whole {
+        // `0..=whole` by hand: the inclusive range's end flag costs more than the octave.
+        let mut i = 0;
+        loop {
             let weight = if i < whole {
                 amp
             } else {
@@ -508,6 +536,10 @@ impl Tracer<'_> {
             if sum + rest < s_floor {
                 return None;
             }
+            if i == whole {
+                break;
+            }
+            i += 1;
         }
         Some((offset + scale * sum).clamp(0.0, 1.0))
     }
