@@ -27,9 +27,10 @@ CASES = [("vol256", os.path.join(P, "data", "vol256.nii.gz"), "synth"),
 
 def texmap(path, tf, shade, step, frames, out):
     # Several frames are one file each; frame 1 is the requested view, kept as `out`.
+    # `--auto-camera`: vtk_volume.py's camera (texmap's own default framing differs).
     pattern = out if frames == 1 else out[:-len(".png")] + "_{frame}.png"
     cmd = [TEXMAP, "render", path, "--tf", tf, "--step", str(step), "--size", "512x512",
-           "--threads", "2", "--frames", str(frames), "--stats", "-o", pattern]
+           "--threads", "2", "--frames", str(frames), "--stats", "--auto-camera", "-o", pattern]
     if shade:
         cmd.append("--shade")
     r = subprocess.run(cmd, capture_output=True, text=True, check=True)
