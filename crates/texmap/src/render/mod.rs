@@ -38,6 +38,7 @@ mod fragment;
 pub mod framing;
 mod layers;
 mod maps;
+mod mr_quad;
 mod parallax;
 mod procedural;
 mod projectors;
