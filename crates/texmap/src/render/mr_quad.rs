@@ -26,7 +26,8 @@ impl SceneShader<'_> {
         reads: &QuadReads,
         out: &mut [Vec4; 4],
     ) -> u8 {
-        let colors: [Vec4; 4] = std::array::from_fn(|j| surface_color(d, quad, reads, j));
+        let color = |j: usize| surface_color(d, quad, reads, j);
+        let colors = [color(0), color(1), color(2), color(3)];
         let q = d.mr_surface(quad, reads, &colors);
         let f = metallic_roughness_quad(&d.surface, &q, &self.lighting, self.viewer);
         let alpha_mode = d.material.alpha_mode;
@@ -78,10 +79,11 @@ impl DrawInfo<'_> {
             let r = to_lanes(texels)[0];
             occlusion = Vec4::ONE + Vec4::splat(map.scale) * (r - Vec4::ONE);
         }
-        let mut emissive: Lanes3 = std::array::from_fn(|c| Vec4::splat(s.emissive[c]));
+        let e = s.emissive;
+        let mut emissive: Lanes3 = [Vec4::splat(e.x), Vec4::splat(e.y), Vec4::splat(e.z)];
         if let Some(texels) = maps.and_then(|m| m.emission.as_ref()) {
             let t = to_lanes(texels);
-            emissive = std::array::from_fn(|c| emissive[c] * t[c]);
+            emissive = [emissive[0] * t[0], emissive[1] * t[1], emissive[2] * t[2]];
         }
         let (mut roughness, mut metallic) = (Vec4::splat(s.roughness), Vec4::splat(s.metallic));
         if let Some(texels) = maps.and_then(|m| m.metal_rough.as_ref()) {

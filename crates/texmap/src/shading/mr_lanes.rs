@@ -65,8 +65,10 @@ pub fn metallic_roughness_quad(
         Viewer::Direction(v) => splat3(v),
     };
     let keep = one - metallic;
-    let f0: Lanes3 =
-        std::array::from_fn(|c| Vec4::splat(f0_d[c]) * keep + q.base_color[c] * metallic);
+    // (Arrays written out: `array::from_fn`'s closures were left as calls.)
+    let lerp = |c: usize| Vec4::splat(f0_d[c]) * keep + q.base_color[c] * metallic;
+    let f0: Lanes3 = [lerp(0), lerp(1), lerp(2)];
+
     let f90 = Vec4::splat(f90_d) + Vec4::splat(1.0 - f90_d) * metallic;
     let r = q.roughness;
     let r = Vec4::select(
@@ -79,7 +81,8 @@ pub fn metallic_roughness_quad(
 
     // The ambient term: K_A·I_AL·O·(c_diff·(1 − E) + E), E the lobe's albedo.
     let k = Vec4::splat(s.ambient) * q.occlusion;
-    let ambient: Lanes3 = std::array::from_fn(|c| Vec4::splat(lighting.ambient[c]) * k);
+    let ambient = |c: usize| Vec4::splat(lighting.ambient[c]) * k;
+    let ambient: Lanes3 = [ambient(0), ambient(1), ambient(2)];
     let mut d = [zero; 3];
     let mut sp = q.emissive;
     let lit = (ambient[0].cmpne(zero) | ambient[1].cmpne(zero) | ambient[2].cmpne(zero)).bitmask();
@@ -154,11 +157,19 @@ pub fn specular_albedo_quad(n_dot_v: Vec4, roughness: Vec4) -> (Vec4, Vec4) {
     let (i, j) = (cell(x), cell(y));
     let fx = x - Vec4::from_array(i.map(|i| i as f32));
     let fy = y - Vec4::from_array(j.map(|j| j as f32));
-    let texels: [[glam::Vec2; 4]; 4] = std::array::from_fn(|k| {
+    let corners = |k: usize| {
         let at = j[k] * N + i[k];
         [table[at], table[at + 1], table[at + N], table[at + N + 1]]
-    });
-    let lane = |t: usize, c: usize| Vec4::from_array(std::array::from_fn(|k| texels[k][t][c]));
+    };
+    let texels = [corners(0), corners(1), corners(2), corners(3)];
+    let lane = |t: usize, c: usize| {
+        Vec4::new(
+            texels[0][t][c],
+            texels[1][t][c],
+            texels[2][t][c],
+            texels[3][t][c],
+        )
+    };
     let lerp = |a: Vec4, b: Vec4, f: Vec4| a * (one - f) + b * f;
     let blend = |c: usize| {
         let top = lerp(lane(0, c), lane(1, c), fx);
