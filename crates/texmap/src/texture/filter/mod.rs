@@ -211,8 +211,8 @@ pub fn sample_quads_lanes(
 const CHUNK: usize = 16;
 
 /// The OpenGL level choices of up to [`CHUNK`] quads: λ four quads at a time (one per lane),
-/// then each quad's levels.
-#[inline]
+/// then each quad's levels. (Inlined: as a call it cost the one-map read 2% more.)
+#[inline(always)]
 fn gl_choices(
     texture: &Texture2D,
     sampler: &Sampler,
