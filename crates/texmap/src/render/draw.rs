@@ -10,7 +10,7 @@ use glam::{Mat3, Mat4, Vec3, Vec4};
 
 use super::environment::EnvDraw;
 use super::layers::LayerRead;
-use super::maps::MapRead;
+use super::maps::{shared_group, MapRead};
 use super::parallax::ParallaxRead;
 use super::settings::{Settings, ShadingMode, Visibility};
 use super::varyings::VaryingLayout;
@@ -150,6 +150,13 @@ pub(super) struct DrawInfo<'a> {
     /// is the material's own, with no map, vertex colour or procedural texture: its quads take
     /// the plain path, the four pixels in lanes with no per-pixel branch.
     pub plain: bool,
+    /// A per-pixel metallic-roughness draw with no coat or sheen, no extension maps and none
+    /// of bump, object-space normal, parallax or solid maps, nor toon shading: its quads are
+    /// lit in lanes (`mr_quad.rs`) unless the environment or projectors light it.
+    pub mr_lanes: bool,
+    /// Which of [`DrawInfo::shared_candidates`] are read together, at one set of coordinates
+    /// (bit `k` for the `k`-th; `maps::shared_group`).
+    pub shared_maps: u8,
     /// The environment's terms, when the frame has an environment and the material takes
     /// them (`environment.rs`).
     pub env: Option<EnvDraw<'a>>,
@@ -383,10 +390,20 @@ impl<'a> DrawInfo<'a> {
                     || solid_roughness.is_some()
                     || solid_bump.is_some()
                     || toon));
+        let mr_lanes = per_pixel
+            && pbr
+            && !toon
+            && !material.lobes.layered()
+            && !lobe_maps.any()
+            && normal_object_map.is_none()
+            && bump_map.is_none()
+            && parallax.is_none()
+            && solid_roughness.is_none()
+            && solid_bump.is_none();
         let mut surface = Surface::new(material, Vec3::ZERO, Vec3::ZERO);
         // KHR_materials_volume's thickness is in the mesh's object units.
         surface.lobes.thickness *= mean_scale;
-        DrawInfo {
+        let mut draw = DrawInfo {
             material,
             path,
             model,
@@ -425,11 +442,27 @@ impl<'a> DrawInfo<'a> {
                 && layers.is_empty()
                 && light_map.is_none()
                 && model == ShadingModel::Phong,
+            mr_lanes,
+            shared_maps: 0,
             env: None,
             layers,
             light_map,
             projectors: false,
-        }
+        };
+        draw.shared_maps = shared_group(&draw.shared_candidates());
+        draw
+    }
+
+    /// The maps a draw may read together (`shared_maps`): the base colour texture, the
+    /// normal, occlusion, emissive and metallic-roughness maps.
+    pub(super) fn shared_candidates(&self) -> [Option<&MapRead<'a>>; 5] {
+        [
+            self.texture.as_ref(),
+            self.normal_map.as_ref(),
+            self.occlusion_map.as_ref(),
+            self.emissive_map.as_ref(),
+            self.metal_rough_map.as_ref(),
+        ]
     }
 
     /// The pipeline state of the draw.

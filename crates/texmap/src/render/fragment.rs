@@ -235,6 +235,9 @@ impl SceneShader<'_> {
             }
             return kept;
         }
+        if d.mr_lanes && !d.projectors && self_shadow.is_none() {
+            return self.shade_mr_quad(d, quad, reads, out);
+        }
         let m = d.material;
         let mut kept = quad.mask;
         let maps = &reads.maps;
@@ -416,6 +419,12 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
         };
     }
     let mut buf = [[Vec4::ZERO; 4]; BATCH];
+    // The maps read at one set of coordinates, together.
+    let shared = d.shared_maps;
+    if shared != 0 {
+        read_shared(d, shared, quads, out);
+    }
+    let own = |k: u8| shared & (1 << k) == 0;
     let mut fill = |t: &MapRead, set: &dyn Fn(&mut QuadReads, [Vec4; 4])| {
         for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
             t.quads(quads, &mut buf[..quads.len()]);
@@ -424,7 +433,7 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
             }
         }
     };
-    if let Some(t) = &d.texture {
+    if let Some(t) = d.texture.as_ref().filter(|_| own(0)) {
         fill(t, &|r, v| r.texels = Some(v));
     }
     if let Some(t) = &d.alpha_map {
@@ -439,11 +448,17 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
     }
     type Field = fn(&mut QuadMaps) -> &mut Option<[Vec4; 4]>;
     let maps: [(Option<&MapRead>, Field); 8] = [
-        (d.normal_map.as_ref(), |m| &mut m.normals),
+        (d.normal_map.as_ref().filter(|_| own(1)), |m| &mut m.normals),
         (d.normal_object_map.as_ref(), |m| &mut m.object_normals),
-        (d.occlusion_map.as_ref(), |m| &mut m.occlusion),
-        (d.emissive_map.as_ref(), |m| &mut m.emission),
-        (d.metal_rough_map.as_ref(), |m| &mut m.metal_rough),
+        (d.occlusion_map.as_ref().filter(|_| own(2)), |m| {
+            &mut m.occlusion
+        }),
+        (d.emissive_map.as_ref().filter(|_| own(3)), |m| {
+            &mut m.emission
+        }),
+        (d.metal_rough_map.as_ref().filter(|_| own(4)), |m| {
+            &mut m.metal_rough
+        }),
         (d.ambient_map.as_ref(), |m| &mut m.ambient),
         (d.specular_map.as_ref(), |m| &mut m.specular),
         (d.shininess_map.as_ref(), |m| &mut m.shininess),
@@ -480,4 +495,37 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
         }
     }
     fold_layers(d, quads, out);
+}
+
+/// The reads of the maps in `shared` (bits over [`DrawInfo::shared_candidates`]) of `quads`
+/// into `out`, the maps read together ([`MapRead::quads_shared`]).
+fn read_shared(d: &DrawInfo, shared: u8, quads: &[Quad], out: &mut [QuadReads]) {
+    let candidates = d.shared_candidates();
+    let mut members = [(0usize, None::<&MapRead>); 5];
+    let mut count = 0;
+    for (k, m) in candidates.iter().enumerate() {
+        if let (Some(m), true) = (m, shared & (1 << k) != 0) {
+            members[count] = (k, Some(m));
+            count += 1;
+        }
+    }
+    let members = &members[..count];
+    let Some(&(_, Some(first))) = members.first() else {
+        return;
+    };
+    let images: [_; 5] =
+        std::array::from_fn(|t| members.get(t).and_then(|m| m.1).unwrap_or(first).tex);
+    for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
+        first.quads_shared(&images[..count], quads, |t, i, v| {
+            let o = &mut out[i];
+            match (members[t].0, o.maps.as_mut()) {
+                (0, _) => o.texels = Some(v),
+                (1, Some(maps)) => maps.normals = Some(v),
+                (2, Some(maps)) => maps.occlusion = Some(v),
+                (3, Some(maps)) => maps.emission = Some(v),
+                (_, Some(maps)) => maps.metal_rough = Some(v),
+                (_, None) => {}
+            }
+        });
+    }
 }

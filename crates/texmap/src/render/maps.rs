@@ -10,8 +10,8 @@ use super::varyings::Slot;
 use crate::pipeline::{Quad, BATCH};
 use crate::shading::TextureSlot;
 use crate::texture::{
-    quad_mip_choice, sample_quad_lanes, sample_quad_lanes_at, sample_quads_lanes, MipChoice,
-    QuadCoords, Sampler, Texture2D, VirtualTexture,
+    quad_mip_choice, sample_quad_lanes, sample_quad_lanes_at, sample_quads_lanes,
+    sample_quads_lanes_shared, Filter, MipChoice, QuadCoords, Sampler, Texture2D, VirtualTexture,
 };
 
 /// A texture the fragment stage reads: image, sampler (command-line overrides applied), the
@@ -95,6 +95,42 @@ impl<'a> MapRead<'a> {
         }
     }
 
+    /// Whether `other` is read at this map's coordinates through its sampler, from an image
+    /// of its size under an OpenGL filter: the two can be read together
+    /// ([`MapRead::quads_shared`]).
+    pub fn shares_coords(&self, other: &MapRead) -> bool {
+        let size = |m: &MapRead| (m.tex.width(), m.tex.height(), m.tex.levels().len());
+        self.virt.is_none()
+            && other.virt.is_none()
+            && matches!(self.sampler.filter, Filter::Gl { .. })
+            && self.sampler == other.sampler
+            && self.uv == other.uv
+            && self.linear == other.linear
+            && self.offset == other.offset
+            && size(self) == size(other)
+    }
+
+    /// [`MapRead::quads`] of the maps whose images are `images` (read at this one's
+    /// coordinates through its sampler: each [`MapRead::shares_coords`] with it): `put(t, i,
+    /// texels)` gets image `t`'s reads of `quads[i]` (the same values), the texel addresses
+    /// and weights computed once for all.
+    pub fn quads_shared(
+        &self,
+        images: &[&Texture2D],
+        quads: &[Quad],
+        put: impl FnMut(usize, usize, [Vec4; 4]),
+    ) {
+        let mut coords = [QuadCoords::default(); BATCH];
+        let mut masks = [0u8; BATCH];
+        for ((c, m), q) in coords.iter_mut().zip(masks.iter_mut()).zip(quads) {
+            *c = self.coords(q);
+            *m = q.mask;
+        }
+        assert!(quads.len() <= BATCH);
+        let n = quads.len();
+        sample_quads_lanes_shared(images, &self.sampler, &coords[..n], &masks[..n], put);
+    }
+
     /// The quad's transformed uvs (one lane per pixel) and their screen derivatives.
     #[inline]
     fn coords(&self, quad: &Quad) -> QuadCoords {
@@ -157,6 +193,31 @@ impl<'a> MapRead<'a> {
         let hx = read(c.u + dx.x, c.v + dx.y);
         let hy = read(c.u + dy.x, c.v + dy.y);
         std::array::from_fn(|j| Vec2::new(hx[j].x - h[j].x, hy[j].x - h[j].x) * self.scale)
+    }
+}
+
+/// The maps among `maps` read together with the first one present that
+/// [`MapRead::shares_coords`] with itself: bit `k` for `maps[k]`, none (0) unless two are.
+pub(super) fn shared_group(maps: &[Option<&MapRead>]) -> u8 {
+    let mut first: Option<&MapRead> = None;
+    let mut bits = 0u8;
+    for (k, m) in maps.iter().enumerate() {
+        let Some(m) = m else {
+            continue;
+        };
+        let joins = match first {
+            Some(f) => f.shares_coords(m),
+            None => m.shares_coords(m),
+        };
+        if joins {
+            first = first.or(Some(m));
+            bits |= 1 << k;
+        }
+    }
+    if bits.count_ones() >= 2 {
+        bits
+    } else {
+        0
     }
 }
 

@@ -39,6 +39,7 @@ mod fragment;
 pub mod framing;
 mod layers;
 mod maps;
+mod mr_quad;
 mod parallax;
 mod procedural;
 mod projectors;

@@ -138,19 +138,19 @@ pub fn phong_quad(
 }
 
 /// What one light delivers at a quad's four points ([`Light::incidence`] in lanes).
-struct Incidence {
+pub(super) struct Incidence {
     /// The unit direction towards the light, per lane.
-    l: Lanes3,
+    pub l: Lanes3,
     /// `S·I` per channel.
-    intensity: Lanes3,
+    pub intensity: Lanes3,
     /// The lanes the light reaches (bit `j` for pixel `j`).
-    reaches: u32,
+    pub reaches: u32,
 }
 
 /// [`Light::incidence`] at four points (x, y and z lanes), lane by lane in its order of
 /// operations; `None` when it reaches none of them.
 #[inline(always)]
-fn incidence(light: &Light, p: Lanes3) -> Option<Incidence> {
+pub(super) fn incidence(light: &Light, p: Lanes3) -> Option<Incidence> {
     match *light {
         Light::Directional { direction, color } => {
             let len2 = direction.length_squared();
@@ -230,7 +230,8 @@ fn point_falloff(position: Vec3, p: Lanes3, range: Option<f32>) -> (Lanes3, Vec4
 
 /// `normalize_or_zero` of three lanes.
 #[inline(always)]
-fn normalize_or_zero([x, y, z]: Lanes3) -> Lanes3 {
+#[must_use]
+pub fn normalize_or_zero([x, y, z]: Lanes3) -> Lanes3 {
     let r = sqrt4(x * x + y * y + z * z).recip();
     let r = Vec4::select(r.cmplt(Vec4::INFINITY) & r.cmpgt(Vec4::ZERO), r, Vec4::ZERO);
     [x * r, y * r, z * r]
@@ -238,18 +239,19 @@ fn normalize_or_zero([x, y, z]: Lanes3) -> Lanes3 {
 
 /// The lanes whose bit is set in `bits`, as a select mask.
 #[inline(always)]
-fn lane_mask(bits: u32) -> glam::BVec4A {
+pub(super) fn lane_mask(bits: u32) -> glam::BVec4A {
     glam::BVec4A::new(bits & 1 != 0, bits & 2 != 0, bits & 4 != 0, bits & 8 != 0)
 }
 
 #[inline(always)]
-fn splat3(v: Vec3) -> Lanes3 {
+pub(super) fn splat3(v: Vec3) -> Lanes3 {
     [Vec4::splat(v.x), Vec4::splat(v.y), Vec4::splat(v.z)]
 }
 
 /// Lane-wise square root (one `sqrtps`).
 #[inline(always)]
-fn sqrt4(v: Vec4) -> Vec4 {
+#[must_use]
+pub fn sqrt4(v: Vec4) -> Vec4 {
     #[cfg(target_arch = "x86_64")]
     {
         // SAFETY: SSE is part of x86_64.

@@ -28,7 +28,8 @@
 //! Files: `material.rs` (what a surface is made of), `light.rs` (lights and what they deliver
 //! at a point), this file (the per-pixel [`Surface`], Phong, [`combine`]), [`pbr`] (the
 //! metallic-roughness BRDF), [`lobes`] and [`sheen`] (glTF's specular, clearcoat, sheen and
-//! volume extensions over it), [`lanes`] (Phong for a quad's four pixels at once), [`bump`]
+//! volume extensions over it), [`lanes`] (Phong for a quad's four pixels at once), [`mr_lanes`] (the
+//! metallic-roughness model likewise), [`bump`]
 //! (tilting normals by height gradients), [`shadow`] (shadow-map lookups and filters) and
 //! `viewer.rs` (where the viewer is), [`layers`] (texture layers: OpenGL's texture
 //! environment) and [`toon`] (ramp-shaded diffuse, outlines).
@@ -40,6 +41,7 @@ pub mod layers;
 mod light;
 pub mod lobes;
 mod material;
+pub mod mr_lanes;
 pub mod pbr;
 mod projector;
 pub mod relief;

@@ -259,9 +259,27 @@ fn layered(
 /// — integrated once per process).
 #[must_use]
 pub fn specular_albedo(n_dot_v: f32, roughness: f32) -> Vec2 {
-    const N: usize = 32;
+    const N: usize = ALBEDO_N;
+    let table = albedo_table();
+    let x = n_dot_v.clamp(0.0, 1.0).sqrt() * (N - 1) as f32;
+    let y = roughness.clamp(0.0, 1.0) * (N - 1) as f32;
+    let (i, j) = ((x as usize).min(N - 2), (y as usize).min(N - 2));
+    let (fx, fy) = (x - i as f32, y - j as f32);
+    let at = |i: usize, j: usize| table[j * N + i];
+    let top = at(i, j).lerp(at(i + 1, j), fx);
+    let bottom = at(i, j + 1).lerp(at(i + 1, j + 1), fx);
+    top.lerp(bottom, fy)
+}
+
+/// The side of [`specular_albedo`]'s table.
+pub(super) const ALBEDO_N: usize = 32;
+
+/// [`specular_albedo`]'s table, `(A, B)` at `[j·N + i]` for `√(N·V) = i/(N − 1)` and
+/// roughness `j/(N − 1)` (integrated on first use).
+pub(super) fn albedo_table() -> &'static [Vec2] {
+    const N: usize = ALBEDO_N;
     static TABLE: OnceLock<Vec<Vec2>> = OnceLock::new();
-    let table = TABLE.get_or_init(|| {
+    TABLE.get_or_init(|| {
         // Rows in parallel (each cell on its own: the same table at any thread count), the
         // sample set's azimuths shared by every cell.
         use rayon::prelude::*;
@@ -283,15 +301,7 @@ pub fn specular_albedo(n_dot_v: f32, roughness: f32) -> Vec2 {
             })
             .collect();
         rows.concat()
-    });
-    let x = n_dot_v.clamp(0.0, 1.0).sqrt() * (N - 1) as f32;
-    let y = roughness.clamp(0.0, 1.0) * (N - 1) as f32;
-    let (i, j) = ((x as usize).min(N - 2), (y as usize).min(N - 2));
-    let (fx, fy) = (x - i as f32, y - j as f32);
-    let at = |i: usize, j: usize| table[j * N + i];
-    let top = at(i, j).lerp(at(i + 1, j), fx);
-    let bottom = at(i, j + 1).lerp(at(i + 1, j + 1), fx);
-    top.lerp(bottom, fy)
+    })
 }
 
 /// `(A, B)` by importance-sampling the GGX distribution of half vectors with `samples`

@@ -88,6 +88,52 @@ pub(super) fn read_quad(
     }
 }
 
+/// The most textures [`read_quad_shared`] reads together.
+pub(super) const MAX_SHARED: usize = 5;
+
+/// [`read_quad`] of several textures (at most [`MAX_SHARED`]) at the same coordinates
+/// through the same sampler, on the same levels: textures of one size, so one level's texel
+/// indices and weights serve them all. They are computed once per level, and each texture's
+/// taps are summed as [`read_quad`] sums them (the same values, bit for bit); `out[t]` gets
+/// texture `t`'s reads. `false`, and nothing read, when some texture or the sampler is not
+/// one this path handles, the sizes differ, or the read is not bilinear.
+#[inline]
+pub(super) fn read_quad_shared(
+    texes: &[&Texture2D],
+    s: &Sampler,
+    choice: MipChoice,
+    u: Vec4,
+    v: Vec4,
+    mask: u8,
+    out: &mut [[Vec4; 4]],
+) -> bool {
+    let Some(first) = texes.first() else {
+        return true;
+    };
+    let same = |t: &&Texture2D| {
+        handles(t, s)
+            && (t.width(), t.height(), t.levels().len())
+                == (first.width(), first.height(), first.levels().len())
+    };
+    if texes.len() > MAX_SHARED
+        || out.len() < texes.len()
+        || choice.texels != TexelFilter::Linear
+        || !texes.iter().all(same)
+    {
+        return false;
+    }
+    #[cfg(target_arch = "x86_64")]
+    {
+        sse2::linear_quad_shared(texes, s, choice, u, v, mask, out);
+        true
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let _ = (u, v, mask);
+        false
+    }
+}
+
 /// A quad's probes (anisotropic filtering in lanes): for each `(t, w)` of `probes`, a fixed-point
 /// trilinear read on the levels `choice` names at `(u, v) + t·step` (one pixel per lane), the
 /// reads summed with weights `w` (which should sum to 1), every tap's 15-bit weight in one sum
@@ -167,6 +213,12 @@ mod sse2 {
         if let Some(b) = second.filter(|_| wa < ONE) {
             accumulate(&tex.level(b), s, u, v, ONE - wa, mask, &mut acc);
         }
+        finish(&acc, mask)
+    }
+
+    /// The reads from a quad's 32-bit sums (pixels outside `mask` zero).
+    #[inline(always)]
+    fn finish(acc: &[__m128i; 4], mask: u8) -> [Vec4; 4] {
         let scale = 1.0 / (ONE as f32 * ONE as f32);
         std::array::from_fn(|j| {
             if mask & (1 << j) == 0 {
@@ -177,6 +229,48 @@ mod sse2 {
             // A tap whose rounded weight came out −1 can leave a sum a hair below zero.
             (sum * scale).max(Vec4::ZERO)
         })
+    }
+
+    /// [`super::read_quad_shared`]: [`linear_quad`] of each texture, the taps' addresses and
+    /// weights computed once per level for all of them.
+    #[inline(always)]
+    pub(super) fn linear_quad_shared(
+        texes: &[&Texture2D],
+        s: &Sampler,
+        choice: MipChoice,
+        u: Vec4,
+        v: Vec4,
+        mask: u8,
+        out: &mut [[Vec4; 4]],
+    ) {
+        // SAFETY: SSE2 is part of x86_64.
+        let mut acc = [[unsafe { _mm_setzero_si128() }; 4]; super::MAX_SHARED];
+        let (second, f) = choice
+            .blend
+            .map_or((None, 0.0), |b| (Some(b.level), b.weight));
+        let wa = ((1.0 - f.clamp(0.0, 1.0)) * ONE as f32).round() as i32;
+        let level = |index: usize, weight: i32, acc: &mut [[__m128i; 4]]| {
+            let first = texes[0].level(index);
+            let (_, tiles_x) = first.tiled_texels();
+            let t = taps(&first, tiles_x, s, u, v, weight);
+            for (tex, acc) in texes.iter().zip(acc.iter_mut()) {
+                let lv = tex.level(index);
+                // One size: the first texture's indices are in range for every one.
+                assert!((lv.w, lv.h) == (first.w, first.h));
+                let (data, tiles_x) = lv.tiled_texels();
+                assert_eq!(tiles_x, t.tiles_x);
+                gather(data, &t, mask, acc);
+            }
+        };
+        if wa > 0 {
+            level(choice.level, wa, &mut acc);
+        }
+        if let Some(b) = second.filter(|_| wa < ONE) {
+            level(b, ONE - wa, &mut acc);
+        }
+        for (o, acc) in out.iter_mut().zip(&acc).take(texes.len()) {
+            *o = finish(acc, mask);
+        }
     }
 
     /// [`super::read_probes`]: every probe's taps summed into one 32-bit accumulator per
@@ -396,13 +490,29 @@ mod sse2 {
         acc: &mut [__m128i; 4],
     ) {
         let (data, tiles_x) = lv.tiled_texels();
+        gather(data, &taps(lv, tiles_x, s, u, v, level_weight), mask, acc);
+    }
+
+    /// A quad's bilinear taps on one level: each pixel's four texel byte offsets and its
+    /// 15-bit weights, packed in pairs (top row, bottom row).
+    struct Taps {
+        offsets: [[i32; 4]; 4],
+        top: [i32; 4],
+        bottom: [i32; 4],
+        /// The level's tiles per row the offsets were computed for.
+        tiles_x: u32,
+    }
+
+    /// Level `lv`'s bilinear taps at `(u, v)`, weighted `level_weight / ONE` in all
+    /// (`tiles_x` from its `tiled_texels`).
+    #[inline(always)]
+    fn taps(lv: &LevelRef, tiles_x: u32, s: &Sampler, u: Vec4, v: Vec4, level_weight: i32) -> Taps {
         let (xa, xb, fx) = axis(s.wrap_u, u, lv.w);
         let (ya, yb, fy) = axis(s.wrap_v, v, lv.h);
         let lw = level_weight as f32;
         let (gx, gy) = (Vec4::ONE - fx, Vec4::ONE - fy);
-        // SAFETY (this block and the loop): SSE2 is part of x86_64; every load reads 8 bytes at
-        // a texel index below `data.len() / 8` (see below).
-        let (offsets, top, bottom) = unsafe {
+        // SAFETY: SSE2 is part of x86_64.
+        unsafe {
             // Tiled index = column part + row part: ((x >> 2) << 4 | x & 3) + (y >> 2)·16·tiles_x
             // + (y & 3) << 2. Both indices of each axis are in range, so every texel index is
             // below tiles_x·tiles_y·16, which `tiled_texels` checked the data holds.
@@ -440,22 +550,35 @@ mod sse2 {
                 let packed = _mm_or_si128(_mm_and_si128(a, low), _mm_slli_epi32(b, 16));
                 lanes(packed)
             };
-            (offsets, pack(w00, w10), pack(w01, w11))
-        };
+            Taps {
+                offsets,
+                top: pack(w00, w10),
+                bottom: pack(w01, w11),
+                tiles_x,
+            }
+        }
+    }
+
+    /// Adds the taps `t` of a level whose tiled texels are `data` into `acc`; `data` must be
+    /// a level of the size the taps were computed for (its `tiled_texels`).
+    #[inline(always)]
+    fn gather(data: &[u8], t: &Taps, mask: u8, acc: &mut [__m128i; 4]) {
         let base = data.as_ptr();
         for j in 0..4 {
             if mask & (1 << j) == 0 {
                 continue;
             }
+            // SAFETY: SSE2 is part of x86_64; every load reads 8 bytes at a texel index below
+            // `data.len() / 8` (the offsets' level has this size, see `taps`).
             unsafe {
-                let texel = |k: usize| _mm_loadl_epi64(base.add(offsets[k][j] as usize).cast());
+                let texel = |k: usize| _mm_loadl_epi64(base.add(t.offsets[k][j] as usize).cast());
                 // Two taps' channels interleaved (r0 r1 g0 g1 …), as 15 bits, times their
                 // packed weights: one multiply-add gives both taps' sum per channel.
                 let pair = |k0: usize, k1: usize, w: i32| {
                     let t = _mm_srli_epi16(_mm_unpacklo_epi16(texel(k0), texel(k1)), 1);
                     _mm_madd_epi16(t, _mm_set1_epi32(w))
                 };
-                let sum = _mm_add_epi32(pair(0, 1, top[j]), pair(2, 3, bottom[j]));
+                let sum = _mm_add_epi32(pair(0, 1, t.top[j]), pair(2, 3, t.bottom[j]));
                 acc[j] = _mm_add_epi32(acc[j], sum);
             }
         }

@@ -351,6 +351,42 @@ proptest! {
     }
 
     #[test]
+    fn shared_reads_equal_each_texture_read_on_its_own(fps in proptest::collection::vec(footprint_strategy(), 1..20), f in 0usize..21, w in 0usize..5, count in 1usize..8, mixed in any::<bool>()) {
+        // Textures of one size (more than one group of them when `count` > 5), or with one of
+        // another size (each then read on its own).
+        let textures: Vec<Texture2D> = (0..count)
+            .map(|k| {
+                let width = if mixed && k == count - 1 { 17 } else { 13 };
+                let rgba: Vec<u8> = (0..width * 9 * 4)
+                    .map(|i| ((i * (97 + 2 * k as u32) + 13 * k as u32) % 256) as u8)
+                    .collect();
+                Texture2D::from_rgba8(width, 9, ColorSpace::Linear, &rgba).unwrap()
+            })
+            .collect();
+        let refs: Vec<&Texture2D> = textures.iter().collect();
+        let s = Sampler::new(every_filter()[f], WRAPS[w]);
+        let coords: Vec<crate::texture::QuadCoords> = fps
+            .iter()
+            .map(|fp| crate::texture::QuadCoords {
+                u: Vec4::new(fp.uv.x, fp.uv.x + 0.01, fp.uv.x, fp.uv.x + 0.02),
+                v: Vec4::new(fp.uv.y, fp.uv.y, fp.uv.y + 0.03, fp.uv.y + 0.01),
+                duv_dx: fp.duv_dx,
+                duv_dy: fp.duv_dy,
+            })
+            .collect();
+        let masks: Vec<u8> = (0..coords.len()).map(|i| [0b1111, 0b0110, 0b1001][i % 3]).collect();
+        let mut got = vec![[Vec4::splat(-1.0); 4]; count * coords.len()];
+        crate::texture::sample_quads_lanes_shared(&refs, &s, &coords, &masks, |t, i, v| {
+            got[t * coords.len() + i] = v;
+        });
+        for (t, tex) in textures.iter().enumerate() {
+            let mut want = vec![[Vec4::ZERO; 4]; coords.len()];
+            crate::texture::sample_quads_lanes(tex, &s, &coords, &masks, &mut want);
+            prop_assert_eq!(&got[t * coords.len()..(t + 1) * coords.len()], &want[..], "{:?} texture {}", s.filter, t);
+        }
+    }
+
+    #[test]
     fn quad_sampling_of_a_constant_texture_reads_the_constant(fp in footprint_strategy(), f in 0usize..21, w in 0usize..5) {
         // Every 8-bit value: the fixed-point weights of a read sum to exactly one.
         for c in [0u8, 1, 17, 128, 254, 255] {

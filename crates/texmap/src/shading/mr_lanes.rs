@@ -1,0 +1,314 @@
+//! [`metallic_roughness`](super::pbr::metallic_roughness) for the four pixels of a 2×2 quad
+//! at once, one pixel per `Vec4` lane, under every kind of light: the plain metallic-roughness
+//! material (no clearcoat or sheen; those keep the per-pixel rule).
+//!
+//! As in [`super::lanes`], every lane follows the per-pixel rule's operations in its order
+//! (the lobe's F0, F90 and α, the albedo table's lookup, each light's half vector, Fresnel,
+//! GGX and Smith terms), so the factors equal the per-pixel rule's bit for bit (tested); only
+//! NaN inputs could tell them apart. The albedo table is read per lane.
+
+use std::f32::consts::PI;
+
+use glam::Vec4;
+
+use super::lanes::{incidence, lane_mask, normalize_or_zero, splat3, sqrt4, Lanes3, QuadFactors};
+use super::pbr::{albedo_table, ALBEDO_N, MIN_ROUGHNESS};
+use super::{Lighting, Surface, Viewer};
+
+/// What the metallic-roughness model reads at a quad's four pixels (one pixel per lane): the
+/// surface after its maps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MrQuad {
+    /// World positions.
+    pub position: Lanes3,
+    /// Unit normals (after the normal map; towards the viewer on double-sided back faces).
+    pub normal: Lanes3,
+    /// Straight-alpha base colours (the f0 of metals).
+    pub base_color: Lanes3,
+    pub metallic: Vec4,
+    pub roughness: Vec4,
+    /// Ambient occlusion (1 = none).
+    pub occlusion: Vec4,
+    /// I_E.
+    pub emissive: Lanes3,
+}
+
+/// The factors `(D, S)` of the metallic-roughness model at four pixels `q` seen by `viewer`
+/// (`I = C·D + S`, one vector per pixel, fourth components 0), ambient term and emission
+/// included: [`metallic_roughness`](super::pbr::metallic_roughness) per lane. `s` is the
+/// draw's surface: its `ambient`, `ior` and `lobes` are read (the lobes not layered: a coat
+/// or a sheen takes the per-pixel rule), not its position, normal or maps' parameters.
+#[inline(always)]
+#[must_use]
+pub fn metallic_roughness_quad(
+    s: &Surface,
+    q: &MrQuad,
+    lighting: &Lighting,
+    viewer: Viewer,
+) -> QuadFactors {
+    debug_assert!(!s.lobes.layered());
+    let (one, zero) = (Vec4::ONE, Vec4::ZERO);
+    // The lobe (`MrLobe::new`): F0 and F90 with the metal's base colour blended in, α, V, N·V.
+    let metallic = q.metallic.max(zero).min(one);
+    let (f0_d, f90_d) = s.lobes.dielectric(super::ibl::dielectric_f0(s.ior));
+    let p = q.position;
+    let [nx, ny, nz] = q.normal;
+    let [vx, vy, vz] = match viewer {
+        Viewer::Point(eye) => {
+            let [px, py, pz] = p;
+            normalize_or_zero([
+                Vec4::splat(eye.x) - px,
+                Vec4::splat(eye.y) - py,
+                Vec4::splat(eye.z) - pz,
+            ])
+        }
+        Viewer::Direction(v) => splat3(v),
+    };
+    let keep = one - metallic;
+    // (Arrays written out: `array::from_fn`'s closures were left as calls.)
+    let lerp = |c: usize| Vec4::splat(f0_d[c]) * keep + q.base_color[c] * metallic;
+    let f0: Lanes3 = [lerp(0), lerp(1), lerp(2)];
+
+    let f90 = Vec4::splat(f90_d) + Vec4::splat(1.0 - f90_d) * metallic;
+    let r = q.roughness;
+    let r = Vec4::select(
+        r.is_finite_mask(),
+        r.max(Vec4::splat(MIN_ROUGHNESS)).min(one),
+        one,
+    );
+    let a = r * r;
+    let n_dot_v = (nx * vx + ny * vy + nz * vz).max(Vec4::splat(1e-4));
+
+    // The ambient term: K_A·I_AL·O·(c_diff·(1 − E) + E), E the lobe's albedo.
+    let k = Vec4::splat(s.ambient) * q.occlusion;
+    let ambient = |c: usize| Vec4::splat(lighting.ambient[c]) * k;
+    let ambient: Lanes3 = [ambient(0), ambient(1), ambient(2)];
+    let mut d = [zero; 3];
+    let mut sp = q.emissive;
+    let lit = (ambient[0].cmpne(zero) | ambient[1].cmpne(zero) | ambient[2].cmpne(zero)).bitmask();
+    if lit != 0 {
+        let (ea, eb) = specular_albedo_quad(n_dot_v, sqrt4(a));
+        let eb = eb * f90;
+        let mask = lane_mask(lit);
+        for c in 0..3 {
+            let e = f0[c] * ea + eb;
+            d[c] = Vec4::select(mask, ambient[c] * keep * (one - e), zero);
+            sp[c] = Vec4::select(mask, sp[c] + ambient[c] * e, sp[c]);
+        }
+    }
+
+    // Every light's diffuse and specular terms (`pbr::lights`).
+    let a2 = a * a;
+    let (one_minus_a2, nv_term) = (one - a2, n_dot_v * n_dot_v);
+    for (i, light) in lighting.lights.iter().enumerate() {
+        let Some(inc) = incidence(light, p) else {
+            continue;
+        };
+        let [lx, ly, lz] = inc.l;
+        let n_dot_l = nx * lx + ny * ly + nz * lz;
+        let on = inc.reaches & n_dot_l.cmpgt(zero).bitmask();
+        if on == 0 {
+            continue;
+        }
+        let mask = lane_mask(on);
+        let mut intensity = inc.intensity;
+        if let Some(maps) = lighting.shadows {
+            let v = maps.visibility_quad(i, p, q.normal, inc.l, on);
+            intensity = intensity.map(|c| c * v);
+        }
+        let [hx, hy, hz] = normalize_or_zero([lx + vx, ly + vy, lz + vz]);
+        // Schlick with F90: f0 + (f90 − f0)(1 − V·H)⁵.
+        let m = (one - (vx * hx + vy * hy + vz * hz)).max(zero).min(one);
+        let m2 = m * m;
+        let m5 = m2 * m2 * m;
+        let n_dot_h = (nx * hx + ny * hy + nz * hz).max(zero);
+        // GGX D and the height-correlated Smith visibility.
+        let t = n_dot_h * n_dot_h * (a2 - one) + one;
+        let distribution = a2 / (Vec4::splat(PI) * t * t);
+        let gv = n_dot_l * sqrt4(nv_term * one_minus_a2 + a2);
+        let gl = n_dot_v * sqrt4(n_dot_l * n_dot_l * one_minus_a2 + a2);
+        let sum = gv + gl;
+        let visibility = Vec4::select(sum.cmpgt(zero), Vec4::splat(0.5) / sum, zero);
+        let spec = Vec4::splat(PI) * distribution * visibility * n_dot_l;
+        let kd = keep * n_dot_l;
+        for c in 0..3 {
+            let f = f0[c] + (f90 - f0[c]) * m5;
+            d[c] = Vec4::select(mask, d[c] + intensity[c] * (one - f) * kd, d[c]);
+            sp[c] = Vec4::select(mask, sp[c] + intensity[c] * f * spec, sp[c]);
+        }
+    }
+    QuadFactors::from_lanes(d, sp)
+}
+
+/// [`specular_albedo`](super::pbr::specular_albedo) at four points (one per lane), as
+/// `(A, B)`: the table's cells located in lanes, its texels gathered, the same bilinear
+/// weights and blends (bit for bit).
+#[inline(always)]
+#[must_use]
+pub fn specular_albedo_quad(n_dot_v: Vec4, roughness: Vec4) -> (Vec4, Vec4) {
+    const N: usize = ALBEDO_N;
+    let table = albedo_table();
+    let (zero, one) = (Vec4::ZERO, Vec4::ONE);
+    let last = Vec4::splat((N - 1) as f32);
+    let x = sqrt4(n_dot_v.max(zero).min(one)) * last;
+    let y = roughness.max(zero).min(one) * last;
+    // The cell: ⌊x⌋ and ⌊y⌋ at most N − 2 (`as usize` of a NaN is 0, as `max` makes it here).
+    let cell = |t: Vec4| t.max(zero).to_array().map(|t| (t as usize).min(N - 2));
+    let (i, j) = (cell(x), cell(y));
+    let fx = x - Vec4::from_array(i.map(|i| i as f32));
+    let fy = y - Vec4::from_array(j.map(|j| j as f32));
+    let corners = |k: usize| {
+        let at = j[k] * N + i[k];
+        [table[at], table[at + 1], table[at + N], table[at + N + 1]]
+    };
+    let texels = [corners(0), corners(1), corners(2), corners(3)];
+    let lane = |t: usize, c: usize| {
+        Vec4::new(
+            texels[0][t][c],
+            texels[1][t][c],
+            texels[2][t][c],
+            texels[3][t][c],
+        )
+    };
+    let lerp = |a: Vec4, b: Vec4, f: Vec4| a * (one - f) + b * f;
+    let blend = |c: usize| {
+        let top = lerp(lane(0, c), lane(1, c), fx);
+        let bottom = lerp(lane(2, c), lane(3, c), fx);
+        lerp(top, bottom, fy)
+    };
+    (blend(0), blend(1))
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::shading::pbr::metallic_roughness;
+    use crate::shading::{Light, Material, ShadingModel};
+
+    fn lanes(v: &[Vec3; 4]) -> Lanes3 {
+        std::array::from_fn(|c| Vec4::from_array(std::array::from_fn(|j| v[j][c])))
+    }
+
+    #[test]
+    fn albedo_quad_equals_the_table_read() {
+        use crate::shading::pbr::specular_albedo;
+        for k in 0..200 {
+            let t = k as f32 / 199.0;
+            let nv = Vec4::new(t, 1.0 - t, t * t, -t);
+            let r = Vec4::new(1.0 - t, t, 0.5 * t, 1.0 + t);
+            let (a, b) = specular_albedo_quad(nv, r);
+            for j in 0..4 {
+                let e = specular_albedo(nv[j], r[j]);
+                assert_eq!((a[j], b[j]), (e.x, e.y), "{} {}", nv[j], r[j]);
+            }
+        }
+    }
+
+    #[test]
+    fn quad_equals_the_per_pixel_rule_under_every_light() {
+        let lights = [
+            Light::Directional {
+                direction: Vec3::new(0.3, 0.8, 0.5).normalize(),
+                color: Vec3::new(1.0, 0.9, 0.8),
+            },
+            Light::Point {
+                position: Vec3::new(1.0, 3.0, 2.5),
+                color: Vec3::new(8.0, 6.8, 4.8),
+                range: Some(6.0),
+            },
+            Light::Point {
+                position: Vec3::new(-2.0, 1.0, 0.5),
+                color: Vec3::splat(2.0),
+                range: None,
+            },
+            Light::Spot {
+                position: Vec3::new(0.0, 4.0, 0.0),
+                direction: Vec3::new(0.1, -1.0, 0.2).normalize(),
+                color: Vec3::new(5.0, 5.0, 4.0),
+                inner_deg: 20.0,
+                outer_deg: 50.0,
+            },
+        ];
+        // Normals (one zero, one facing away), positions spread out (one outside the spot's
+        // cone, one beyond the first point light's range), metals and dielectrics, a mirror
+        // (clamped roughness) and an infinite roughness, occlusion 0 (no ambient term) on one.
+        let normals = [
+            Vec3::new(0.1, 2.0, 0.3).normalize(),
+            Vec3::new(-1.0, 0.2, 0.9).normalize(),
+            Vec3::ZERO,
+            Vec3::new(0.2, -1.0, 0.1).normalize(),
+        ];
+        let positions = [
+            Vec3::new(-4.0, 0.0, -5.0),
+            Vec3::new(-0.5, 0.1, -1.0),
+            Vec3::new(0.5, 0.2, 0.0),
+            Vec3::new(1.5, 0.3, 1.0),
+        ];
+        let base = [
+            Vec3::new(0.9, 0.5, 0.1),
+            Vec3::ONE,
+            Vec3::new(0.2, 0.3, 0.4),
+            Vec3::ZERO,
+        ];
+        let metallic = [1.0, 0.0, 0.5, 0.25];
+        let roughness = [0.0, 0.5, f32::INFINITY, 1.0];
+        let occlusion = [1.0, 0.0, 0.5, 0.75];
+        let emissive = [Vec3::ZERO, Vec3::new(0.1, 0.2, 0.3), Vec3::ONE, Vec3::ZERO];
+        for ior in [1.5, 1.33] {
+            let material = Material {
+                model: ShadingModel::MetallicRoughness,
+                ambient: 0.8,
+                ior,
+                ..Default::default()
+            };
+            let template = Surface::new(&material, Vec3::ZERO, Vec3::ZERO);
+            let q = MrQuad {
+                position: lanes(&positions),
+                normal: lanes(&normals),
+                base_color: lanes(&base),
+                metallic: Vec4::from_array(metallic),
+                roughness: Vec4::from_array(roughness),
+                occlusion: Vec4::from_array(occlusion),
+                emissive: lanes(&emissive),
+            };
+            for ambient in [Vec3::ZERO, Vec3::new(0.3, 0.35, 0.4)] {
+                for lights in [&lights[..], &lights[..1], &[]] {
+                    let lighting = Lighting {
+                        lights,
+                        ambient,
+                        shadows: None,
+                    };
+                    for viewer in [
+                        Viewer::Point(Vec3::new(0.5, 3.0, 4.0)),
+                        Viewer::Direction(Vec3::new(0.0, 0.6, 0.8)),
+                    ] {
+                        let quad = metallic_roughness_quad(&template, &q, &lighting, viewer);
+                        for j in 0..4 {
+                            let s = Surface {
+                                position: positions[j],
+                                normal: normals[j],
+                                base_color: base[j],
+                                metallic: metallic[j],
+                                roughness: roughness[j],
+                                occlusion: occlusion[j],
+                                emissive: emissive[j],
+                                ..template
+                            };
+                            let (d, sp) = metallic_roughness(&s, &lighting, viewer);
+                            let (qd, qs) = (quad.d[j].truncate(), quad.s[j].truncate());
+                            // The same operations in the same order: equal, not just close.
+                            assert!(
+                                d == qd && sp == qs,
+                                "pixel {j} {viewer:?} ior {ior} ambient {ambient}: \
+                                 {d} {sp} vs {qd} {qs}"
+                            );
+                            assert_eq!((quad.d[j].w, quad.s[j].w), (0.0, 0.0));
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
