@@ -25,22 +25,29 @@ pub(crate) struct Cell {
 }
 
 impl Cell {
-    /// The cell of voxel-space `p` in a `dims` grid, `p` clamped to the box. `None` when a
-    /// side is zero or `len`, the data's length, is short of the grid's voxel count.
+    /// The cell of voxel-space `p` in a `dims` grid, `p` clamped to the box (a NaN
+    /// coordinate to 0). `None` when a side is zero or `len`, the data's length, is short of
+    /// the grid's voxel count.
     #[inline(always)]
     pub fn locate(dims: [u32; 3], p: Vec3, len: usize) -> Option<Cell> {
         let [nx, ny, nz] = dims;
         if nx == 0 || ny == 0 || nz == 0 || len < voxel_count(dims) {
             return None;
         }
-        let x = p.x.clamp(0.0, (nx - 1) as f32);
-        let y = p.y.clamp(0.0, (ny - 1) as f32);
-        let z = p.z.clamp(0.0, (nz - 1) as f32);
-        let (ix, iy, iz) = (
-            (x as u32).min(nx.saturating_sub(2)),
-            (y as u32).min(ny.saturating_sub(2)),
-            (z as u32).min(nz.saturating_sub(2)),
-        );
+        // `max` then `min`: a clamp that also takes NaN to 0, so every coordinate is a finite
+        // value in [0, n − 1] and converts without the saturating cast's checks (a few
+        // instructions per axis at every sample of the marcher).
+        let x = p.x.max(0.0).min((nx - 1) as f32);
+        let y = p.y.max(0.0).min((ny - 1) as f32);
+        let z = p.z.max(0.0).min((nz - 1) as f32);
+        // SAFETY: x, y, z are finite, at least 0 and below 2³², as `to_int_unchecked` needs.
+        let (ix, iy, iz) = unsafe {
+            (
+                x.to_int_unchecked::<u32>().min(nx.saturating_sub(2)),
+                y.to_int_unchecked::<u32>().min(ny.saturating_sub(2)),
+                z.to_int_unchecked::<u32>().min(nz.saturating_sub(2)),
+            )
+        };
         Some(Cell {
             index: (iz as usize * ny as usize + iy as usize) * nx as usize + ix as usize,
             strides: Self::strides(dims),
