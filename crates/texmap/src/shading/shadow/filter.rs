@@ -540,13 +540,11 @@ mod tests {
         }
     }
 
-    #[test]
-    fn the_tiles_give_pcf3_the_same_fractions_as_reading_every_window() {
-        // A floor seen at a slope casting on itself (its own depths in the map: the tiles'
-        // fitted planes know it lit), a blocker over part of it (the blocks under it known
-        // shadowed) and ragged edges; receivers on the floor's plane.
+    /// A 16² map of a floor seen at a slope (y = 0.3·x − 0.2·z) casting on itself, a blocker
+    /// over part of it: the map, the same without its tiles, the floor's height and normal.
+    fn sloped_floor() -> (ShadowMap, ShadowMap, impl Fn(f32, f32) -> f32, Vec3) {
         let (ka, kb) = (0.3f32, -0.2f32);
-        let floor_y = |x: f32, z: f32| ka * x + kb * z;
+        let floor_y = move |x: f32, z: f32| ka * x + kb * z;
         let mut m = map(|_, _| false, 0.0);
         let n = 16;
         m.set_rows((0..n * n).map(|k| {
@@ -560,7 +558,15 @@ mod tests {
         }));
         let mut bare = m.clone();
         bare.tiles.clear();
-        let normal = Vec3::new(-ka, 1.0, -kb).normalize();
+        (m, bare, floor_y, Vec3::new(-ka, 1.0, -kb).normalize())
+    }
+
+    #[test]
+    fn the_tiles_give_pcf3_the_same_fractions_as_reading_every_window() {
+        // A floor seen at a slope casting on itself (its own depths in the map: the tiles'
+        // fitted planes know it lit), a blocker over part of it (the blocks under it known
+        // shadowed) and ragged edges; receivers on the floor's plane.
+        let (m, bare, floor_y, normal) = sloped_floor();
         let (mut known, mut total) = (0, 0);
         for k in 0..400 {
             // Inside the map by more than the window (pcf3 reads it; no clamped box).
@@ -598,22 +604,7 @@ mod tests {
         // The sloped floor casting on itself with a blocker over part of it (known lit,
         // known shadowed and read windows), quads of four receivers a little apart or
         // spread over many blocks, inside the map and over its edges, some lanes skipped.
-        let (ka, kb) = (0.3f32, -0.2f32);
-        let floor_y = |x: f32, z: f32| ka * x + kb * z;
-        let mut m = map(|_, _| false, 0.0);
-        let n = 16;
-        m.set_rows((0..n * n).map(|k| {
-            let (i, j) = ((k % n) as f32, (k / n) as f32);
-            let (x, z) = (i + 0.5 - 8.0, j + 0.5 - 8.0);
-            if (3.0..7.0).contains(&i) && j < 9.0 {
-                2.0
-            } else {
-                10.0 - floor_y(x, z)
-            }
-        }));
-        let mut bare = m.clone();
-        bare.tiles.clear();
-        let normal = Vec3::new(-ka, 1.0, -kb).normalize();
+        let (m, bare, floor_y, normal) = sloped_floor();
         let (mut known, mut total) = (0, 0);
         for k in 0..600 {
             let (x, z) = (

@@ -329,17 +329,9 @@ impl Tracer<'_> {
                 let e = self.core_step_distance(p);
                 reads += 1;
                 if e <= 0.0 {
-                    let (hit, n) = match (t_prev, e_prev) {
-                        (Some(tp), Some(ep)) => self.false_position(eye, dir, (tp, ep), (t, e)),
-                        (Some(tp), None) => self.bisect(eye, dir, tp, t),
-                        (None, _) => (t, 0),
-                    };
-                    hit_t = hit;
-                    if self.depth_only {
-                        break;
-                    }
-                    reads += u64::from(n) + 6;
-                    acc = self.shade_core(eye + dir * hit, dir, hit);
+                    let n;
+                    (hit_t, acc, n) = self.core_crossing(eye, dir, (t_prev, e_prev), (t, e), true);
+                    reads += n;
                     break;
                 }
                 t_prev = Some(t);
@@ -380,19 +372,10 @@ impl Tracer<'_> {
                     d
                 };
                 if e <= 0.0 {
-                    let (hit, n) = match (t_prev, e_prev) {
-                        (Some(tp), Some(ep)) if warped => {
-                            self.false_position(eye, dir, (tp, ep), (t, e))
-                        }
-                        (Some(tp), _) => self.bisect(eye, dir, tp, t),
-                        (None, _) => (t, 0),
-                    };
-                    hit_t = hit;
-                    if self.depth_only {
-                        break;
-                    }
-                    reads += u64::from(n) + 6;
-                    acc = self.shade_core(eye + dir * hit, dir, hit);
+                    let prev = (t_prev, e_prev);
+                    let n;
+                    (hit_t, acc, n) = self.core_crossing(eye, dir, prev, (t, e), warped);
+                    reads += n;
                     break;
                 }
                 t_prev = Some(t);
@@ -448,6 +431,34 @@ impl Tracer<'_> {
             }
         }
         (acc, reads, hit_t)
+    }
+
+    /// The core's crossing between the last step (`t_prev`, with its core distance `e_prev`
+    /// when one was read) and `t`, where the distance `e` is ≤ 0: false position when `falsi`
+    /// and both distances are known, else bisection (the first step: `t` itself). Returns the
+    /// hit's distance along the ray, its shaded colour (zero when only depth is asked) and
+    /// the field reads taken.
+    fn core_crossing(
+        &self,
+        eye: Vec3,
+        dir: Vec3,
+        (t_prev, e_prev): (Option<f32>, Option<f32>),
+        (t, e): (f32, f32),
+        falsi: bool,
+    ) -> (f32, Vec4, u64) {
+        let (hit, n) = match (t_prev, e_prev) {
+            (Some(tp), Some(ep)) if falsi => self.false_position(eye, dir, (tp, ep), (t, e)),
+            (Some(tp), _) => self.bisect(eye, dir, tp, t),
+            (None, _) => (t, 0),
+        };
+        if self.depth_only {
+            return (hit, Vec4::ZERO, 0);
+        }
+        (
+            hit,
+            self.shade_core(eye + dir * hit, dir, hit),
+            u64::from(n) + 6,
+        )
     }
 
     /// The core surface at world point `p`, reached at ray distance `t`: opaque, shaded.
