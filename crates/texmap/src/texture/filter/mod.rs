@@ -249,7 +249,7 @@ fn gl_choices(
 /// quad `i`, the same values as `sample_quads_lanes` of each texture. On textures of one size
 /// under an OpenGL filter, each quad's levels are chosen once and the default storage's
 /// bilinear taps (addresses and weights) computed once for all of them
-/// ([`fixed16::read_quad_shared`]).
+/// (`fixed16::read_quad_shared`).
 ///
 /// # Panics
 /// If `masks` is shorter than `coords`.
