@@ -40,16 +40,16 @@ pub(super) struct EnvDraw<'a> {
     pub refracts: bool,
 }
 
-/// Whether a frame's draws need the prefiltered irradiance and specular levels:
-/// `(diffuse, specular)`.
-pub(super) fn prefilters_needed(scene: &Scene, settings: &Settings) -> (bool, bool) {
+/// Whether a frame's draws need the prefiltered irradiance, specular and sheen levels:
+/// `(diffuse, specular, sheen)`.
+pub(super) fn prefilters_needed(scene: &Scene, settings: &Settings) -> (bool, bool, bool) {
     let Some(env) = &scene.environment else {
-        return (false, false);
+        return (false, false, false);
     };
     if settings.unlit {
-        return (false, false);
+        return (false, false, false);
     }
-    let (mut diffuse, mut specular) = (false, false);
+    let (mut diffuse, mut specular, mut sheen) = (false, false, false);
     for mesh in &scene.meshes {
         let Some(m) = scene.materials.get(mesh.material) else {
             continue;
@@ -62,6 +62,7 @@ pub(super) fn prefilters_needed(scene: &Scene, settings: &Settings) -> (bool, bo
             ShadingModel::MetallicRoughness => {
                 diffuse |= env.ibl;
                 specular |= env.ibl || (env.reflections && transmits);
+                sheen |= env.ibl && m.lobes.sheen_color != glam::Vec3::ZERO;
             }
             ShadingModel::Phong => {
                 diffuse |= env.ibl && m.ambient > 0.0;
@@ -70,7 +71,7 @@ pub(super) fn prefilters_needed(scene: &Scene, settings: &Settings) -> (bool, bo
             }
         }
     }
-    (diffuse, specular)
+    (diffuse, specular, sheen)
 }
 
 /// Computes now the prefiltered forms of `scene`'s environment that frames rendered with
@@ -80,9 +81,9 @@ pub fn prefilter_environment(scene: &Scene, settings: &Settings) -> bool {
     let Some(env) = &scene.environment else {
         return false;
     };
-    let (diffuse, specular) = prefilters_needed(scene, settings);
-    let _ = EnvLight::new(env, diffuse, specular);
-    diffuse || specular
+    let (diffuse, specular, sheen) = prefilters_needed(scene, settings);
+    let _ = EnvLight::new(env, diffuse, specular).with_sheen(sheen);
+    diffuse || specular || sheen
 }
 
 impl<'a> DrawInfo<'a> {

@@ -229,8 +229,8 @@ fn draw_frame(
     let viewer = camera.viewer();
     // The environment's prefiltered forms are made here, once per environment (cached).
     let env_light = scene.environment.as_ref().map(|env| {
-        let (diffuse, specular) = environment::prefilters_needed(scene, settings);
-        let mut light = EnvLight::new(env, diffuse, specular);
+        let (diffuse, specular, sheen) = environment::prefilters_needed(scene, settings);
+        let mut light = EnvLight::new(env, diffuse, specular).with_sheen(sheen);
         light.sampler = settings.textures.apply(env.sampler);
         light
     });

@@ -15,8 +15,9 @@
 //!
 //! Under an environment, each lobe reads the prefiltered environment as the base's specular
 //! lobe does (split sum): the clearcoat along its own reflected direction at its roughness;
-//! the sheen lobe, broad and grazing, takes the irradiance about the normal times its
-//! albedo `E` (an approximation: no Charlie-prefiltered map is built).
+//! the sheen reads the environment prefiltered by its Charlie lobe (the glTF sample viewer's
+//! method, [`super::ibl`]) along the reflected direction at its roughness, times its albedo
+//! `E`.
 
 use glam::Vec3;
 

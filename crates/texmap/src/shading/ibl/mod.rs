@@ -37,7 +37,11 @@
 //! specular lobe is prefiltered at roughness k/8, k = 1…8, by filtered importance sampling
 //! (GGX half vectors from a Hammersley set, N = V = R, each sample read at the source level
 //! its solid angle covers with no extra level of blur, weighted by N·L: Karis's split sum),
-//! into cubes of 128 down to 16 texels a side. Each derived cube stores a one-texel apron computed from the directions
+//! into cubes of 128 down to 16 texels a side; when a material has a sheen
+//! (`KHR_materials_sheen`), the same at sheen roughness k/8 with the Charlie lobe (half
+//! vectors from `D(N·H)·N·H`, only those within 45° of N, which reflect above the surface; 16-texel
+//! faces, 128 samples: the glTF sample viewer's sheen filter), read along the reflected
+//! direction and scaled by the sheen's albedo. Each derived cube stores a one-texel apron computed from the directions
 //! beyond its edges, so bilinear reads are seamless with no neighbour lookup.
 //!
 //! Reads and their footprints. Mirror reads (roughness 0) go to the map itself through the
@@ -63,7 +67,7 @@ use crate::texture::{Filter, Sampler, TextureCube, Wrap};
 
 mod prefilter;
 mod terms;
-use prefilter::{irradiance_cube, source_cube, specular_levels};
+use prefilter::{irradiance_cube, sheen_levels, source_cube, specular_levels};
 #[cfg(test)]
 mod tests;
 
@@ -151,6 +155,7 @@ struct Cache {
     source: OnceLock<TextureCube>,
     irradiance: OnceLock<FaceSet>,
     specular: OnceLock<Vec<FaceSet>>,
+    sheen: OnceLock<Vec<FaceSet>>,
     mirror: OnceLock<MirrorCube>,
 }
 
@@ -239,6 +244,15 @@ impl Environment {
             .get_or_init(|| specular_levels(self.source_cube()))
     }
 
+    /// The sheen levels, the map prefiltered by the Charlie lobe at sheen roughness
+    /// `k/LEVELS`, `k = 1…LEVELS` (module docs), computed on first use.
+    #[must_use]
+    pub fn sheen_levels(&self) -> &[FaceSet] {
+        self.cache
+            .sheen
+            .get_or_init(|| sheen_levels(self.source_cube()))
+    }
+
     /// The map as a [`MirrorCube`] (the sharp end of the specular reads), computed on first
     /// use.
     #[must_use]
@@ -250,6 +264,7 @@ impl Environment {
     pub fn prefilter(&self) {
         let _ = self.irradiance();
         let _ = self.specular_levels();
+        let _ = self.sheen_levels();
         let _ = self.mirror_cube();
     }
 

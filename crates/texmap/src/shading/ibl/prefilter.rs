@@ -330,36 +330,85 @@ pub(super) fn specular_levels(source: &TextureCube) -> Vec<FaceSet> {
                     (h, lod)
                 })
                 .collect();
-            FaceSet::from_fn(n, |normal| {
-                let (t, b) = orthonormal_basis(normal);
-                let mut sum = Vec3::ZERO;
-                let mut weight = 0.0;
-                for &(h, lod) in &taps {
-                    let h = t * h.x + b * h.y + normal * h.z;
-                    let l = h * (2.0 * normal.dot(h)) - normal;
-                    let n_dot_l = normal.dot(l);
-                    if n_dot_l <= 0.0 {
-                        continue;
-                    }
-                    let s =
-                        Sampler::new(Filter::TRILINEAR, Wrap::ClampToEdge).with_lod_clamp(lod, lod);
-                    let c = sample_cube(
-                        source,
-                        &s,
-                        &CubeFootprint {
-                            dir: l,
-                            ..Default::default()
-                        },
-                    );
-                    sum += c.truncate() * n_dot_l;
-                    weight += n_dot_l;
-                }
-                if weight > 0.0 {
-                    sum / weight
-                } else {
-                    Vec3::ZERO
-                }
-            })
+            lobe_average(source, n, &taps)
+        })
+        .collect()
+}
+
+/// An `n`-texel cube of the source averaged over a lobe about each texel's direction `N`
+/// (`N = V = R`): `taps` are half vectors in the normal's tangent space and the source level
+/// each reads; `L` is `N` reflected about each, weighted by `N·L` (those below the surface
+/// skipped).
+fn lobe_average(source: &TextureCube, n: usize, taps: &[(Vec3, f32)]) -> FaceSet {
+    FaceSet::from_fn(n, |normal| {
+        let (t, b) = orthonormal_basis(normal);
+        let mut sum = Vec3::ZERO;
+        let mut weight = 0.0;
+        for &(h, lod) in taps {
+            let h = t * h.x + b * h.y + normal * h.z;
+            let l = h * (2.0 * normal.dot(h)) - normal;
+            let n_dot_l = normal.dot(l);
+            if n_dot_l <= 0.0 {
+                continue;
+            }
+            let s = Sampler::new(Filter::TRILINEAR, Wrap::ClampToEdge).with_lod_clamp(lod, lod);
+            let c = sample_cube(
+                source,
+                &s,
+                &CubeFootprint {
+                    dir: l,
+                    ..Default::default()
+                },
+            );
+            sum += c.truncate() * n_dot_l;
+            weight += n_dot_l;
+        }
+        if weight > 0.0 {
+            sum / weight
+        } else {
+            Vec3::ZERO
+        }
+    })
+}
+
+/// Face size and sample count of every sheen level: the Charlie lobe is broad (its
+/// reflected directions lie near the horizon of the normal), so the result varies slowly
+/// with the normal.
+const SHEEN_FACE: usize = 16;
+const SHEEN_SAMPLES: u32 = 128;
+
+/// The environment prefiltered by the sheen's Charlie lobe ([`crate::shading::sheen`]) at
+/// sheen roughness `k/LEVELS`, `k = 1…LEVELS`, as the glTF sample viewer's Charlie filter:
+/// `N = V = R`, half vectors drawn from `D(N·H)·(N·H)` (`sin θ_h = u^{α/(2α+1)}`, α = r²),
+/// `L` the view reflected about each, weighted by `N·L`. Only half vectors within 45° of
+/// the normal reflect above the surface, so `u` is drawn from that range alone (the same
+/// weighted mean, with no wasted samples); each sample reads the source level its solid
+/// angle `1/(M·pdf)` covers, `pdf = D/4` divided by the share of the range.
+pub(super) fn sheen_levels(source: &TextureCube) -> Vec<FaceSet> {
+    let n_src = source.size() as f32;
+    let levels = source.faces()[0].levels().len() as f32;
+    let texel_omega = 4.0 * PI / (6.0 * n_src * n_src);
+    (1..=LEVELS)
+        .map(|k| {
+            let r = (k as f32 / LEVELS as f32).max(crate::shading::sheen::MIN_SHEEN_ROUGHNESS);
+            let alpha = f64::from(r * r);
+            let power = alpha / (2.0 * alpha + 1.0);
+            // sin θ_h ≤ 1/√2 ⇔ u ≤ (1/√2)^{1/power}.
+            let u_max = std::f64::consts::FRAC_1_SQRT_2.powf(1.0 / power);
+            let taps: Vec<(Vec3, f32)> = (0..SHEEN_SAMPLES)
+                .map(|i| {
+                    let u = (f64::from(i) + 0.5) / f64::from(SHEEN_SAMPLES) * u_max;
+                    let sin_h = u.powf(power).min(1.0) as f32;
+                    let cos_h = (1.0 - sin_h * sin_h).max(0.0).sqrt();
+                    let phi = TAU * radical_inverse(i);
+                    let h = Vec3::new(sin_h * phi.cos(), sin_h * phi.sin(), cos_h);
+                    let pdf = crate::shading::sheen::distribution(cos_h, r) * 0.25 / u_max as f32;
+                    let omega = 1.0 / (SHEEN_SAMPLES as f32 * pdf);
+                    let lod = (0.5 * (omega / texel_omega).log2()).clamp(0.0, levels - 1.0);
+                    (h, lod)
+                })
+                .collect();
+            lobe_average(source, SHEEN_FACE, &taps)
         })
         .collect()
 }

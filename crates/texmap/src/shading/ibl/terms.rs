@@ -21,6 +21,9 @@ pub struct EnvLight<'a> {
     pub specular: Option<&'a [FaceSet]>,
     /// The map as a trilinear cube, beside `specular` (the sharp end of rough reads).
     pub sharp: Option<&'a MirrorCube>,
+    /// The Charlie-prefiltered levels, when some draw has a sheen (see
+    /// [`EnvLight::with_sheen`]); without them a sheen takes the irradiance.
+    pub sheen: Option<&'a [FaceSet]>,
     /// How the map itself is read: the environment's sampler, with any overrides of the
     /// frame laid over it (the wrap modes stay the layout's).
     pub sampler: Sampler,
@@ -38,8 +41,16 @@ impl<'a> EnvLight<'a> {
             irradiance: diffuse.then(|| env.irradiance()),
             specular: specular.then(|| env.specular_levels()),
             sharp: specular.then(|| env.mirror_cube()),
+            sheen: None,
             sampler: env.sampler,
         }
+    }
+
+    /// This light with the sheen levels resolved (computed now if not cached) when `on`.
+    #[must_use]
+    pub fn with_sheen(mut self, on: bool) -> Self {
+        self.sheen = on.then(|| self.env.sheen_levels());
+        self
     }
 
     /// A world direction in the map's frame (the identity unless the map is rotated).
@@ -67,6 +78,23 @@ impl<'a> EnvLight<'a> {
             Some(f) => f.read(self.in_map_frame(n)) * self.env.intensity,
             None => Vec3A::ZERO,
         }
+    }
+
+    /// The light a sheen of roughness `r` reflects towards a viewer along the reflected
+    /// direction `dir` (a world direction): the Charlie-prefiltered levels around `r`,
+    /// interpolated linearly in `r` (the first level below `1/LEVELS`), times the intensity;
+    /// without the levels, the irradiance about `normal`.
+    #[inline]
+    #[must_use]
+    pub fn sheen_radiance(&self, dir: Vec3, normal: Vec3, r: f32) -> Vec3 {
+        let Some(levels) = self.sheen else {
+            return self.irradiance(normal);
+        };
+        let x = (r.clamp(0.0, 1.0) * LEVELS as f32 - 1.0).max(0.0);
+        let k = (x as usize).min(LEVELS - 2);
+        let t = (x - k as f32).min(1.0);
+        let (a, b) = levels[k].read_pair(&levels[k + 1], self.in_map_frame(dir));
+        (a.lerp(b, t) * self.env.intensity).into()
     }
 
     /// The map itself along a world-direction footprint (the background, mirror reflections),
@@ -413,7 +441,7 @@ fn layered_env(
     let k = sheen_scaling(l.sheen_color, l.sheen_roughness, n_dot_v);
     let mut under_coat = sp * k;
     if l.sheen_color != Vec3::ZERO {
-        under_coat += light.irradiance(s.normal)
+        under_coat += light.sheen_radiance(reflect(s.normal, v), s.normal, l.sheen_roughness)
             * l.sheen_color
             * (crate::shading::sheen::albedo(n_dot_v, l.sheen_roughness) * s.occlusion);
     }

@@ -237,3 +237,44 @@ fn a_smooth_reflection_reads_the_mirror_cube_like_the_map() {
         "{sharp} {from_map}"
     );
 }
+
+#[test]
+fn sheen_levels_keep_a_uniform_environment_and_lean_to_the_horizon() {
+    // The furnace: every Charlie level of a uniform environment reads its radiance.
+    let env = uniform(Vec3::splat(0.7));
+    let light = EnvLight::new(&env, true, false).with_sheen(true);
+    for n in [Vec3::Y, Vec3::new(0.3, -0.5, 0.8).normalize()] {
+        for r in [0.0, 0.2, 0.5, 1.0] {
+            let l = light.sheen_radiance(n, n, r);
+            assert!(
+                (l - Vec3::splat(0.7)).abs().max_element() < 2e-3,
+                "{n} {r}: {l}"
+            );
+        }
+    }
+    // A bright band around the horizon (|y| < 0.25) over black: facing up, a cosine-weighted
+    // irradiance sees the band at grazing angles only, while a smooth sheen's light comes
+    // from near the horizon of the normal — its reads must lean to the band, the more so the
+    // smoother the sheen.
+    let (w, h) = (256, 128);
+    let band = Texture2D::from_fn(w, h, TextureOptions::default(), |x, y| {
+        let u = (x as f32 + 0.5) / w as f32;
+        let v = y as f32 / (h - 1) as f32;
+        let d = crate::texture::environment::equirect_direction(u, v);
+        let c = if d.y.abs() < 0.25 { 1.0 } else { 0.0 };
+        Vec4::new(c, c, c, 1.0)
+    })
+    .unwrap();
+    let env = Environment::new(EnvironmentMap::Equirect(band), "band");
+    let light = EnvLight::new(&env, true, false).with_sheen(true);
+    let e = light.irradiance(Vec3::Y).x;
+    let smooth = light.sheen_radiance(Vec3::Y, Vec3::Y, 0.125).x;
+    let rough = light.sheen_radiance(Vec3::Y, Vec3::Y, 1.0).x;
+    assert!(
+        smooth > rough && rough > e && smooth > 0.5,
+        "irradiance {e}, sheen r=1/8 {smooth}, r=1 {rough}"
+    );
+    // Without the levels a sheen takes the irradiance, as before.
+    let plain = EnvLight::new(&env, true, false);
+    assert_eq!(plain.sheen_radiance(Vec3::Y, Vec3::Y, 0.5).x, e);
+}
