@@ -275,14 +275,19 @@ enum Mode {
     Environment,
 }
 
-/// A panorama brighter above than below, so tilted normals and occlusion show.
+/// A panorama brighter above than below, so tilted normals and occlusion show: made once,
+/// so every frame shares its prefiltered levels (clones share the cache).
 fn environment() -> Environment {
-    let t = Texture2D::from_fn(32, 16, TextureOptions::default(), |_, y| {
-        let up = 1.0 - y as f32 / 15.0;
-        (Vec3::new(0.3, 0.4, 0.5) + Vec3::new(1.2, 1.0, 0.8) * up).extend(1.0)
+    static ENV: std::sync::OnceLock<Environment> = std::sync::OnceLock::new();
+    ENV.get_or_init(|| {
+        let t = Texture2D::from_fn(32, 16, TextureOptions::default(), |_, y| {
+            let up = 1.0 - y as f32 / 15.0;
+            (Vec3::new(0.3, 0.4, 0.5) + Vec3::new(1.2, 1.0, 0.8) * up).extend(1.0)
+        })
+        .unwrap();
+        Environment::new(EnvironmentMap::Equirect(t), "gradient")
     })
-    .unwrap();
-    Environment::new(EnvironmentMap::Equirect(t), "gradient")
+    .clone()
 }
 
 /// The frame (RGB8) of the quad drawn with `maps` in `mode`.
