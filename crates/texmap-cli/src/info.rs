@@ -432,6 +432,11 @@ fn print_scene(out: &mut String, path: &std::path::Path, l: &Loaded) {
         }
         maps.extend(crate::render::relief::describe(m));
         let mut env_terms = String::new();
+        if m.emissive != glam::Vec3::ZERO {
+            // glTF's emissive factor times KHR_materials_emissive_strength, linear.
+            let e = m.emissive;
+            env_terms += &format!(", emissive ({:.3}, {:.3}, {:.3})", e.x, e.y, e.z);
+        }
         if m.reflection > 0.0 {
             env_terms += &format!(", reflection K_R {}", m.reflection);
         }

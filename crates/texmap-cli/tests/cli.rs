@@ -167,6 +167,33 @@ fn good_gltf_glb_and_obj_render_and_info_lists_them() {
 }
 
 #[test]
+fn info_lists_the_emission_with_its_strength() {
+    let d = dir("emissive");
+    png(&d, "tex.png");
+    std::fs::write(d.join("tri.bin"), triangle_bin([0, 1, 2])).unwrap();
+    let json = triangle_json(
+        Some("tri.bin"),
+        Some("tex.png"),
+        r#","extensionsUsed": ["KHR_materials_emissive_strength"]"#,
+    )
+    .replace(
+        r#"{"pbrMetallicRoughness":"#,
+        r#"{"emissiveFactor": [1, 0.5, 0], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}, "pbrMetallicRoughness":"#,
+    );
+    assert!(json.contains("emissiveStrength"));
+    let g = d.join("glow.gltf");
+    std::fs::write(&g, json).unwrap();
+    let info = texmap(&["info", g.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&info.stdout);
+    assert!(
+        info.status.success(),
+        "{}",
+        String::from_utf8_lossy(&info.stderr)
+    );
+    assert!(text.contains("emissive (4.000, 2.000, 0.000)"), "{text}");
+}
+
+#[test]
 fn truncated_glb_is_one_line_naming_the_file() {
     let d = dir("trunc");
     let json = triangle_json(None, None, "");
