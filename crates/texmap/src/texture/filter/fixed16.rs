@@ -1,7 +1,10 @@
 //! Bilinear and trilinear reads of a quad's four pixels on the default storage (16-bit
 //! linear premultiplied texels, 4×4 tiles) in fixed point, with SSE2: the path that the
 //! plain textured triangle takes, and so most of a frame's texels. Nearest reads share the
-//! lane-wise addressing and return exactly the float path's values.
+//! lane-wise addressing and return exactly the float path's values. The 8-bit storage
+//! (`Storage::Rgba8`, RGBA8 in 4×4 tiles) is read the same way, each texel widened to 16-bit
+//! linear as it is loaded: an sRGB code through a 256-entry table (the value the default
+//! storage holds for it), a linear one as `c · 257`, colour times alpha unless opaque.
 //!
 //! A pixel's taps (four per level, at most eight) are summed as `Σ t·w` with `pmaddwd`:
 //! - each texel enters as 15 bits (its 16-bit value shifted right once), two texels' channels
