@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Scene loading: DamagedHelmet (five 2048² JPEG/PNG maps) loaded and made ready, then one
-# 1920x1080 frame (--threads 2), with each storage (decoded, native), against llvmpipe
+# 1920x1080 frame (--threads 2), with each storage (decoded, native, rgba8; STORAGES= to
+# choose), against llvmpipe
 # (gl_render.py, LP_NUM_THREADS=2) on the same model, alternating for ROUNDS rounds.
 # Prints, for each texmap binary and storage, the medians over the rounds of setup_ms (load +
 # setup, from --stats), the frame time, the wall time and the peak RSS (/usr/bin/time), and
@@ -29,7 +30,9 @@ trap 'rm -rf "$OUT"' EXIT
 : > "$OUT/rows"
 for r in $(seq "$ROUNDS"); do
     for bin in "$@"; do
-        for s in decoded native; do
+        for s in ${STORAGES:-decoded native rgba8}; do
+            # A build that does not know a storage (an older one) skips it.
+            "$bin" render --help | grep -q "$s" || continue
             /usr/bin/time -f '%e %M' -o "$OUT/time" "$bin" render "$H" --size 1920x1080 \
                 --threads 2 --frames 1 --stats --quiet --texture-storage "$s" -o "$OUT/f.png" \
                 > "$OUT/stats.json"

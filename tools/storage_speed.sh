@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Texture storage, each way: frame time and peak memory of the same render with
-# --texture-storage decoded, native and compressed, the three alternating for ROUNDS rounds
+# --texture-storage decoded, native, compressed and rgba8, the four alternating for ROUNDS rounds
 # (1920x1080, --threads 2, FRAMES turntable frames each); prints the median over the rounds
 # of each run's median frame time (--stats) and of its peak RSS (/usr/bin/time), and the
 # ratios to decoded. With ../shared/peers set up, the DamagedHelmet rows are followed by
@@ -23,12 +23,13 @@ OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
 P=${PEERS:-../shared/peers}
 PY=$P/.venv/bin/python
-common=(--size 1920x1080 --threads 2 --frames "$FRAMES" --stats --quiet -o "$OUT/f.png")
+common=(--size 1920x1080 --threads 2 --frames "$FRAMES" --stats --quiet -o "$OUT/f{frame}.png")
 X=$A/compressed/xbox_atg_fastblockcompress
 H=$A/gltf/DamagedHelmet/glTF-Binary/DamagedHelmet.glb
 cases=(
     "plane, BC1 512²|builtin:plane --texture $X/opaque_512_offline_bc1.DDS --filter trilinear"
     "plane, BC7 512²|builtin:plane --texture $X/opaque_512_offline_bc7.dds --filter trilinear"
+    "plane, brick.png (512², 8-bit)|builtin:plane --texture $A/textures/photos/brick.png --filter trilinear"
     "DamagedHelmet|$H"
 )
 # One run: "frame_ms peak_kB".
@@ -53,7 +54,7 @@ for c in "${cases[@]}"; do
     declare -A ms=() kb=()
     peer_kb=()
     for _ in $(seq "$ROUNDS"); do
-        for s in decoded native compressed; do
+        for s in decoded native compressed rgba8; do
             read -r t m < <(run "$args" "$s")
             ms[$s]="${ms[$s]:-} $t"
             kb[$s]="${kb[$s]:-} $m"
@@ -63,11 +64,11 @@ for c in "${cases[@]}"; do
         fi
     done
     python3 - "$name" "${ms[decoded]}" "${kb[decoded]}" "${ms[native]}" "${kb[native]}" \
-        "${ms[compressed]}" "${kb[compressed]}" "${peer_kb[*]:-}" <<'PY'
+        "${ms[compressed]}" "${kb[compressed]}" "${ms[rgba8]}" "${kb[rgba8]}" "${peer_kb[*]:-}" <<'PY'
 import statistics as st, sys
 name, rest = sys.argv[1], sys.argv[2:]
 rows = {}
-for i, s in enumerate(["decoded", "native", "compressed"]):
+for i, s in enumerate(["decoded", "native", "compressed", "rgba8"]):
     t = [float(x) for x in rest[2 * i].split()]
     m = [float(x) / 1024 for x in rest[2 * i + 1].split()]
     rows[s] = (t, m)
@@ -76,8 +77,8 @@ for s, (t, m) in rows.items():
     print(f"| {name} | {s} | {st.median(t):.1f} ({min(t):.1f}–{max(t):.1f}) | "
           f"{st.median(t) / t0:.2f} | {st.median(m):.0f} ({min(m):.0f}–{max(m):.0f}) | "
           f"{st.median(m) / m0:.2f} |")
-if rest[6].strip():
-    p = [float(x) / 1024 for x in rest[6].split()]
+if rest[8].strip():
+    p = [float(x) / 1024 for x in rest[8].split()]
     print(f"| {name} | llvmpipe (gl_render.py) | — | — | {st.median(p):.0f} "
           f"({min(p):.0f}–{max(p):.0f}) | {st.median(p) / m0:.2f} |")
 PY

@@ -26,8 +26,8 @@ pub struct InfoArgs {
     /// Let the file's references leave its folder.
     #[arg(long)]
     allow_outside_paths: bool,
-    /// How the textures would be held (decoded, native, compressed), to see their memory.
-    #[arg(long, value_parser = crate::render::parse_storage, value_name = "decoded|native|compressed")]
+    /// How the textures would be held (decoded, native, compressed, rgba8), to see their memory.
+    #[arg(long, value_parser = crate::render::parse_storage, value_name = "decoded|native|compressed|rgba8")]
     texture_storage: Option<texmap::texture::Storage>,
     #[command(flatten)]
     raw: crate::volume::RawArgs,

@@ -228,8 +228,9 @@ pub struct RenderArgs {
     /// bytes a texel: the fastest reads), `native` (as the file stores them: 8-bit RGBA in 4
     /// bytes, RGB in 3), `compressed` (DDS/KTX/KTX2 BC1–BC7 files stay block-compressed,
     /// each block decoded when first read through a small cache per thread; other images as
-    /// native) [default: decoded].
-    #[arg(long, value_parser = parse_storage, value_name = "decoded|native|compressed")]
+    /// native), `rgba8` (8-bit RGB and RGBA as RGBA8 in 4 bytes, sRGB or linear, mip chain
+    /// built in 8 bits, read through the same fixed-point path as decoded) [default: decoded].
+    #[arg(long, value_parser = parse_storage, value_name = "decoded|native|compressed|rgba8")]
     pub(crate) texture_storage: Option<Storage>,
     /// The resident page cache of each virtual texture in the scene, e.g. 64M (replaces the
     /// scene's `budget_mib`): pages of 128² texels plus a 4-texel border, 148 KiB each,

@@ -13,7 +13,7 @@ use glam::Vec4;
 use rayon::prelude::*;
 
 /// Weights of the source texels covered by destination texel `i` when `src` texels shrink to `dst`.
-fn coverage(i: u32, src: u32, dst: u32) -> impl Iterator<Item = (u32, f32)> {
+pub(crate) fn coverage(i: u32, src: u32, dst: u32) -> impl Iterator<Item = (u32, f32)> {
     let scale = src as f64 / dst as f64;
     let (lo, hi) = (i as f64 * scale, (i + 1) as f64 * scale);
     let first = lo.floor() as u32;

@@ -2,8 +2,8 @@
 //! once per colour space through the scene's texture cache), its sampler (`sampler`), its
 //! colour space (`color_space`, else the channel's: sRGB for colour, linear for data), its
 //! coordinates (`tex_coord` 0 or 1, `transform` in `KHR_texture_transform`'s order with the
-//! rotation in degrees, then `uv_scale`) and how it is held (`storage`: decoded, native or
-//! compressed).
+//! rotation in degrees, then `uv_scale`) and how it is held (`storage`: decoded, native,
+//! compressed or rgba8).
 
 use std::path::Path;
 

@@ -1,7 +1,10 @@
 //! Bilinear and trilinear reads of a quad's four pixels on the default storage (16-bit
 //! linear premultiplied texels, 4×4 tiles) in fixed point, with SSE2: the path that the
 //! plain textured triangle takes, and so most of a frame's texels. Nearest reads share the
-//! lane-wise addressing and return exactly the float path's values.
+//! lane-wise addressing and return exactly the float path's values. The 8-bit storage
+//! (`Storage::Rgba8`, RGBA8 in 4×4 tiles) is read the same way, each texel widened to 16-bit
+//! linear as it is loaded: an sRGB code through a 256-entry table (the value the default
+//! storage holds for it), a linear one as `c · 257`, colour times alpha unless opaque.
 //!
 //! A pixel's taps (four per level, at most eight) are summed as `Σ t·w` with `pmaddwd`:
 //! - each texel enters as 15 bits (its 16-bit value shifted right once), two texels' channels
@@ -30,21 +33,37 @@
 
 use glam::Vec4;
 
+use super::super::storage::Rgba8Texels;
 use super::super::{Format, Layout, MipChoice, Sampler, TexelFilter, Texture2D, Wrap};
 
 /// The largest 15-bit weight: a read's weights sum to it.
 #[cfg(target_arch = "x86_64")]
 const ONE: i32 = 32767;
 
-/// Whether these reads serve `tex` through `s`: the default storage, tiled, repeat or clamp
-/// to edge on both axes.
+/// How a texture's texels enter the fixed-point sums.
+#[derive(Clone, Copy)]
+enum Texels {
+    /// 16-bit linear premultiplied ([`super::super::Storage::Linear16`]): loaded as they are.
+    Linear16,
+    /// RGBA8 ([`super::super::Storage::Rgba8`]): each channel widened to 16-bit linear (an sRGB
+    /// code through a 256-entry table, a linear one as `c · 257`), colour times alpha unless
+    /// the texture is opaque.
+    Rgba8(Rgba8Texels),
+}
+
+/// How these reads take `tex`'s texels through `s`, when they serve it: the default storage
+/// or [`super::super::Storage::Rgba8`], tiled, repeat or clamp to edge on both axes.
 #[inline]
-fn handles(tex: &Texture2D, s: &Sampler) -> bool {
+fn texels_of(tex: &Texture2D, s: &Sampler) -> Option<Texels> {
     let wrap = |w: Wrap| matches!(w, Wrap::Repeat | Wrap::ClampToEdge);
-    tex.storage_format() == Format::Rgba16Premultiplied
-        && tex.layout() == Layout::Tiled4x4
-        && wrap(s.wrap_u)
-        && wrap(s.wrap_v)
+    if tex.layout() != Layout::Tiled4x4 || !wrap(s.wrap_u) || !wrap(s.wrap_v) {
+        return None;
+    }
+    if tex.storage_format() == Format::Rgba16Premultiplied {
+        Some(Texels::Linear16)
+    } else {
+        tex.rgba8_texels().map(Texels::Rgba8)
+    }
 }
 
 /// A quad's reads at `(u, v)` (one pixel per lane, pixels whose `mask` bit is clear left
@@ -61,20 +80,18 @@ pub(super) fn read_quad(
     v: Vec4,
     mask: u8,
 ) -> Option<[Vec4; 4]> {
-    if !handles(tex, s) {
-        return None;
-    }
+    let texels = texels_of(tex, s)?;
     #[cfg(target_arch = "x86_64")]
     {
         if choice.texels == TexelFilter::Linear {
-            return Some(sse2::linear_quad(tex, s, choice, u, v, mask));
+            return Some(sse2::linear_quad(tex, texels, s, choice, u, v, mask));
         }
-        let a = sse2::nearest_level(tex.level(choice.level), s, u, v, mask);
+        let a = sse2::nearest_level(tex.level(choice.level), texels, s, u, v, mask);
         Some(match choice.blend {
             Some(b) => {
                 let (f, b) = (
                     b.weight,
-                    sse2::nearest_level(tex.level(b.level), s, u, v, mask),
+                    sse2::nearest_level(tex.level(b.level), texels, s, u, v, mask),
                 );
                 std::array::from_fn(|j| a[j].lerp(b[j], f))
             }
@@ -83,7 +100,7 @@ pub(super) fn read_quad(
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        let _ = (choice, u, v, mask);
+        let _ = (texels, choice, u, v, mask);
         None
     }
 }
@@ -111,7 +128,7 @@ pub(super) fn read_quad_shared(
         return true;
     };
     let same = |t: &&Texture2D| {
-        handles(t, s)
+        texels_of(t, s).is_some()
             && (t.width(), t.height(), t.levels().len())
                 == (first.width(), first.height(), first.levels().len())
     };
@@ -151,7 +168,7 @@ pub(super) fn read_probes(
     probes: &[(f32, f32)],
     mask: u8,
 ) -> Option<[Vec4; 4]> {
-    if !handles(tex, s) || choice.texels != TexelFilter::Linear {
+    if texels_of(tex, s).is_none() || choice.texels != TexelFilter::Linear {
         return None;
     }
     #[cfg(target_arch = "x86_64")]
@@ -177,14 +194,16 @@ pub(super) fn read_probes(
 mod sse2 {
     use std::arch::x86_64::{
         __m128i, _mm_add_epi32, _mm_and_si128, _mm_andnot_si128, _mm_cmpeq_epi32, _mm_cvtepi32_ps,
-        _mm_cvtps_epi32, _mm_cvttps_epi32, _mm_loadl_epi64, _mm_madd_epi16, _mm_or_si128,
-        _mm_set1_epi32, _mm_setzero_si128, _mm_slli_epi32, _mm_srli_epi16, _mm_srli_epi32,
-        _mm_sub_epi32, _mm_unpacklo_epi16,
+        _mm_cvtps_epi32, _mm_cvtsi32_si128, _mm_cvtsi64_si128, _mm_cvttps_epi32, _mm_insert_epi16,
+        _mm_loadl_epi64, _mm_madd_epi16, _mm_or_si128, _mm_set1_epi32, _mm_set_epi16,
+        _mm_setzero_si128, _mm_slli_epi32, _mm_srli_epi16, _mm_srli_epi32, _mm_sub_epi32,
+        _mm_unpacklo_epi16, _mm_unpacklo_epi8,
     };
 
     use glam::Vec4;
 
-    use super::ONE;
+    use super::{Texels, ONE};
+    use crate::texture::format::CodecRgba8;
     use crate::texture::storage::LevelRef;
     use crate::texture::{MipChoice, Sampler, Texture2D, Wrap};
 
@@ -193,6 +212,7 @@ mod sse2 {
     #[inline(always)]
     pub(super) fn linear_quad(
         tex: &Texture2D,
+        texels: Texels,
         s: &Sampler,
         choice: MipChoice,
         u: Vec4,
@@ -208,10 +228,10 @@ mod sse2 {
         // The level weights in 15 bits, summing to ONE ((1 − f)·ONE rounds; NaN gives 0).
         let wa = ((1.0 - f.clamp(0.0, 1.0)) * ONE as f32).round() as i32;
         if wa > 0 {
-            accumulate(&tex.level(a), s, u, v, wa, mask, &mut acc);
+            accumulate(&tex.level(a), texels, s, u, v, wa, mask, &mut acc);
         }
         if let Some(b) = second.filter(|_| wa < ONE) {
-            accumulate(&tex.level(b), s, u, v, ONE - wa, mask, &mut acc);
+            accumulate(&tex.level(b), texels, s, u, v, ONE - wa, mask, &mut acc);
         }
         finish(&acc, mask)
     }
@@ -251,15 +271,15 @@ mod sse2 {
         let wa = ((1.0 - f.clamp(0.0, 1.0)) * ONE as f32).round() as i32;
         let level = |index: usize, weight: i32, acc: &mut [[__m128i; 4]]| {
             let first = texes[0].level(index);
-            let (_, tiles_x) = first.tiled_texels();
-            let t = taps(&first, tiles_x, s, u, v, weight);
+            let t = taps(&first, first.tiles_x(), s, u, v, weight);
             for (tex, acc) in texes.iter().zip(acc.iter_mut()) {
                 let lv = tex.level(index);
                 // One size: the first texture's indices are in range for every one.
                 assert!((lv.w, lv.h) == (first.w, first.h));
-                let (data, tiles_x) = lv.tiled_texels();
+                let texels = super::texels_of(tex, s).expect("checked by read_quad_shared");
+                let (data, tiles_x) = lv.tiled_texels(bpp(texels));
                 assert_eq!(tiles_x, t.tiles_x);
-                gather(data, &t, mask, acc);
+                gather(data, texels, &t, mask, acc);
             }
         };
         if wa > 0 {
@@ -285,6 +305,7 @@ mod sse2 {
         probes: &[(f32, f32)],
         mask: u8,
     ) -> [Vec4; 4] {
+        let texels = super::texels_of(tex, s).expect("checked by read_probes");
         let (second, f) = choice
             .blend
             .map_or((None, 0.0), |b| (Some(b.level), b.weight));
@@ -304,10 +325,10 @@ mod sse2 {
             let wa = (fa * weight as f32).round() as i32;
             let (pu, pv) = (u + Vec4::splat(step.x * t), v + Vec4::splat(step.y * t));
             if wa > 0 {
-                accumulate(&first, s, pu, pv, wa, mask, &mut acc);
+                accumulate(&first, texels, s, pu, pv, wa, mask, &mut acc);
             }
             if let Some(lv) = second.as_ref().filter(|_| wa < weight) {
-                accumulate(lv, s, pu, pv, weight - wa, mask, &mut acc);
+                accumulate(lv, texels, s, pu, pv, weight - wa, mask, &mut acc);
             }
         }
         let scale = 1.0 / (ONE as f32 * ONE as f32);
@@ -324,12 +345,13 @@ mod sse2 {
     #[inline(always)]
     pub(super) fn nearest_level(
         lv: LevelRef,
+        texels: Texels,
         s: &Sampler,
         u: Vec4,
         v: Vec4,
         mask: u8,
     ) -> [Vec4; 4] {
-        let (data, tiles_x) = lv.tiled_texels();
+        let (data, tiles_x) = lv.tiled_texels(bpp(texels));
         let (x, y) = (
             nearest_axis(s.wrap_u, u, lv.w),
             nearest_axis(s.wrap_v, v, lv.h),
@@ -346,17 +368,22 @@ mod sse2 {
                 times(_mm_srli_epi32(y, 2), 16 * tiles_x as i32),
                 _mm_slli_epi32(_mm_and_si128(y, three), 2),
             );
-            lanes(_mm_slli_epi32(_mm_add_epi32(col, row), 3))
+            lanes(_mm_add_epi32(col, row))
         };
         let base = data.as_ptr();
         std::array::from_fn(|j| {
             if mask & (1 << j) == 0 {
                 return Vec4::ZERO;
             }
+            if let Texels::Rgba8(_) = texels {
+                // The float path's decode of the texel (the codec's, through the level's
+                // table): the same values.
+                return lv.texel_at::<CodecRgba8>(offsets[j] as usize);
+            }
             // SAFETY: as above; the load reads the texel's 8 bytes. The decode is the
             // codec's (`decode_rgba16`): zero-extend, convert, scale.
             unsafe {
-                let q = _mm_loadl_epi64(base.add(offsets[j] as usize).cast());
+                let q = _mm_loadl_epi64(base.add(offsets[j] as usize * 8).cast());
                 let f = _mm_cvtepi32_ps(_mm_unpacklo_epi16(q, _mm_setzero_si128()));
                 Vec4::from(f) * (1.0 / 65535.0)
             }
@@ -480,8 +507,10 @@ mod sse2 {
 
     /// Adds level `lv`'s bilinear taps, weighted `level_weight / ONE` in all, into `acc`.
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn accumulate(
         lv: &LevelRef,
+        texels: Texels,
         s: &Sampler,
         u: Vec4,
         v: Vec4,
@@ -489,11 +518,21 @@ mod sse2 {
         mask: u8,
         acc: &mut [__m128i; 4],
     ) {
-        let (data, tiles_x) = lv.tiled_texels();
-        gather(data, &taps(lv, tiles_x, s, u, v, level_weight), mask, acc);
+        let (data, tiles_x) = lv.tiled_texels(bpp(texels));
+        let t = taps(lv, tiles_x, s, u, v, level_weight);
+        gather(data, texels, &t, mask, acc);
     }
 
-    /// A quad's bilinear taps on one level: each pixel's four texel byte offsets and its
+    /// Bytes a texel of `texels` takes.
+    #[inline(always)]
+    fn bpp(texels: Texels) -> usize {
+        match texels {
+            Texels::Linear16 => 8,
+            Texels::Rgba8(_) => 4,
+        }
+    }
+
+    /// A quad's bilinear taps on one level: each pixel's four texel indices and its
     /// 15-bit weights, packed in pairs (top row, bottom row).
     struct Taps {
         offsets: [[i32; 4]; 4],
@@ -529,12 +568,11 @@ mod sse2 {
                 _mm_add_epi32(tile_row, _mm_slli_epi32(_mm_and_si128(y, three), 2))
             };
             let (ca, cb, ra, rb) = (col(xa), col(xb), row(ya), row(yb));
-            let bytes = |i| lanes(_mm_slli_epi32(i, 3));
             let offsets = [
-                bytes(_mm_add_epi32(ca, ra)),
-                bytes(_mm_add_epi32(cb, ra)),
-                bytes(_mm_add_epi32(ca, rb)),
-                bytes(_mm_add_epi32(cb, rb)),
+                lanes(_mm_add_epi32(ca, ra)),
+                lanes(_mm_add_epi32(cb, ra)),
+                lanes(_mm_add_epi32(ca, rb)),
+                lanes(_mm_add_epi32(cb, rb)),
             ];
             // Weights in 15 bits, the last one what the others leave.
             let round = |w: Vec4| _mm_cvtps_epi32((w * lw).into());
@@ -559,23 +597,112 @@ mod sse2 {
         }
     }
 
-    /// Adds the taps `t` of a level whose tiled texels are `data` into `acc`; `data` must be
-    /// a level of the size the taps were computed for (its `tiled_texels`).
+    /// Adds the taps `t` of a level whose tiled texels (held as `texels` says) are `data`
+    /// into `acc`; `data` must be a level of the size the taps were computed for (its
+    /// `tiled_texels`).
     #[inline(always)]
-    fn gather(data: &[u8], t: &Taps, mask: u8, acc: &mut [__m128i; 4]) {
+    fn gather(data: &[u8], texels: Texels, t: &Taps, mask: u8, acc: &mut [__m128i; 4]) {
         let base = data.as_ptr();
+        // SAFETY (every loader): SSE2 is part of x86_64; each load reads one texel at an
+        // index below `data.len() / bpp` (the offsets' level has this size, see `taps`).
+        match texels {
+            Texels::Linear16 => gather_with(t, mask, acc, |i0, i1| unsafe {
+                let q = |i: usize| _mm_loadl_epi64(base.add(i * 8).cast());
+                _mm_srli_epi16(_mm_unpacklo_epi16(q(i0), q(i1)), 1)
+            }),
+            Texels::Rgba8(r) => match (r.srgb15, r.opaque) {
+                // Each code's 15-bit value inserted straight at its interleaved place, alpha
+                // 255 (32767 in 15 bits) already there.
+                (Some(table), true) => gather_with(t, mask, acc, |i0, i1| unsafe {
+                    let (p0, p1) = (base.add(i0 * 4), base.add(i1 * 4));
+                    let c = |p: *const u8, k: usize| i32::from(table[usize::from(*p.add(k))]);
+                    let v = _mm_set_epi16(0x7fff, 0x7fff, 0, 0, 0, 0, 0, 0);
+                    let v = _mm_insert_epi16::<0>(v, c(p0, 0));
+                    let v = _mm_insert_epi16::<1>(v, c(p1, 0));
+                    let v = _mm_insert_epi16::<2>(v, c(p0, 1));
+                    let v = _mm_insert_epi16::<3>(v, c(p1, 1));
+                    let v = _mm_insert_epi16::<4>(v, c(p0, 2));
+                    _mm_insert_epi16::<5>(v, c(p1, 2))
+                }),
+                // Bytes interleaved (r0 r1 g0 g1 …), then each doubled: `c · 257` in 16 bits,
+                // already in the interleaved order.
+                (None, true) => gather_with(t, mask, acc, |i0, i1| unsafe {
+                    let q = |i: usize| _mm_cvtsi32_si128(read8(base, i) as i32);
+                    let b = _mm_unpacklo_epi8(q(i0), q(i1));
+                    _mm_srli_epi16(_mm_unpacklo_epi8(b, b), 1)
+                }),
+                (_, false) => gather_with(t, mask, acc, |i0, i1| unsafe {
+                    let q = |i: usize| {
+                        let c = read8(base, i);
+                        let q = match r.srgb {
+                            Some(table) => srgb8(c, table),
+                            None => linear8(c),
+                        };
+                        _mm_cvtsi64_si128(premultiply(q) as i64)
+                    };
+                    _mm_srli_epi16(_mm_unpacklo_epi16(q(i0), q(i1)), 1)
+                }),
+            },
+        }
+    }
+
+    /// The 4-byte texel at index `i` of `base`, as a little-endian word.
+    ///
+    /// # Safety
+    /// `base` must hold at least `4·(i + 1)` bytes.
+    #[inline(always)]
+    unsafe fn read8(base: *const u8, i: usize) -> u32 {
+        // SAFETY: the caller's.
+        u32::from_le(unsafe { base.add(i * 4).cast::<u32>().read_unaligned() })
+    }
+
+    /// An RGBA8 texel (`r` in the low byte) with sRGB colour, as four 16-bit linear channels
+    /// (`r` in the low 16 bits): colour through `table`, alpha `a · 257`.
+    #[inline(always)]
+    fn srgb8(c: u32, table: &[u16; 256]) -> u64 {
+        u64::from(table[(c & 0xff) as usize])
+            | u64::from(table[(c >> 8 & 0xff) as usize]) << 16
+            | u64::from(table[(c >> 16 & 0xff) as usize]) << 32
+            | u64::from((c >> 24) * 257) << 48
+    }
+
+    /// An RGBA8 texel of linear channels as four 16-bit ones (each `c · 257`).
+    #[inline(always)]
+    fn linear8(c: u32) -> u64 {
+        let c = u64::from(c);
+        let spread =
+            (c & 0xff) | (c & 0xff00) << 8 | (c & 0xff_0000) << 16 | (c & 0xff00_0000) << 24;
+        spread * 257
+    }
+
+    /// Four 16-bit straight-alpha channels (alpha the top one) with the colour times alpha,
+    /// rounded.
+    #[inline(always)]
+    fn premultiply(q: u64) -> u64 {
+        let a = q >> 48;
+        let times = |k: u32| ((q >> (16 * k) & 0xffff) * a + 32767) / 65535;
+        times(0) | times(1) << 16 | times(2) << 32 | a << 48
+    }
+
+    /// [`gather`] with each pair of taps' texels (their indices given) loaded by `pair` as
+    /// 15-bit linear premultiplied channels, interleaved (r0 r1 g0 g1 b0 b1 a0 a1).
+    #[inline(always)]
+    fn gather_with(
+        t: &Taps,
+        mask: u8,
+        acc: &mut [__m128i; 4],
+        pair: impl Fn(usize, usize) -> __m128i,
+    ) {
         for j in 0..4 {
             if mask & (1 << j) == 0 {
                 continue;
             }
-            // SAFETY: SSE2 is part of x86_64; every load reads 8 bytes at a texel index below
-            // `data.len() / 8` (the offsets' level has this size, see `taps`).
+            // SAFETY: SSE2 is part of x86_64.
             unsafe {
-                let texel = |k: usize| _mm_loadl_epi64(base.add(t.offsets[k][j] as usize).cast());
-                // Two taps' channels interleaved (r0 r1 g0 g1 …), as 15 bits, times their
-                // packed weights: one multiply-add gives both taps' sum per channel.
+                // Two taps' channels interleaved, as 15 bits, times their packed weights: one
+                // multiply-add gives both taps' sum per channel.
                 let pair = |k0: usize, k1: usize, w: i32| {
-                    let t = _mm_srli_epi16(_mm_unpacklo_epi16(texel(k0), texel(k1)), 1);
+                    let t = pair(t.offsets[k0][j] as usize, t.offsets[k1][j] as usize);
                     _mm_madd_epi16(t, _mm_set1_epi32(w))
                 };
                 let sum = _mm_add_epi32(pair(0, 1, t.top[j]), pair(2, 3, t.bottom[j]));

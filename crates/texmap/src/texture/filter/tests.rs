@@ -58,6 +58,32 @@ fn noisy(w: u32, h: u32) -> Texture2D {
     Texture2D::from_rgba8(w, h, ColorSpace::Srgb, &rgba).unwrap()
 }
 
+/// A `w`×`h` texture held as 8-bit RGBA ([`crate::texture::Storage::Rgba8`]), values spread
+/// over [0, 255]; alpha 255 everywhere when `opaque`.
+fn noisy8(w: u32, h: u32, color_space: ColorSpace, opaque: bool) -> Texture2D {
+    let rgba: Vec<u8> = (0..w * h * 4)
+        .map(|i| {
+            if opaque && i % 4 == 3 {
+                255
+            } else {
+                ((i * 97 + 13) % 256) as u8
+            }
+        })
+        .collect();
+    let options = TextureOptions::default().with_storage(crate::texture::Storage::Rgba8);
+    let tex = Texture2D::from_texels(
+        w,
+        h,
+        crate::texture::Format::Rgba8,
+        color_space,
+        &rgba,
+        options,
+    )
+    .unwrap();
+    assert_eq!(tex.storage(), crate::texture::Storage::Rgba8);
+    tex
+}
+
 fn close(a: Vec4, b: Vec4, tol: f32) -> bool {
     (a - b).abs().max_element() <= tol
 }
@@ -329,6 +355,21 @@ proptest! {
     }
 
     #[test]
+    fn quad_sampling_of_8bit_storage_equals_per_pixel_sampling(fp in footprint_strategy(), f in 0usize..21, w in 0usize..5, srgb in any::<bool>(), opaque in any::<bool>()) {
+        // The 8-bit storage's fixed-point reads (texels widened to 16-bit linear) against the
+        // float filters on the same texels: within the same bound as the default storage's.
+        let cs = if srgb { ColorSpace::Srgb } else { ColorSpace::Linear };
+        let tex = noisy8(13, 9, cs, opaque);
+        let s = Sampler::new(every_filter()[f], WRAPS[w]);
+        let uvs = [fp.uv, fp.uv + Vec2::new(0.01, 0.0), fp.uv + Vec2::new(0.0, 0.02), fp.uv + Vec2::new(0.03, 0.01)];
+        let quad = crate::texture::sample_quad(&tex, &s, &uvs, fp.duv_dx, fp.duv_dy, 0b1011);
+        for j in 0..4 {
+            let want = if j == 2 { Vec4::ZERO } else { sample(&tex, &s, &Footprint::new(uvs[j], fp.duv_dx, fp.duv_dy)) };
+            prop_assert!(close(quad[j], want, 1.6e-4), "{:?} pixel {}: {} vs {}", s.filter, j, quad[j], want);
+        }
+    }
+
+    #[test]
     fn batched_quads_equal_quads_read_one_by_one(fps in proptest::collection::vec(footprint_strategy(), 1..7), f in 0usize..21, w in 0usize..5) {
         let tex = noisy(13, 9);
         let s = Sampler::new(every_filter()[f], WRAPS[w]);
@@ -360,7 +401,13 @@ proptest! {
                 let rgba: Vec<u8> = (0..width * 9 * 4)
                     .map(|i| ((i * (97 + 2 * k as u32) + 13 * k as u32) % 256) as u8)
                     .collect();
-                Texture2D::from_rgba8(width, 9, ColorSpace::Linear, &rgba).unwrap()
+                // Every third held as 8-bit RGBA, sRGB or linear: groups mixing the storages.
+                let options = match k % 3 {
+                    0 => TextureOptions::default(),
+                    _ => TextureOptions::default().with_storage(crate::texture::Storage::Rgba8),
+                };
+                let cs = if k % 3 == 1 { ColorSpace::Srgb } else { ColorSpace::Linear };
+                Texture2D::from_texels(width, 9, crate::texture::Format::Rgba8, cs, &rgba, options).unwrap()
             })
             .collect();
         let refs: Vec<&Texture2D> = textures.iter().collect();
@@ -388,9 +435,13 @@ proptest! {
 
     #[test]
     fn quad_sampling_of_a_constant_texture_reads_the_constant(fp in footprint_strategy(), f in 0usize..21, w in 0usize..5) {
-        // Every 8-bit value: the fixed-point weights of a read sum to exactly one.
-        for c in [0u8, 1, 17, 128, 254, 255] {
-            let tex = Texture2D::from_rgba8(11, 6, ColorSpace::Linear, &[c; 11 * 6 * 4]).unwrap();
+        // Every 8-bit value: the fixed-point weights of a read sum to exactly one (the
+        // default storage and the 8-bit one).
+        for (c, storage) in [0u8, 1, 17, 128, 254, 255].into_iter().flat_map(|c| {
+            [(c, crate::texture::Storage::Linear16), (c, crate::texture::Storage::Rgba8)]
+        }) {
+            let options = TextureOptions::default().with_storage(storage);
+            let tex = Texture2D::from_texels(11, 6, crate::texture::Format::Rgba8, ColorSpace::Linear, &[c; 11 * 6 * 4], options).unwrap();
             let mut s = Sampler::new(every_filter()[f], WRAPS[w]);
             // Premultiplied: colour times alpha.
             let x = f32::from(c) / 255.0;
@@ -474,11 +525,13 @@ proptest! {
     /// reference: each tap within the fixed-point trilinear bound (1.6·10⁻⁴), so their mean
     /// too — far under 2/255.
     #[test]
-    fn anisotropic_quads_in_lanes_equal_the_float_filter(fp in anisotropic_footprint_strategy(), n in 1u32..=16, w in 0usize..5, mask in 1u8..16) {
-        let tex = noisy(64, 48);
-        // The storage the lane path serves (with repeat and clamp to edge; the other wraps
+    fn anisotropic_quads_in_lanes_equal_the_float_filter(fp in anisotropic_footprint_strategy(), n in 1u32..=16, w in 0usize..5, mask in 1u8..16, eight in any::<bool>()) {
+        // The storages the lane path serves (with repeat and clamp to edge; the other wraps
         // take the float filter, and must agree all the same).
-        prop_assert_eq!(tex.storage_format(), crate::texture::Format::Rgba16Premultiplied);
+        let tex = if eight { noisy8(64, 48, ColorSpace::Srgb, false) } else { noisy(64, 48) };
+        if !eight {
+            prop_assert_eq!(tex.storage_format(), crate::texture::Format::Rgba16Premultiplied);
+        }
         prop_assert_eq!(tex.layout(), crate::texture::Layout::Tiled4x4);
         let s = Sampler::new(Filter::Anisotropic { max_aniso: n }, WRAPS[w]);
         let uvs = [fp.uv, fp.uv + Vec2::new(0.011, 0.0), fp.uv + Vec2::new(0.0, 0.013), fp.uv + Vec2::new(0.011, 0.013)];

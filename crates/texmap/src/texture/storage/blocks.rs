@@ -76,6 +76,7 @@ impl Texture2D {
             lut: decode_table(stored, color_space),
             sat: std::sync::OnceLock::new(),
             blocks: Some(BlockStore { format, opaque }),
+            rgba8: None,
         };
         for (i, bytes) in levels.iter().enumerate().take(given) {
             let (w, h) = ((width >> i).max(1), (height >> i).max(1));
@@ -106,6 +107,8 @@ impl Texture2D {
     pub fn storage(&self) -> Storage {
         if self.blocks.is_some() {
             Storage::Compressed
+        } else if self.rgba8.is_some() {
+            Storage::Rgba8
         } else if self.stored == Format::Rgba16Premultiplied && self.format != self.stored {
             Storage::Linear16
         } else {

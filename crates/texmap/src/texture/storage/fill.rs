@@ -6,8 +6,8 @@
 use glam::Vec4;
 use rayon::prelude::*;
 
-use super::{mip, Layout, Level, Texture2D};
-use crate::texture::format::{with_codec, Format};
+use super::{mip, texel_index, Layout, Level, Texture2D};
+use crate::texture::format::{with_codec, Codec, CodecRgba8, ColorSpace, Format};
 
 impl Texture2D {
     /// A `width`×`height` level of the stored format whose texel `(x, y)` is written by
@@ -106,6 +106,32 @@ impl Texture2D {
                 out[6..8].copy_from_slice(&u16::MAX.to_le_bytes());
             });
         }
+        if format == Format::Rgb8 && self.stored == Format::Rgba8 {
+            // The codes kept, alpha 255.
+            if self.layout == Layout::Tiled4x4 {
+                return tiled_8bit(width, height, |y, row| {
+                    let src = &texels[at(0, y as u32)..at(0, y as u32 + 1)];
+                    // Four texels (a tile's row) at a time, then the partial tile's.
+                    let whole = src.len() / 12 * 12;
+                    for (tile, t) in src[..whole].chunks_exact(12).enumerate() {
+                        row.put_four(
+                            tile,
+                            [
+                                t[0], t[1], t[2], 255, t[3], t[4], t[5], 255, t[6], t[7], t[8],
+                                255, t[9], t[10], t[11], 255,
+                            ],
+                        );
+                    }
+                    for (x, t) in src[whole..].chunks_exact(3).enumerate() {
+                        row.put(whole / 3 + x, [t[0], t[1], t[2], 255]);
+                    }
+                });
+            }
+            return self.fill_level(width, height, |x, y, out| {
+                out[..3].copy_from_slice(&texels[at(x, y)..at(x, y) + 3]);
+                out[3] = 255;
+            });
+        }
         let (stored, cs) = (self.stored, self.color_space);
         with_codec!(format, C => self.fill_level(width, height, |x, y, out| {
             let c = C::decode_premultiplied(&texels[at(x, y)..at(x, y) + bpp], lut);
@@ -136,4 +162,171 @@ impl Texture2D {
         ));
         levels
     }
+
+    /// The chain of an 8-bit texture ([`super::Storage::Rgba8`], level 0 stored): each level
+    /// from the stored one above it, its texels decoded to linear premultiplied floats,
+    /// averaged over the area each new texel covers (the weights and order of
+    /// `mip::for_each_level`) and encoded back to 8 bits, written straight into the new
+    /// level's layout: no float copy of any level.
+    pub(super) fn chain_8bit(&mut self) {
+        let (stored, cs, lut, layout) = (self.stored, self.color_space, self.lut, self.layout);
+        debug_assert_eq!(stored, Format::Rgba8);
+        loop {
+            let prev = self.levels.last().expect("level 0 is stored first");
+            let (w, h) = (prev.width, prev.height);
+            if w <= 1 && h <= 1 {
+                return;
+            }
+            let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+            if let Some(level) = self.halve_opaque_8bit(prev) {
+                self.levels.push(level);
+                continue;
+            }
+            let columns: Vec<Vec<(u32, f32)>> =
+                (0..nw).map(|x| mip::coverage(x, w, nw).collect()).collect();
+            let rows: Vec<Vec<(u32, f32)>> =
+                (0..nh).map(|y| mip::coverage(y, h, nh).collect()).collect();
+            let (data, tiles_x) = (&prev.data, prev.tiles_x);
+            let read = |x: u32, y: u32| {
+                let i = texel_index(layout, tiles_x, w, x, y) * 4;
+                CodecRgba8::decode_premultiplied(&data[i..i + 4], lut)
+            };
+            let level = self.fill_level(nw, nh, |x, y, out| {
+                let mut c = Vec4::ZERO;
+                for &(j, wy) in &rows[y as usize] {
+                    let r: Vec4 = columns[x as usize]
+                        .iter()
+                        .map(|&(i, wx)| read(i, j) * wx)
+                        .sum();
+                    c += r * wy;
+                }
+                stored.encode(mip::unpremultiply(c), cs, out);
+            });
+            self.levels.push(level);
+        }
+    }
+
+    /// The next level of an opaque 8-bit level with both sides even, each texel the 2×2
+    /// above it in integers: the codes widened to 16-bit linear as the fixed-point reads
+    /// widen them (sRGB through the 256-entry table, linear as `c · 257`), the four summed,
+    /// rounded to 16 bits and encoded through a 65,536-entry table. The float path's box
+    /// with its sum rounded to 16 bits first: a code can differ from it by one where the
+    /// mean falls within 2⁻¹⁷ of a rounding threshold. `None` for other levels.
+    fn halve_opaque_8bit(&self, prev: &Level) -> Option<Level> {
+        let texels = self.rgba8.filter(|t| t.opaque)?;
+        let (w, h) = (prev.width, prev.height);
+        if w % 2 != 0 || h % 2 != 0 || self.layout != Layout::Tiled4x4 {
+            return None;
+        }
+        let linear: [u16; 256];
+        let widen = match texels.srgb {
+            Some(table) => table,
+            None => {
+                linear = std::array::from_fn(|c| c as u16 * 257);
+                &linear
+            }
+        };
+        let encode = encode16(self.color_space);
+        let (data, row) = (&prev.data, prev.tiles_x as usize * 16);
+        // Two texels side by side from an even column: the next in memory (same tile row).
+        let pair = |i: usize| {
+            let b: [u8; 8] = data[4 * i..4 * i + 8].try_into().expect("8 bytes");
+            u64::from_le_bytes(b)
+        };
+        Some(tiled_8bit(w / 2, h / 2, |y, out| {
+            let start = |y: usize| (y >> 2) * row + ((y & 3) << 2);
+            let (r0, r1) = (start(2 * y), start(2 * y + 1));
+            for x in 0..(w / 2) as usize {
+                // Column 2x of the level above: tile x / 2, place 2·(x mod 2) in it.
+                let c = ((x >> 1) << 4) + ((x & 1) << 1);
+                let (top, bottom) = (pair(r0 + c), pair(r1 + c));
+                let channel = |shift: u32| {
+                    let code = |v: u64, s: u32| u32::from(widen[usize::from((v >> s) as u8)]);
+                    let sum = code(top, shift)
+                        + code(top, shift + 32)
+                        + code(bottom, shift)
+                        + code(bottom, shift + 32);
+                    encode[usize::from(((sum + 2) >> 2) as u16)]
+                };
+                out.put(x, [channel(0), channel(8), channel(16), 255]);
+            }
+        }))
+    }
+}
+
+/// A tiled `width`×`height` level of 4-byte texels whose row `y` is written by `f(y, put)`,
+/// `put(x, texel)` storing texel `(x, y)`; bands of four rows in parallel, as
+/// [`Texture2D::fill_level`] makes them, without its call and index arithmetic per texel.
+fn tiled_8bit(width: u32, height: u32, f: impl Fn(usize, &mut RowOut) + Sync) -> Level {
+    let tiles_x = width.div_ceil(4);
+    let band = tiles_x as usize * 16 * 4;
+    let mut data = vec![0u8; band * height.div_ceil(4) as usize];
+    data.par_chunks_mut(band)
+        .enumerate()
+        .for_each(|(b, chunk)| {
+            for r in 0..4 {
+                let y = b * 4 + r;
+                if y >= height as usize {
+                    break;
+                }
+                f(y, &mut RowOut { chunk, r });
+            }
+        });
+    Level {
+        width,
+        height,
+        tiles_x,
+        data,
+        block_id: None,
+    }
+}
+
+/// One row of a band of 4×4 tiles of 4-byte texels, as [`tiled_8bit`] hands it out.
+struct RowOut<'a> {
+    chunk: &'a mut [u8],
+    /// The row's place in its band.
+    r: usize,
+}
+
+impl RowOut<'_> {
+    /// Stores texel `x` of the row.
+    #[inline(always)]
+    fn put(&mut self, x: usize, texel: [u8; 4]) {
+        let o = (((x >> 2) << 4) + (self.r << 2) + (x & 3)) * 4;
+        self.chunk[o..o + 4].copy_from_slice(&texel);
+    }
+
+    /// Stores texels `4·tile` to `4·tile + 3` of the row (one tile's row).
+    #[inline(always)]
+    fn put_four(&mut self, tile: usize, texels: [u8; 16]) {
+        let o = ((tile << 4) + (self.r << 2)) * 4;
+        self.chunk[o..o + 16].copy_from_slice(&texels);
+    }
+}
+
+/// The 8-bit code of each 16-bit linear value `v` in `color_space` (`Format::encode` of
+/// `v / 65535`).
+fn encode16(color_space: ColorSpace) -> &'static [u8; 65536] {
+    use std::sync::OnceLock;
+    static SRGB: OnceLock<Box<[u8; 65536]>> = OnceLock::new();
+    static LINEAR: OnceLock<Box<[u8; 65536]>> = OnceLock::new();
+    let (cell, srgb) = match color_space {
+        ColorSpace::Srgb => (&SRGB, true),
+        ColorSpace::Linear => (&LINEAR, false),
+    };
+    cell.get_or_init(|| {
+        let encoder = crate::color::Srgb8Encoder::new();
+        (0..=u16::MAX)
+            .map(|v| {
+                let v = f32::from(v) / 65535.0;
+                if srgb {
+                    encoder.encode(v)
+                } else {
+                    crate::color::linear_to_unorm8(v)
+                }
+            })
+            .collect::<Box<[u8]>>()
+            .try_into()
+            .expect("65,536 codes")
+    })
 }

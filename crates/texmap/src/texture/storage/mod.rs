@@ -79,14 +79,22 @@ pub enum Storage {
     /// touches it through a small cache per thread; levels built from them, and images that
     /// are not block-compressed, as [`Storage::Native`].
     Compressed,
+    /// RGB8 and RGBA8 stored as [`Format::Rgba8`] (4 bytes a texel, straight alpha) in their
+    /// colour space (sRGB colour, linear data), the mip chain built in 8 bits (each level
+    /// averaged in linear light from the one above, as `glGenerateMipmap` does on an sRGB8
+    /// texture), and read through the same fixed-point quad path as [`Storage::Linear16`]
+    /// (each texel widened to 16-bit linear, sRGB codes through a 256-entry table); other
+    /// formats as given.
+    Rgba8,
 }
 
 impl Storage {
     /// The names the CLI and TOML take, each with its storage.
-    pub const NAMES: [(&'static str, Storage); 3] = [
+    pub const NAMES: [(&'static str, Storage); 4] = [
         ("decoded", Storage::Linear16),
         ("native", Storage::Native),
         ("compressed", Storage::Compressed),
+        ("rgba8", Storage::Rgba8),
     ];
 
     /// The storage called `name` (see [`Storage::NAMES`]).
@@ -170,6 +178,36 @@ pub struct Texture2D {
     sat: std::sync::OnceLock<super::filter::summed_area::SummedAreaTables>,
     /// Set when the texture is held block-compressed ([`Storage::Compressed`]).
     blocks: Option<BlockStore>,
+    /// Set when 8-bit colour is held as [`Storage::Rgba8`]: what the fixed-point reads need.
+    rgba8: Option<Rgba8Texels>,
+}
+
+/// How the fixed-point reads widen a [`Storage::Rgba8`] texture's texels to 16-bit linear.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Rgba8Texels {
+    /// The 16-bit linear value of each 8-bit sRGB code (the value [`Storage::Linear16`]
+    /// stores for it); `None` for linear codes, which widen as `c · 257`.
+    pub srgb: Option<&'static [u16; 256]>,
+    /// The same values shifted right once (the 15 bits the fixed-point sums take).
+    pub srgb15: Option<&'static [u16; 256]>,
+    /// Every texel's alpha is 255 (an RGB8 source, or RGBA8 with no translucent texel):
+    /// no premultiplication.
+    pub opaque: bool,
+}
+
+/// The 16-bit linear value of each 8-bit sRGB code, rounded as [`Storage::Linear16`] stores it.
+fn srgb_to_linear16() -> &'static [u16; 256] {
+    static TABLE: std::sync::OnceLock<[u16; 256]> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
+        let lut = crate::color::lut8(ColorSpace::Srgb);
+        std::array::from_fn(|c| (lut[c].clamp(0.0, 1.0) * 65535.0 + 0.5) as u16)
+    })
+}
+
+/// [`srgb_to_linear16`] shifted right once.
+fn srgb_to_linear15() -> &'static [u16; 256] {
+    static TABLE: std::sync::OnceLock<[u16; 256]> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| srgb_to_linear16().map(|v| v >> 1))
 }
 
 /// What a block-compressed texture's blocks are.
@@ -273,8 +311,19 @@ impl Texture2D {
         let lut_of = |f: Format| decode_table(f, color_space);
         let stored = match (options.storage, format) {
             (Storage::Linear16, Format::Rgb8 | Format::Rgba8) => Format::Rgba16Premultiplied,
+            (Storage::Rgba8, Format::Rgb8 | Format::Rgba8) => Format::Rgba8,
             _ => format,
         };
+        let rgba8 =
+            (options.storage == Storage::Rgba8 && stored == Format::Rgba8).then(|| Rgba8Texels {
+                srgb: (color_space == ColorSpace::Srgb).then(srgb_to_linear16),
+                srgb15: (color_space == ColorSpace::Srgb).then(srgb_to_linear15),
+                opaque: format == Format::Rgb8
+                    || levels
+                        .iter()
+                        .take(given)
+                        .all(|l| l.chunks_exact(4).all(|t| t[3] == 255)),
+            });
         let mut tex = Texture2D {
             format,
             stored,
@@ -284,6 +333,7 @@ impl Texture2D {
             lut: lut_of(stored),
             sat: std::sync::OnceLock::new(),
             blocks: None,
+            rgba8,
         };
         // Each level written straight into its layout, converted texel by texel; the chain
         // is built from the given level 0 (never copied to floats) and each level stored as
@@ -295,8 +345,12 @@ impl Texture2D {
             tex.levels.push(level);
         }
         if options.mipmaps && given == 1 {
-            let chain = tex.chain_from_given(width, height, format, lut, levels[0]);
-            tex.levels.extend(chain);
+            if tex.rgba8.is_some() {
+                tex.chain_8bit();
+            } else {
+                let chain = tex.chain_from_given(width, height, format, lut, levels[0]);
+                tex.levels.extend(chain);
+            }
         }
         Ok(tex)
     }
@@ -388,6 +442,12 @@ impl Texture2D {
     #[must_use]
     pub fn block_format(&self) -> Option<BlockFormat> {
         self.blocks.map(|b| b.format)
+    }
+
+    /// For a texture held as [`Storage::Rgba8`], how its texels widen to 16-bit linear.
+    #[inline]
+    pub(crate) fn rgba8_texels(&self) -> Option<Rgba8Texels> {
+        self.rgba8
     }
     /// The colour space the stored values are in.
     #[must_use]
@@ -508,19 +568,25 @@ impl LevelRef<'_> {
         ((read(i00), read(i10)), (read(i01), read(i11)))
     }
 
-    /// The texels of a [`Layout::Tiled4x4`] level of 8-byte texels and its tiles per row,
-    /// checked to hold every tile (`tiles_x · ⌈h/4⌉ · 16` texels).
+    /// The texels of a [`Layout::Tiled4x4`] level of `bpp`-byte texels and its tiles per
+    /// row, checked to hold every tile (`tiles_x · ⌈h/4⌉ · 16` texels).
     ///
     /// # Panics
     /// If the level is not so laid out (callers check the texture's layout and format).
     #[inline]
-    pub fn tiled_texels(&self) -> (&[u8], u32) {
+    pub fn tiled_texels(&self, bpp: usize) -> (&[u8], u32) {
         let tiles = self.tiles_x as usize * (self.h as usize).div_ceil(4);
         assert!(
-            self.layout == Layout::Tiled4x4 && self.data.len() >= tiles * 16 * 8,
-            "not a tiled level of 8-byte texels"
+            self.layout == Layout::Tiled4x4 && self.data.len() >= tiles * 16 * bpp,
+            "not a tiled level of {bpp}-byte texels"
         );
         (self.data, self.tiles_x)
+    }
+
+    /// Tiles per row (of a [`Layout::Tiled4x4`] level).
+    #[inline(always)]
+    pub fn tiles_x(&self) -> u32 {
+        self.tiles_x
     }
 
     /// The texel index of in-range `(0, y)`: with [`LevelRef::column`], a row's indices with

@@ -107,7 +107,7 @@ fn levels_are_the_same_bytes_whatever_the_thread_count() {
     // Odd sides (three-tap boxes), partial tiles, alpha: every path of the parallel build.
     let (w, h) = (67u32, 45u32);
     let rgba: Vec<u8> = (0..w * h * 4).map(|i| (i * 37 % 253) as u8).collect();
-    for storage in [Storage::Linear16, Storage::Native] {
+    for storage in [Storage::Linear16, Storage::Native, Storage::Rgba8] {
         for layout in [Layout::Tiled4x4, Layout::RowMajor] {
             let one = level_bytes(1, Format::Rgba8, storage, layout, (w, h), &rgba);
             let three = level_bytes(3, Format::Rgba8, storage, layout, (w, h), &rgba);
@@ -132,4 +132,91 @@ fn opaque_rgb8_table_gives_the_float_conversion_bytes() {
     let a = level_bytes(2, Format::Rgb8, storage, layout, size, &rgb);
     let b = level_bytes(2, Format::Rgba8, storage, layout, size, &rgba);
     assert!(a == b);
+}
+
+#[test]
+fn rgba8_storage_keeps_the_codes_and_builds_its_chain_in_linear_light() {
+    // Odd sides (three-tap boxes), alpha: level 0 holds the given codes (RGB8 with alpha 255),
+    // and each mip level is the one above averaged in linear light, premultiplied, and
+    // rounded to 8 bits: within the 8-bit steps of the default storage's chain, built from
+    // 16-bit levels.
+    let (w, h) = (37u32, 22u32);
+    let rgba: Vec<u8> = (0..w * h * 4).map(|i| (i * 37 % 253) as u8).collect();
+    let rgb: Vec<u8> = rgba
+        .chunks_exact(4)
+        .flat_map(|c| [c[0], c[1], c[2]])
+        .collect();
+    for cs in [ColorSpace::Srgb, ColorSpace::Linear] {
+        for (format, bytes) in [(Format::Rgba8, &rgba), (Format::Rgb8, &rgb)] {
+            let make = |storage| {
+                let options = TextureOptions::default().with_storage(storage);
+                Texture2D::from_texels(w, h, format, cs, bytes, options).unwrap()
+            };
+            let (eight, native, wide) = (
+                make(Storage::Rgba8),
+                make(Storage::Native),
+                make(Storage::Linear16),
+            );
+            assert_eq!(eight.storage(), Storage::Rgba8);
+            assert_eq!(eight.storage_format(), Format::Rgba8);
+            assert_eq!((eight.format(), eight.color_space()), (format, cs));
+            assert_eq!(eight.levels().len(), native.levels().len());
+            assert_eq!(eight.texel_bytes(), wide.texel_bytes() / 2);
+            assert_eq!(
+                eight.decode_level(0),
+                native.decode_level(0),
+                "{cs:?} {format:?}"
+            );
+            for l in 1..eight.levels().len() {
+                let (a, b) = (eight.decode_level(l), wide.decode_level(l));
+                let err = a
+                    .iter()
+                    .zip(&b)
+                    .map(|(x, y)| (*x - *y).abs().max_element())
+                    .fold(0.0, f32::max);
+                assert!(err < 0.02, "{cs:?} {format:?} level {l}: {err}");
+            }
+        }
+    }
+}
+
+#[test]
+fn rgba8_storage_level_is_the_encoded_average_of_the_one_above() {
+    // 2:1 on both sides: each texel the four above it decoded, averaged premultiplied,
+    // unpremultiplied and encoded (sRGB colour, linear alpha); translucent and opaque.
+    let (w, h) = (8u32, 6u32);
+    for (opaque, cs) in [
+        (false, ColorSpace::Srgb),
+        (true, ColorSpace::Srgb),
+        (true, ColorSpace::Linear),
+    ] {
+        let rgba: Vec<u8> = (0..w * h * 4)
+            .map(|i| {
+                if opaque && i % 4 == 3 {
+                    255
+                } else {
+                    (i * 53 % 256) as u8
+                }
+            })
+            .collect();
+        let options = TextureOptions::default().with_storage(Storage::Rgba8);
+        let tex = Texture2D::from_texels(w, h, Format::Rgba8, cs, &rgba, options).unwrap();
+        let (top, next) = (tex.decode_level(0), tex.decode_level(1));
+        for y in 0..h / 2 {
+            for x in 0..w / 2 {
+                let at = |dx: u32, dy: u32| top[((2 * y + dy) * w + 2 * x + dx) as usize];
+                let mean = (at(0, 0) * 0.5 + at(1, 0) * 0.5) * 0.5
+                    + (at(0, 1) * 0.5 + at(1, 1) * 0.5) * 0.5;
+                let mut want = [0u8; 4];
+                Format::Rgba8.encode(mip::unpremultiply(mean), cs, &mut want);
+                let mut got = [0u8; 4];
+                let c = next[(y * (w / 2) + x) as usize];
+                Format::Rgba8.encode(mip::unpremultiply(c), cs, &mut got);
+                // Opaque levels are halved in integers (16-bit linear sums): at most a code off.
+                for (g, e) in got.iter().zip(want) {
+                    assert!(g.abs_diff(e) <= 1, "({x}, {y}): {got:?} vs {want:?}");
+                }
+            }
+        }
+    }
 }
