@@ -42,7 +42,7 @@ impl Tracer<'_> {
     /// The distance to the core surface (melted and displaced), world.
     #[inline]
     pub(super) fn core_distance(&self, p: Vec3) -> f32 {
-        let Some(h) = self.hyper else {
+        let Some(h) = self.hyper.filter(|_| self.warped) else {
             return self
                 .field
                 .distance(self.field.voxel_from_world.transform_point3(p));
