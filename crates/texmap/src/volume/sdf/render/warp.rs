@@ -100,7 +100,10 @@ impl Warp {
         let top = Vec3::new((nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32);
         // Clamped to the lattice (a point on the box's side rounds inside it); NaN-free.
         let k = k.max(Vec3::ZERO).min(top);
-        let (i, j, l) = (k.x as usize, k.y as usize, k.z as usize);
+        // SAFETY: in [0, top] (clamped above, NaN made 0), which `u32` holds: the truncation
+        // needs none of `as`'s saturation.
+        let whole = |v: f32| unsafe { v.to_int_unchecked::<u32>() } as usize;
+        let (i, j, l) = (whole(k.x), whole(k.y), whole(k.z));
         let idx = i + nx * (j + ny * l);
         let c = self.origin + self.axes[0] * k.x + self.axes[1] * k.y + self.axes[2] * k.z;
         let bits = self.values[idx].load(Ordering::Relaxed);
@@ -132,15 +135,21 @@ impl Warp {
 /// along it.
 #[inline(always)]
 pub(super) fn sag_noise(h: &Hypertexture, up: Vec3, t: Vec3) -> f32 {
-    let x = t * (h.frequency * 0.5);
-    let along = x.dot(up);
-    let p = x - up * (along * 0.9);
+    let (p, q) = sag_points(h, up, t);
     // `octaves3f(p, 2, 2, ½, false)` term by term (the same bits), without its loop.
     let mut sum = 0.0f32;
     sum += noise3f(p.x, p.y, p.z);
-    let q = p * 2.0;
     sum += 0.5 * noise3f(q.x, q.y, q.z);
     sum
+}
+
+/// Where [`sag_noise`] reads its two octaves for texture point `t`.
+#[inline(always)]
+pub(super) fn sag_points(h: &Hypertexture, up: Vec3, t: Vec3) -> (Vec3, Vec3) {
+    let x = t * (h.frequency * 0.5);
+    let along = x.dot(up);
+    let p = x - up * (along * 0.9);
+    (p, p * 2.0)
 }
 
 #[cfg(test)]
