@@ -364,8 +364,13 @@ pub(super) fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error>
         .map(|s| overrides.apply(s).filter)
         .collect();
     let gl_mip = |f: &Filter| matches!(f, Filter::Gl { min, .. } if !matches!(min, MinFilter::Nearest | MinFilter::Linear));
-    let reads_lod =
-        |f: &Filter| gl_mip(f) || matches!(f, Filter::Anisotropic { .. } | Filter::Ewa { .. });
+    let reads_lod = |f: &Filter| {
+        gl_mip(f)
+            || matches!(
+                f,
+                Filter::Anisotropic { .. } | Filter::Ewa { .. } | Filter::EwaExact { .. }
+            )
+    };
     if !filters.is_empty() && !filters.iter().any(gl_mip) {
         refuse(
             given(&[("--lod-rule", args.lod_rule.is_some())]),

@@ -216,7 +216,7 @@ fn sample_cube_with<C: Codec>(cube: &TextureCube, s: &Sampler, fp: &CubeFootprin
             }
             sum / taps
         }
-        Filter::Ewa { .. } | Filter::SummedArea => {
+        Filter::Ewa { .. } | Filter::EwaExact { .. } | Filter::SummedArea => {
             let clamped = s.with_wraps(Wrap::ClampToEdge, Wrap::ClampToEdge, s.wrap_w);
             sample(&cube.faces[face], &clamped, &ffp)
         }

@@ -44,9 +44,13 @@ pub enum Filter {
     /// Up to `max_aniso` trilinear taps along the footprint's major axis, the level from the
     /// minor axis (1 ≤ `max_aniso` ≤ 16).
     Anisotropic { max_aniso: u32 },
-    /// Heckbert's elliptical weighted average with a Gaussian, the ellipse's eccentricity
-    /// clamped to `max_eccentricity`.
+    /// Elliptical weighted average by probes: Heckbert's Gaussian over the footprint's
+    /// ellipse (eccentricity clamped to `max_eccentricity`) sampled by trilinear probes along
+    /// its major axis, as many as the eccentricity needs (Mavridis and Papaioannou 2011).
     Ewa { max_eccentricity: f32 },
+    /// Heckbert's elliptical weighted average itself: every texel inside the ellipse
+    /// weighted by the Gaussian (the reference [`Filter::Ewa`] approximates).
+    EwaExact { max_eccentricity: f32 },
     /// A box over the footprint's bounding rectangle, read from summed-area tables.
     SummedArea,
 }
@@ -70,7 +74,7 @@ impl Filter {
 
     /// Every spelling [`Filter::parse`] accepts, as `--help` text and error messages list them.
     pub const SPELLINGS: &'static str = "nearest, bilinear, trilinear, nearest-mipmap-nearest, \
-        bilinear-mipmap-nearest, nearest-mipmap-linear, aniso1..aniso16, ewa, sat \
+        bilinear-mipmap-nearest, nearest-mipmap-linear, aniso1..aniso16, ewa, ewa-exact, sat \
         (an OpenGL name may end in -mag-nearest or -mag-linear for the other magnification filter)";
 
     /// The OpenGL filters of [`Filter::SPELLINGS`] alone (what 3D textures take).
@@ -114,7 +118,7 @@ impl Filter {
     /// Parses one of [`Filter::SPELLINGS`]: an OpenGL pair by its minification filter's name
     /// (`trilinear` is `GL_LINEAR_MIPMAP_LINEAR` magnifying with `GL_LINEAR`;
     /// `trilinear-mag-nearest` magnifies with `GL_NEAREST`), `anisoN` for N in 1..=16,
-    /// `ewa` (eccentricity at most 16) or `sat`.
+    /// `ewa` and `ewa-exact` (eccentricity at most 16) or `sat`.
     ///
     /// ```
     /// use texmap::texture::{Filter, MagFilter, MinFilter};
@@ -149,6 +153,9 @@ impl Filter {
             "ewa" => Ok(Filter::Ewa {
                 max_eccentricity: 16.0,
             }),
+            "ewa-exact" => Ok(Filter::EwaExact {
+                max_eccentricity: 16.0,
+            }),
             "sat" => Ok(Filter::SummedArea),
             _ => {
                 let digits = s.strip_prefix("aniso").ok_or_else(unknown)?;
@@ -168,7 +175,7 @@ impl Filter {
     ///
     /// Two filters have no spelling of their own and are named by the nearest one: an
     /// anisotropic count outside 1..=16 by the count sampling clamps it to (the same reads),
-    /// and an EWA bound on the eccentricity other than 16 as `ewa`.
+    /// and an EWA bound on the eccentricity other than 16 as `ewa` (or `ewa-exact`).
     ///
     /// ```
     /// use texmap::texture::{Filter, MagFilter, MinFilter};
@@ -193,6 +200,7 @@ impl Filter {
             }
             Filter::Anisotropic { max_aniso } => format!("aniso{}", max_aniso.clamp(1, 16)),
             Filter::Ewa { .. } => "ewa".to_string(),
+            Filter::EwaExact { .. } => "ewa-exact".to_string(),
             Filter::SummedArea => "sat".to_string(),
         }
     }
@@ -343,7 +351,8 @@ impl Sampler {
 mod tests {
     use super::*;
 
-    /// Every filter a spelling names: the twelve OpenGL pairs, anisotropy 1..=16, EWA, SAT.
+    /// Every filter a spelling names: the twelve OpenGL pairs, anisotropy 1..=16, EWA (both),
+    /// SAT.
     fn named_filters() -> Vec<Filter> {
         let mins = Filter::GL_NAMES.map(|(_, min, _)| min);
         let mut v: Vec<Filter> = mins
@@ -355,6 +364,9 @@ mod tests {
         v.extend((1..=16).map(|max_aniso| Filter::Anisotropic { max_aniso }));
         v.extend([
             Filter::Ewa {
+                max_eccentricity: 16.0,
+            },
+            Filter::EwaExact {
                 max_eccentricity: 16.0,
             },
             Filter::SummedArea,

@@ -189,9 +189,10 @@ fn sample_3d_with<C: Codec>(tex: &Texture3D, s: &Sampler, fp: &Footprint3) -> Ve
     let lod = s.adjust_lod(s.lod_rule.lod3(dx, dy));
     let choice = match s.filter {
         Filter::Gl { mag, min } => MipChoice::gl(lod, tex.levels.len(), mag, min),
-        Filter::Anisotropic { .. } | Filter::Ewa { .. } | Filter::SummedArea => {
-            MipChoice::trilinear(lod, tex.levels.len())
-        }
+        Filter::Anisotropic { .. }
+        | Filter::Ewa { .. }
+        | Filter::EwaExact { .. }
+        | Filter::SummedArea => MipChoice::trilinear(lod, tex.levels.len()),
     };
     let a = read_level3::<C>(tex, s, choice.level, choice.texels, fp.uvw);
     match choice.blend {

@@ -388,7 +388,7 @@ pub(super) struct MapsSpec {
 pub(super) struct TextureSpec {
     /// An image file (relative to the scene file).
     pub(super) file: PathBuf,
-    /// nearest | bilinear | trilinear | anisoN | ewa | sat (default trilinear).
+    /// nearest | bilinear | trilinear | anisoN | ewa | ewa-exact | sat (default trilinear).
     pub(super) filter: Option<String>,
     /// repeat | mirror | clamp | border | mirror-clamp, both axes.
     pub(super) wrap: Option<String>,

@@ -1,4 +1,5 @@
-//! Heckbert's elliptical weighted average (EWA).
+//! Heckbert's elliptical weighted average (EWA): `ewa-exact`, the reference that
+//! [`super::ewa_probes`] (`ewa`) approximates.
 //!
 //! The footprint's ellipse (semi-axes along the derivatives' singular vectors) is convolved with a
 //! reconstruction disc (a term added to the squared semi-axes, as Heckbert's thesis and pbrt add
@@ -22,7 +23,7 @@ use crate::texture::{Footprint, Sampler, Texture2D};
 
 pub(super) const TABLE_SIZE: usize = 128;
 /// The ellipse's semi-axes as a multiple of the derivatives' singular values.
-const RADIUS: f32 = 0.8;
+pub(super) const RADIUS: f32 = 0.8;
 /// The reconstruction disc's squared radius in texels, added to the footprint's.
 const RECONSTRUCTION: f32 = 0.5;
 /// Gaussian falloff: weight = e^(−α r²) − e^(−α), r² ∈ [0, 1).

@@ -8,6 +8,7 @@
 pub(crate) mod anisotropic;
 pub(crate) mod ewa;
 mod ewa_lanes;
+mod ewa_probes;
 mod fixed16;
 pub(crate) mod summed_area;
 
@@ -94,6 +95,21 @@ pub fn sample_quad_lanes(
             }
         }
         if let Filter::Ewa { max_eccentricity } = sampler.filter {
+            // The quad's plan once; its probes in lanes, in fixed point.
+            let quad = ewa_probes::sample_quad(
+                texture,
+                sampler,
+                uv,
+                duv_dx,
+                duv_dy,
+                mask,
+                max_eccentricity,
+            );
+            if let Some(quad) = quad {
+                return quad;
+            }
+        }
+        if let Filter::EwaExact { max_eccentricity } = sampler.filter {
             // The quad's ellipse once, its texels read once for the four pixels.
             return with_texture_codec!(texture, C => ewa_lanes::sample_quad::<C>(
                 texture, sampler, uv, duv_dx, duv_dy, mask, max_eccentricity
@@ -393,7 +409,8 @@ fn sample_with<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint) -> Vec4 {
     match s.filter {
         Filter::Gl { mag, min } => gl::<C>(tex, s, fp, mag, min),
         Filter::Anisotropic { max_aniso } => anisotropic::sample::<C>(tex, s, fp, max_aniso),
-        Filter::Ewa { max_eccentricity } => ewa::sample::<C>(tex, s, fp, max_eccentricity),
+        Filter::Ewa { max_eccentricity } => ewa_probes::sample::<C>(tex, s, fp, max_eccentricity),
+        Filter::EwaExact { max_eccentricity } => ewa::sample::<C>(tex, s, fp, max_eccentricity),
         Filter::SummedArea => summed_area::sample::<C>(tex, s, fp),
     }
 }

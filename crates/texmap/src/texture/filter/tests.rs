@@ -8,7 +8,7 @@ use crate::texture::{
     TextureOptions, Wrap,
 };
 
-const FILTERS: [&str; 9] = [
+const FILTERS: [&str; 10] = [
     "nearest",
     "bilinear",
     "trilinear",
@@ -18,6 +18,7 @@ const FILTERS: [&str; 9] = [
     "ewa",
     "sat",
     "aniso8",
+    "ewa-exact",
 ];
 const WRAPS: [Wrap; 5] = [
     Wrap::Repeat,
@@ -341,7 +342,7 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
 
     #[test]
-    fn quad_sampling_equals_per_pixel_sampling(fp in footprint_strategy(), f in 0usize..21, w in 0usize..5) {
+    fn quad_sampling_equals_per_pixel_sampling(fp in footprint_strategy(), f in 0usize..22, w in 0usize..5) {
         let tex = noisy(13, 9);
         let s = Sampler::new(every_filter()[f], WRAPS[w]);
         let uvs = [fp.uv, fp.uv + Vec2::new(0.01, 0.0), fp.uv + Vec2::new(0.0, 0.02), fp.uv + Vec2::new(0.03, 0.01)];
@@ -355,7 +356,7 @@ proptest! {
     }
 
     #[test]
-    fn quad_sampling_of_8bit_storage_equals_per_pixel_sampling(fp in footprint_strategy(), f in 0usize..21, w in 0usize..5, srgb in any::<bool>(), opaque in any::<bool>()) {
+    fn quad_sampling_of_8bit_storage_equals_per_pixel_sampling(fp in footprint_strategy(), f in 0usize..22, w in 0usize..5, srgb in any::<bool>(), opaque in any::<bool>()) {
         // The 8-bit storage's fixed-point reads (texels widened to 16-bit linear) against the
         // float filters on the same texels: within the same bound as the default storage's.
         let cs = if srgb { ColorSpace::Srgb } else { ColorSpace::Linear };
@@ -370,7 +371,7 @@ proptest! {
     }
 
     #[test]
-    fn batched_quads_equal_quads_read_one_by_one(fps in proptest::collection::vec(footprint_strategy(), 1..7), f in 0usize..21, w in 0usize..5) {
+    fn batched_quads_equal_quads_read_one_by_one(fps in proptest::collection::vec(footprint_strategy(), 1..7), f in 0usize..22, w in 0usize..5) {
         let tex = noisy(13, 9);
         let s = Sampler::new(every_filter()[f], WRAPS[w]);
         let coords: Vec<crate::texture::QuadCoords> = fps
@@ -392,7 +393,7 @@ proptest! {
     }
 
     #[test]
-    fn shared_reads_equal_each_texture_read_on_its_own(fps in proptest::collection::vec(footprint_strategy(), 1..20), f in 0usize..21, w in 0usize..5, count in 1usize..8, mixed in any::<bool>()) {
+    fn shared_reads_equal_each_texture_read_on_its_own(fps in proptest::collection::vec(footprint_strategy(), 1..20), f in 0usize..22, w in 0usize..5, count in 1usize..8, mixed in any::<bool>()) {
         // Textures of one size (more than one group of them when `count` > 5), or with one of
         // another size (each then read on its own).
         let textures: Vec<Texture2D> = (0..count)
@@ -434,7 +435,7 @@ proptest! {
     }
 
     #[test]
-    fn quad_sampling_of_a_constant_texture_reads_the_constant(fp in footprint_strategy(), f in 0usize..21, w in 0usize..5) {
+    fn quad_sampling_of_a_constant_texture_reads_the_constant(fp in footprint_strategy(), f in 0usize..22, w in 0usize..5) {
         // Every 8-bit value: the fixed-point weights of a read sum to exactly one (the
         // default storage and the 8-bit one).
         for (c, storage) in [0u8, 1, 17, 128, 254, 255].into_iter().flat_map(|c| {
@@ -457,7 +458,7 @@ proptest! {
     }
 
     #[test]
-    fn constant_texture_reads_the_constant(fp in footprint_strategy(), f in 0usize..21, w in 0usize..5) {
+    fn constant_texture_reads_the_constant(fp in footprint_strategy(), f in 0usize..22, w in 0usize..5) {
         let c = Vec4::new(0.2, 0.4, 0.6, 0.8);
         let tex = Texture2D::from_fn(11, 6, TextureOptions::default(), |_, _| c).unwrap();
         let mut s = Sampler::new(every_filter()[f], WRAPS[w]);
@@ -469,7 +470,7 @@ proptest! {
     }
 
     #[test]
-    fn filtered_value_stays_within_the_texels_range(fp in footprint_strategy(), f in 0usize..21, w in 0usize..3) {
+    fn filtered_value_stays_within_the_texels_range(fp in footprint_strategy(), f in 0usize..22, w in 0usize..3) {
         let tex = noisy(13, 9);
         let s = Sampler::new(every_filter()[f], WRAPS[w]);
         let texels = tex.decode_level(0);
@@ -586,7 +587,7 @@ proptest! {
             noisy(64, 48)
         };
         let max_eccentricity = [16.0, 4.0, 64.0][ecc];
-        let mut s = Sampler::new(Filter::Ewa { max_eccentricity }, WRAPS[w]);
+        let mut s = Sampler::new(Filter::EwaExact { max_eccentricity }, WRAPS[w]);
         s.border = Vec4::new(0.1, 0.2, 0.3, 0.4);
         let step = [0.007, 0.05, 0.6][spread];
         let uvs = [fp.uv, fp.uv + Vec2::new(step, 0.0), fp.uv + Vec2::new(0.0, step * 1.3), fp.uv + Vec2::new(step, step * 1.3)];
@@ -599,5 +600,76 @@ proptest! {
             };
             prop_assert!(quad[j].to_array().map(f32::to_bits) == want.to_array().map(f32::to_bits), "{:?} pixel {}: {} vs {}", s.wrap_u, j, quad[j], want);
         }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(500))]
+
+    /// `ewa`'s probes: at most 16, placed symmetrically about the centre inside (−1, 1), their
+    /// weights positive, mirrored, and summing to 1.
+    #[test]
+    fn ewa_probe_weights_are_symmetric_and_sum_to_one(fp in ewa_footprint_strategy(), ecc in 0usize..3) {
+        let tex = noisy(64, 48);
+        let s = Sampler::new(Filter::Ewa { max_eccentricity: 16.0 }, Wrap::Repeat);
+        let max_ecc = [16.0, 4.0, 64.0][ecc];
+        if let super::ewa_probes::Plan::Probes { probes, count, .. } = super::ewa_probes::plan(&tex, &s, &fp, max_ecc) {
+            let probes = &probes[..count];
+            prop_assert!((1..=super::ewa_probes::MAX_PROBES).contains(&count));
+            let total: f32 = probes.iter().map(|p| p.1).sum();
+            prop_assert!((total - 1.0).abs() < 1e-6, "{}", total);
+            for (a, b) in probes.iter().zip(probes.iter().rev()) {
+                prop_assert!(a.1 > 0.0 && a.0 > -1.0 && a.0 < 1.0, "{:?}", probes);
+                prop_assert!((a.0 + b.0).abs() < 1e-6 && (a.1 - b.1).abs() < 1e-6, "{:?}", probes);
+            }
+        }
+    }
+
+    /// `ewa` of a quad on the default storage (fixed-point probes in lanes, or `ewa-exact`'s
+    /// lanes for round footprints) against the float filter read one pixel at a time: within
+    /// the fixed-point trilinear bound, on every wrap.
+    #[test]
+    fn ewa_quads_in_lanes_equal_the_float_filter(fp in ewa_footprint_strategy(), w in 0usize..5, mask in 1u8..16) {
+        let tex = noisy(64, 48);
+        let s = Sampler::new(Filter::Ewa { max_eccentricity: 16.0 }, WRAPS[w]);
+        let uvs = [fp.uv, fp.uv + Vec2::new(0.011, 0.0), fp.uv + Vec2::new(0.0, 0.013), fp.uv + Vec2::new(0.011, 0.013)];
+        let quad = crate::texture::sample_quad(&tex, &s, &uvs, fp.duv_dx, fp.duv_dy, mask);
+        for j in 0..4 {
+            let want = if mask & (1 << j) == 0 {
+                Vec4::ZERO
+            } else {
+                sample(&tex, &s, &Footprint::new(uvs[j], fp.duv_dx, fp.duv_dy))
+            };
+            prop_assert!(close(quad[j], want, 1.6e-4), "{:?} pixel {}: {} vs {}", s.wrap_u, j, quad[j], want);
+        }
+    }
+}
+
+#[test]
+fn ewa_reads_round_footprints_exactly() {
+    // Below the probes' eccentricity the two filters are one read, bit for bit (a square
+    // texture: the ratio in texels is the one in uv).
+    let tex = noisy(64, 64);
+    let probes = Sampler::new(Filter::parse("ewa").unwrap(), Wrap::Repeat);
+    let exact = Sampler::new(Filter::parse("ewa-exact").unwrap(), Wrap::Repeat);
+    for i in 0..200 {
+        let uv = Vec2::new((i as f32 * 0.137) % 1.0, (i as f32 * 0.291) % 1.0);
+        let (angle, ratio, minor) = (
+            i as f32 * 0.1,
+            1.0 + (i % 19) as f32 / 10.0,
+            0.02 + (i % 7) as f32 * 0.03,
+        );
+        let (s, c) = angle.sin_cos();
+        let fp = Footprint::new(
+            uv,
+            Vec2::new(c, s) * minor * ratio,
+            Vec2::new(-s, c) * minor,
+        );
+        let (a, b) = (sample(&tex, &probes, &fp), sample(&tex, &exact, &fp));
+        assert_eq!(
+            a.to_array().map(f32::to_bits),
+            b.to_array().map(f32::to_bits),
+            "{i}: {a} vs {b}"
+        );
     }
 }

@@ -219,7 +219,10 @@ impl VirtualTexture {
     /// # Errors
     /// [`Error::Unsupported`] naming what is not.
     pub fn check_sampler(&self, sampler: &Sampler) -> Result<()> {
-        if matches!(sampler.filter, Filter::Ewa { .. } | Filter::SummedArea) {
+        if matches!(
+            sampler.filter,
+            Filter::Ewa { .. } | Filter::EwaExact { .. } | Filter::SummedArea
+        ) {
             return Err(Error::Unsupported(format!(
                 "virtual textures are read with the OpenGL filters or anisoN, not {} (it reads whole levels)",
                 sampler.filter.name()

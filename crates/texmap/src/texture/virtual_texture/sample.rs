@@ -161,7 +161,7 @@ impl VirtualTexture {
                 Plan::Gl(MipChoice::gl(lod, levels, mag, min))
             }
             // Refused before a frame (`check_sampler`); read as trilinear if asked anyway.
-            Filter::Ewa { .. } | Filter::SummedArea => {
+            Filter::Ewa { .. } | Filter::EwaExact { .. } | Filter::SummedArea => {
                 let lod = s.adjust_lod(s.lod_rule.lod(dx, dy) - lod_shift);
                 lod_read = lod;
                 Plan::Gl(MipChoice::trilinear(lod, levels))
