@@ -22,7 +22,8 @@ pub struct FrameStats {
     /// Triangles rasterized: after rejection, culling, clipping (a clipped triangle may become
     /// several) and subdivision.
     pub triangles_after_clip: u64,
-    /// Fragment shader invocations (pixels × triangles, at the supersampled size).
+    /// Fragment shader invocations (pixels × triangles, at the supersampled size), the pass
+    /// that draws what transmitting surfaces see included.
     pub pixels_shaded: u64,
     pub texture_samples: u64,
     /// Virtual textures' pages this frame (all zero without any).

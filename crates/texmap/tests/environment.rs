@@ -581,4 +581,18 @@ fn transmission_sees_the_surfaces_behind_it() {
             assert_eq!(px(&b, x, y), px(&a, x, y), "pixel ({x}, {y})");
         }
     }
+    // The pass behind the glass shades the whole board, and the frame the glass and the
+    // board around it: the counts include both (the frame alone has fewer than the glass
+    // plus the board, whose pixels behind the glass are hidden from it).
+    let mut no_glass = with_board.clone();
+    no_glass.meshes.remove(0);
+    let c = render(&no_glass, &cam, &settings).unwrap();
+    let board_pixels = c.stats.pixels_shaded;
+    assert!(board_pixels > 0);
+    assert!(
+        b.stats.pixels_shaded >= a.stats.pixels_shaded + board_pixels,
+        "glass and board {}, glass alone {}, board alone {board_pixels}",
+        b.stats.pixels_shaded,
+        a.stats.pixels_shaded
+    );
 }

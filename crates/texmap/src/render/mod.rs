@@ -283,7 +283,10 @@ fn draw_frame(
         depth_sort: settings.visibility == Visibility::DepthSort,
     };
     // Transmitting metallic-roughness surfaces see the frame's other surfaces (behind.rs).
-    let behind = scene_behind(&calls, &shader, &target, clip_from_world);
+    let (behind, behind_stats) = match scene_behind(&calls, &shader, &target, clip_from_world) {
+        Some((b, st)) => (Some(b), Some(st)),
+        None => (None, None),
+    };
     let shader = SceneShader {
         behind: behind.as_ref(),
         ..shader
@@ -312,21 +315,24 @@ fn draw_frame(
     frame.stats = FrameStats {
         triangles_submitted: st.triangles_submitted,
         triangles_after_clip: st.triangles_after_clip,
-        pixels_shaded: st.pixels_shaded,
-        texture_samples: st.texture_samples,
+        // The pass drawing what transmitting surfaces see is shading work of this frame too
+        // (its triangles are the frame's own, counted once).
+        pixels_shaded: st.pixels_shaded + behind_stats.map_or(0, |b| b.pixels_shaded),
+        texture_samples: st.texture_samples + behind_stats.map_or(0, |b| b.texture_samples),
         virtual_pages: VirtualPageStats::default(),
     };
     Ok(())
 }
 
 /// The frame drawn without its transmitting and blended draws onto a transparent target,
-/// when a transmitting metallic-roughness draw will read it (behind.rs); else `None`.
+/// when a transmitting metallic-roughness draw will read it (behind.rs), with the pass's
+/// statistics; else `None`.
 fn scene_behind(
     calls: &[DrawCall],
     shader: &SceneShader,
     target: &Target,
     clip_from_world: Mat4,
-) -> Option<behind::SceneBehind> {
+) -> Option<(behind::SceneBehind, pipeline::DrawStats)> {
     let sees = |d: &DrawInfo| {
         d.model == ShadingModel::MetallicRoughness && d.env.as_ref().is_some_and(|e| e.refracts)
     };
@@ -350,9 +356,12 @@ fn scene_behind(
         ..*target
     };
     let mut color = Vec::new();
-    pipeline::draw_into(&opaque, shader, &target, &mut color);
+    let stats = pipeline::draw_into(&opaque, shader, &target, &mut color);
     let (w, h) = (target.width as usize, target.height as usize);
-    Some(behind::SceneBehind::new(color, w, h, clip_from_world))
+    Some((
+        behind::SceneBehind::new(color, w, h, clip_from_world),
+        stats,
+    ))
 }
 
 /// The scene's meshes with the blended ones moved to the end and sorted back to front by the
