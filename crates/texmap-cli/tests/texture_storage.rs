@@ -1,6 +1,7 @@
-//! `--texture-storage decoded|native|compressed` (render and info) and TOML `storage`: a
-//! hand-made BC1 DDS (built here) renders the same held compressed as decoded, `info` shows
-//! what each storage holds, and the flag is refused where no image file is read.
+//! `--texture-storage decoded|native|compressed|rgba8` (render and info) and TOML `storage`: a
+//! hand-made BC1 DDS (built here) renders the same held compressed as decoded, a PNG the same
+//! held as 8-bit RGBA, `info` shows what each storage holds, and the flag is refused where no
+//! image file is read.
 
 mod common;
 
@@ -100,6 +101,51 @@ fn every_storage_renders_a_block_compressed_texture_alike() {
             assert!(p >= 50.0, "{storage} {filter}: {p:.1} dB from decoded");
         }
     }
+}
+
+#[test]
+fn the_8bit_storage_renders_an_image_file_as_the_default_does() {
+    // An sRGB PNG of pseudo-random texels: held as 8-bit RGBA, it reads within the 8-bit
+    // rounding of the default storage's 16-bit linear texels under every filter family.
+    let d = dir("rgba8");
+    let png = d.join("noise.png");
+    let mut x = 99u32;
+    let img = image::RgbImage::from_fn(64, 64, |_, _| {
+        let mut c = [0u8; 3];
+        for v in &mut c {
+            x = x.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+            *v = (x >> 16) as u8;
+        }
+        image::Rgb(c)
+    });
+    img.save(&png).unwrap();
+    let render = |storage: &str, filter: &str| {
+        let out = d.join(format!("plane-{storage}-{filter}.png"));
+        ok(&texmap(&[
+            "render",
+            "builtin:plane",
+            "--size",
+            "96x64",
+            "--uv-scale",
+            "4",
+            "--filter",
+            filter,
+            "--texture",
+            s(&png),
+            "--texture-storage",
+            storage,
+            "--quiet",
+            "-o",
+            s(&out),
+        ]));
+        out
+    };
+    for filter in ["nearest", "trilinear", "aniso8", "ewa"] {
+        let p = psnr(&render("decoded", filter), &render("rgba8", filter));
+        assert!(p >= 45.0, "rgba8 {filter}: {p:.1} dB from decoded");
+    }
+    let text = ok(&texmap(&["info", s(&png), "--texture-storage", "rgba8"]));
+    assert!(text.contains("held rgba8:"), "{text}");
 }
 
 #[test]
