@@ -16,7 +16,7 @@
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
 /// Lattice points per cell of the finest noise octave, along each axis.
 pub(super) const POINTS_PER_CELL: f32 = 4.0;
@@ -76,12 +76,12 @@ impl NoiseCache {
         let (cx, cy, cz) = (whole(c.x), whole(c.y), whole(c.z));
         let base = cx + nx * (cy + ny * cz);
         let (sy, sz) = (nx, nx * ny);
+        // Corner k's offset: +1 along x for odd k, +sy for k & 2, +sz for k & 4.
         let offsets = [0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1];
         let corners = &self.values[base..=base + sz + sy + 1];
-        let mut bits = [0u32; 8];
-        for (b, &o) in bits.iter_mut().zip(&offsets) {
-            *b = corners[o].load(Ordering::Relaxed);
-        }
+        // SAFETY: every offset is at most `sz + sy + 1`, the slice's last index.
+        let load = |o: usize| unsafe { corners.get_unchecked(o) }.load(Ordering::Relaxed);
+        let mut bits = offsets.map(load);
         // One test for the eight (all stored, after the lattice's first reads).
         if bits.contains(&EMPTY) {
             for (b, &o) in bits.iter_mut().zip(&offsets) {
@@ -91,14 +91,14 @@ impl NoiseCache {
             }
         }
         let v = bits.map(f32::from_bits);
-        let lerp = |t: f32, a: f32, b: f32| a + t * (b - a);
-        let x00 = lerp(f.x, v[0], v[1]);
-        let x10 = lerp(f.x, v[2], v[3]);
-        let x01 = lerp(f.x, v[4], v[5]);
-        let x11 = lerp(f.x, v[6], v[7]);
-        let y0 = lerp(f.y, x00, x10);
-        let y1 = lerp(f.y, x01, x11);
-        Some(lerp(f.z, y0, y1))
+        // Lane by lane `a + t · (b − a)` along x (corners 0, 2, 4, 6 to 1, 3, 5, 7), then y
+        // and z: the scalar blend's operations in its order.
+        let lo = Vec4::new(v[0], v[2], v[4], v[6]);
+        let hi = Vec4::new(v[1], v[3], v[5], v[7]);
+        let x = lo + f.x * (hi - lo);
+        let y0 = x.x + f.y * (x.y - x.x);
+        let y1 = x.z + f.y * (x.w - x.z);
+        Some(y0 + f.z * (y1 - y0))
     }
 
     /// Evaluates and stores the noise at lattice point `idx` (a miss).

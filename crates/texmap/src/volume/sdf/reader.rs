@@ -10,7 +10,7 @@
 //!   `voxel_from_world`'s linear part (the chain rule), so anisotropic and rotated grids
 //!   shade right.
 
-use glam::{Mat3, Mat4, Vec3};
+use glam::{Mat3, Mat4, Vec3, Vec4};
 
 use super::super::cell::voxel_count;
 use super::super::grid::Volume;
@@ -84,25 +84,43 @@ impl<'a> FieldReader<'a> {
         let whole = |v: f32| unsafe { v.to_int_unchecked::<u32>() };
         let (ix, iy, iz) = (whole(x).min(lx), whole(y).min(ly), whole(z).min(lz));
         let i = iz as usize * self.nxy + iy as usize * self.nx + ix as usize;
+        let f = Vec3::new(x - ix as f32, y - iy as f32, z - iz as f32);
+        let (lo, hi) = self.corners(i);
+        Some(FieldCell { lo, hi, f })
+    }
+
+    /// The eight levels of the cell whose first corner is level `i` (at most `dims − 2`
+    /// along an axis of stride > 0), as [`FieldCell`]'s `lo` and `hi`: in lanes where x's
+    /// stride is 1, else one by one.
+    #[inline(always)]
+    fn corners(&self, i: usize) -> (Vec4, Vec4) {
+        #[cfg(target_arch = "x86_64")]
+        if self.strides[0] == 1 {
+            let [_, sy, sz] = self.strides;
+            // SAFETY: as `corners_scalar`'s; with x's stride 1 each pair is two neighbours.
+            return unsafe { pairs_sse2(self.levels, i, sy, sz) };
+        }
+        self.corners_scalar(i)
+    }
+
+    /// [`Self::corners`] one level at a time.
+    #[inline(always)]
+    fn corners_scalar(&self, i: usize) -> (Vec4, Vec4) {
         let [sx, sy, sz] = self.strides;
         let data = self.levels;
         // SAFETY: the cell's corner is at most `dims − 2` along an axis of stride > 0 (else 0),
         // so the largest index, i + sx + sy + sz, is a voxel of the grid, which `levels`
         // holds (checked in `new`).
         let g = |k: usize| f32::from(unsafe { *data.get_unchecked(k) });
-        Some(FieldCell {
-            c: [
-                g(i),
+        (
+            Vec4::new(g(i), g(i + sy), g(i + sz), g(i + sy + sz)),
+            Vec4::new(
                 g(i + sx),
-                g(i + sy),
                 g(i + sx + sy),
-                g(i + sz),
                 g(i + sx + sz),
-                g(i + sy + sz),
                 g(i + sx + sy + sz),
-            ],
-            f: Vec3::new(x - ix as f32, y - iy as f32, z - iz as f32),
-        })
+            ),
+        )
     }
 
     /// The trilinear distance at voxel-space `q` (clamped to the box), world units.
@@ -159,21 +177,45 @@ impl<'a> FieldReader<'a> {
     }
 }
 
-/// A cell's eight levels and a point's place inside it.
+/// A cell's eight levels and a point's place inside it: the corners at `x = 0` in `lo`
+/// and their neighbours along x in `hi`, in the order (y, z) = (0, 0), (1, 0), (0, 1),
+/// (1, 1) — [`super::super::cell::blend_cell`]'s corners 0, 2, 4, 6 and 1, 3, 5, 7.
 #[derive(Clone, Copy, Debug)]
 struct FieldCell {
-    c: [f32; 8],
+    lo: Vec4,
+    hi: Vec4,
     f: Vec3,
+}
+
+/// The eight levels of the cell whose first corner is level `i` (`sy`, `sz` the strides;
+/// x's is 1), as [`FieldCell`]'s `lo` and `hi`: four 32-bit loads, each two neighbours
+/// along x, split and converted in lanes (exact: levels are below 2^24).
+///
+/// # Safety
+/// `i + 1 + sy + sz` must index `levels`.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn pairs_sse2(levels: &[u16], i: usize, sy: usize, sz: usize) -> (Vec4, Vec4) {
+    use std::arch::x86_64::{
+        _mm_and_si128, _mm_cvtepi32_ps, _mm_set1_epi32, _mm_set_epi32, _mm_srli_epi32,
+    };
+    let base = levels.as_ptr();
+    // SAFETY: the caller's bound covers the last pair; unaligned loads of two levels.
+    let pair = |k: usize| unsafe { base.add(k).cast::<u32>().read_unaligned() } as i32;
+    let v = _mm_set_epi32(pair(i + sy + sz), pair(i + sz), pair(i + sy), pair(i));
+    let lo = _mm_cvtepi32_ps(_mm_and_si128(v, _mm_set1_epi32(0xffff)));
+    let hi = _mm_cvtepi32_ps(_mm_srli_epi32::<16>(v));
+    (Vec4::from(lo), Vec4::from(hi))
 }
 
 /// A cell's trilinear blend, x then y then z, with what its gradient reuses.
 #[derive(Clone, Copy, Debug)]
 struct Blend {
     cell: FieldCell,
-    x00: f32,
-    x10: f32,
-    x01: f32,
-    x11: f32,
+    /// `hi − lo`: the four differences along x.
+    dx: Vec4,
+    /// The blends along x: x00, x10, x01, x11 (y, z as in [`FieldCell`]).
+    x: Vec4,
     y0: f32,
     y1: f32,
     level: f32,
@@ -182,21 +224,17 @@ struct Blend {
 impl FieldCell {
     #[inline(always)]
     fn blend(self) -> Blend {
-        let [c0, c1, c2, c3, c4, c5, c6, c7] = self.c;
         let f = self.f;
-        let x00 = c0 + (c1 - c0) * f.x;
-        let x10 = c2 + (c3 - c2) * f.x;
-        let x01 = c4 + (c5 - c4) * f.x;
-        let x11 = c6 + (c7 - c6) * f.x;
-        let y0 = x00 + (x10 - x00) * f.y;
-        let y1 = x01 + (x11 - x01) * f.y;
+        // Lane by lane `c0 + (c1 − c0) · fx`, the scalar blend's operations in its order.
+        let dx = self.hi - self.lo;
+        let x = self.lo + dx * f.x;
+        let y0 = x.x + (x.y - x.x) * f.y;
+        let y1 = x.z + (x.w - x.z) * f.y;
         let level = y0 + (y1 - y0) * f.z;
         Blend {
             cell: self,
-            x00,
-            x10,
-            x01,
-            x11,
+            dx,
+            x,
             y0,
             y1,
             level,
@@ -227,13 +265,41 @@ impl<'r> LazyGradient<'r> {
         let Some(b) = self.blend else {
             return Vec3::ZERO;
         };
-        let [c0, c1, c2, c3, c4, c5, c6, c7] = b.cell.c;
+        let (d, x) = (b.dx, b.x);
         let f = b.cell.f;
         let (gy, gz) = (1.0 - f.y, 1.0 - f.z);
-        let dx = gz * (gy * (c1 - c0) + f.y * (c3 - c2)) + f.z * (gy * (c5 - c4) + f.y * (c7 - c6));
-        let dy = gz * (b.x10 - b.x00) + f.z * (b.x11 - b.x01);
+        let dx = gz * (gy * d.x + f.y * d.y) + f.z * (gy * d.z + f.y * d.w);
+        let dy = gz * (x.y - x.x) + f.z * (x.w - x.z);
         let dz = b.y1 - b.y0;
         let g = Vec3::new(dx, dy, dz) * self.reader.vol.value_step();
         self.reader.grad_to_world * g
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cell_corners_in_lanes_equal_the_scalar_ones() {
+        let dims = [7u32, 5, 4];
+        let n = (dims[0] * dims[1] * dims[2]) as usize;
+        // Scattered levels over the whole 16-bit range.
+        let values: Vec<f32> = (0..n)
+            .map(|k| ((k as u32).wrapping_mul(2_654_435_761) >> 16) as f32)
+            .collect();
+        let vol = Volume::from_scalars(dims, Mat4::IDENTITY, values).expect("volume");
+        let r = FieldReader::new(&vol);
+        assert_eq!(r.strides[0], 1);
+        for z in 0..dims[2] - 1 {
+            for y in 0..dims[1] - 1 {
+                for x in 0..dims[0] - 1 {
+                    let i = (z * dims[0] * dims[1] + y * dims[0] + x) as usize;
+                    let (a, b) = (r.corners(i), r.corners_scalar(i));
+                    assert_eq!(a.0.to_array(), b.0.to_array(), "cell {x} {y} {z}");
+                    assert_eq!(a.1.to_array(), b.1.to_array(), "cell {x} {y} {z}");
+                }
+            }
+        }
     }
 }
