@@ -325,6 +325,19 @@ const GRADIENTS_F32: [[f32; 3]; 16] = [
     [0.0, -1.0, -1.0],
 ];
 
+/// [`GRADIENTS_F32`] padded to four components: one 16-byte load per hash, four lanes'
+/// gradients transposed into x, y and z lanes ([`noise3f_x4`]).
+const GRADIENTS_F32X4: [[f32; 4]; 16] = {
+    let mut out = [[0.0f32; 4]; 16];
+    let mut i = 0;
+    while i < 16 {
+        let [x, y, z] = GRADIENTS_F32[i];
+        out[i] = [x, y, z, 0.0];
+        i += 1;
+    }
+    out
+};
+
 /// [`noise3`] in `f32`, for volume work that evaluates noise millions of times a frame
 /// (hypertexture): the same lattice, hashes and gradients, so it agrees with [`noise3`] to
 /// `f32` rounding (about 1e-6) for coordinates below 2¹⁶.
@@ -416,15 +429,11 @@ pub fn noise3f_x4(x: glam::Vec4, y: glam::Vec4, z: glam::Vec4) -> glam::Vec4 {
     let (u, v, w) = (fadef(x), fadef(y), fadef(z));
     let g = |k: usize, x: Vec4, y: Vec4, z: Vec4| {
         let h = hashes[k];
-        let c = |i: usize| {
-            Vec4::new(
-                GRADIENTS_F32[h[0]][i],
-                GRADIENTS_F32[h[1]][i],
-                GRADIENTS_F32[h[2]][i],
-                GRADIENTS_F32[h[3]][i],
-            )
-        };
-        c(0) * x + c(1) * y + c(2) * z
+        // The four lanes' gradients as a matrix's columns; its transpose's columns are
+        // their x, y and z components in lanes (the same table values).
+        let row = |l: usize| Vec4::from_array(GRADIENTS_F32X4[h[l]]);
+        let c = glam::Mat4::from_cols(row(0), row(1), row(2), row(3)).transpose();
+        c.x_axis * x + c.y_axis * y + c.z_axis * z
     };
     let lerp = |t: Vec4, a: Vec4, b: Vec4| a + t * (b - a);
     let (x1, y1, z1) = (x - 1.0, y - 1.0, z - 1.0);
