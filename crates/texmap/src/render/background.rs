@@ -52,18 +52,29 @@ pub(super) fn composite_environment(
         .enumerate()
         .for_each(|(y, row)| {
             let ndc_y = 1.0 - 2.0 * (y as f32 + 0.5) / height as f32;
-            for (x, c) in row.iter_mut().enumerate() {
-                if c.w >= 1.0 {
+            // Four pixels at a time (`background_lanes`: the same values as one by one).
+            for (x0, group) in (0..).step_by(4).zip(row.chunks_mut(4)) {
+                let mask = group
+                    .iter()
+                    .enumerate()
+                    .fold(0u8, |m, (j, c)| if c.w < 1.0 { m | 1 << j } else { m });
+                if mask == 0 {
                     continue;
                 }
-                let ndc_x = 2.0 * (x as f32 + 0.5) / width as f32 - 1.0;
-                let dir = forward + right * (ndc_x * tan * aspect) + up * (ndc_y * tan);
-                let bg = light.background(&CubeFootprint {
-                    dir,
-                    ddir_dx: dx,
-                    ddir_dy: dy,
+                let fps = std::array::from_fn(|j| {
+                    let ndc_x = 2.0 * ((x0 + j) as f32 + 0.5) / width as f32 - 1.0;
+                    CubeFootprint {
+                        dir: forward + right * (ndc_x * tan * aspect) + up * (ndc_y * tan),
+                        ddir_dx: dx,
+                        ddir_dy: dy,
+                    }
                 });
-                *c += bg * (1.0 - c.w);
+                let bg = light.background_lanes(&fps, mask);
+                for (j, c) in group.iter_mut().enumerate() {
+                    if mask & (1 << j) != 0 {
+                        *c += bg[j] * (1.0 - c.w);
+                    }
+                }
             }
         });
 }

@@ -55,8 +55,8 @@ use image::DynamicImage;
 use super::container::{cube_from_file, flat_image, read_texture_file, Container};
 use super::load::{decode_image, texture_from_image, Limits};
 use super::{
-    sample, sample_cube, ColorSpace, CubeFootprint, Footprint, Sampler, TextureCube,
-    TextureOptions, Wrap,
+    sample, sample_cube, sample_lanes, ColorSpace, CubeFootprint, Footprint, FootprintLanes,
+    Sampler, TextureCube, TextureOptions, Wrap,
 };
 use super::{Texture2D, UnknownName};
 use crate::{Error, Result};
@@ -150,6 +150,26 @@ impl EnvironmentMap {
                 sample(t, &s, &sphere_map_footprint(fp))
             }
         }
+    }
+
+    /// [`EnvironmentMap::sample`] of four footprints (lanes whose bit in `mask` is clear are
+    /// skipped, left zero): the same values, a panorama's footprints computed four at a time
+    /// ([`equirect_footprint_lanes`]) and read through [`sample_lanes`].
+    #[must_use]
+    pub fn sample_lanes(&self, sampler: &Sampler, fps: &[CubeFootprint; 4], mask: u8) -> [Vec4; 4] {
+        if let EnvironmentMap::Equirect(t) = self {
+            if let Some(fp) = equirect_footprint_lanes(fps, t.height()) {
+                let s = wrapped(sampler, Wrap::Repeat, Wrap::ClampToEdge);
+                return sample_lanes(t, &s, &fp, mask);
+            }
+        }
+        std::array::from_fn(|j| {
+            if mask & (1 << j) == 0 {
+                Vec4::ZERO
+            } else {
+                self.sample(sampler, &fps[j])
+            }
+        })
     }
 
     /// The layout's kind (a cube map reports [`EnvironmentKind::Faces`]).
@@ -255,6 +275,71 @@ pub fn equirect_footprint(fp: &CubeFootprint, height: u32) -> Footprint {
         )
     };
     Footprint::new(uv, deriv(dx), deriv(dy))
+}
+
+/// [`equirect_footprint`] of four footprints, one per lane: the same operations in the same
+/// order lane by lane (atan2 and acos by the same library calls per lane), so the same
+/// values. `None` when a direction is zero or not finite (the scalar rule's special case).
+#[must_use]
+pub fn equirect_footprint_lanes(fps: &[CubeFootprint; 4], height: u32) -> Option<FootprintLanes> {
+    let lane = |f: &dyn Fn(&CubeFootprint) -> f32| Vec4::from_array(fps.each_ref().map(f));
+    let (x, y, z) = (lane(&|f| f.dir.x), lane(&|f| f.dir.y), lane(&|f| f.dir.z));
+    // Unit direction and derivatives (`unit_with_derivatives`).
+    let len = sqrt4(x * x + y * y + z * z);
+    if !len.cmpgt(Vec4::ZERO).all() || !len.is_finite() {
+        return None;
+    }
+    let (dx, dy, dz) = (x / len, y / len, z / len);
+    let project = |ddx: Vec4, ddy: Vec4, ddz: Vec4| {
+        let dot = dx * ddx + dy * ddy + dz * ddz;
+        ((ddx - dx * dot) / len, (ddy - dy * dot) / len, (ddz - dz * dot) / len)
+    };
+    let (xx, xy, xz) = project(
+        lane(&|f| f.ddir_dx.x),
+        lane(&|f| f.ddir_dx.y),
+        lane(&|f| f.ddir_dx.z),
+    );
+    let (yx, yy, yz) = project(
+        lane(&|f| f.ddir_dy.x),
+        lane(&|f| f.ddir_dy.y),
+        lane(&|f| f.ddir_dy.z),
+    );
+    // `equirect_uv`, the library calls per lane.
+    let u = Vec4::from_array(std::array::from_fn(|j| dx[j].atan2(-dz[j])))
+        * (0.5 / std::f32::consts::PI);
+    let u = Vec4::select(u.cmplt(Vec4::ZERO), u + 1.0, u);
+    let v = Vec4::from_array(std::array::from_fn(|j| dy[j].clamp(-1.0, 1.0).acos()))
+        / std::f32::consts::PI;
+    let h = height.max(2) as f32;
+    let v = (v * (h - 1.0) + 0.5) / h;
+    // The chain rule (`equirect_footprint`).
+    let r2 = (dx * dx + dz * dz).max(Vec4::splat(1e-12));
+    let r = sqrt4(r2);
+    let row_scale = (h - 1.0) / h;
+    let du = |ddx: Vec4, ddz: Vec4| (-dz * ddx + dx * ddz) / (std::f32::consts::TAU * r2);
+    let dv = |ddy: Vec4| -ddy / (std::f32::consts::PI * r) * row_scale;
+    Some(FootprintLanes {
+        u,
+        v,
+        dudx: du(xx, xz),
+        dvdx: dv(xy),
+        dudy: du(yx, yz),
+        dvdy: dv(yy),
+    })
+}
+
+/// Lane-wise square root (one `sqrtps`, correctly rounded as `f32::sqrt` is).
+#[inline(always)]
+fn sqrt4(v: Vec4) -> Vec4 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        // SAFETY: SSE is part of x86_64.
+        Vec4::from(unsafe { std::arch::x86_64::_mm_sqrt_ps(v.into()) })
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        Vec4::from_array(v.to_array().map(f32::sqrt))
+    }
 }
 
 /// The footprint on an OpenGL sphere map: `(u, v) = (x/m + ½, ½ − y/m)` with

@@ -63,6 +63,31 @@ pub struct CubeFootprint {
     pub ddir_dy: Vec3,
 }
 
+/// Four [`Footprint`]s in lanes, one pixel per lane: `u` holds the four `uv.x`, `dudx` the
+/// four `duv_dx.x`, and so on (each pixel its own derivatives).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FootprintLanes {
+    pub u: Vec4,
+    pub v: Vec4,
+    pub dudx: Vec4,
+    pub dvdx: Vec4,
+    pub dudy: Vec4,
+    pub dvdy: Vec4,
+}
+
+impl FootprintLanes {
+    /// Lane `j`'s footprint.
+    #[inline]
+    #[must_use]
+    pub fn footprint(&self, j: usize) -> Footprint {
+        Footprint::new(
+            Vec2::new(self.u[j], self.v[j]),
+            Vec2::new(self.dudx[j], self.dvdx[j]),
+            Vec2::new(self.dudy[j], self.dvdy[j]),
+        )
+    }
+}
+
 /// How the level of detail is computed from the derivatives, in texel units.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum LodRule {

@@ -179,6 +179,26 @@ impl<'a> EnvLight<'a> {
     pub fn background(&self, fp: &CubeFootprint) -> Vec4 {
         self.mirror(fp).extend(1.0)
     }
+
+    /// [`EnvLight::background`] of four footprints (lanes whose bit in `mask` is clear are
+    /// left zero): the same values, the map read four at a time
+    /// ([`crate::texture::EnvironmentMap::sample_lanes`]).
+    #[must_use]
+    pub fn background_lanes(&self, fps: &[CubeFootprint; 4], mask: u8) -> [Vec4; 4] {
+        let local = fps.each_ref().map(|fp| CubeFootprint {
+            dir: self.in_map_frame(fp.dir),
+            ddir_dx: self.in_map_frame(fp.ddir_dx),
+            ddir_dy: self.in_map_frame(fp.ddir_dy),
+        });
+        let c = self.env.map.sample_lanes(&self.sampler, &local, mask);
+        std::array::from_fn(|j| {
+            if mask & (1 << j) == 0 {
+                Vec4::ZERO
+            } else {
+                (c[j].truncate() * self.env.intensity).extend(1.0)
+            }
+        })
+    }
 }
 
 /// α² at each prefiltered roughness `k/LEVELS` (`(k/8)⁴`), and the reciprocals of the steps
