@@ -55,8 +55,8 @@ use image::DynamicImage;
 use super::container::{cube_from_file, flat_image, read_texture_file, Container};
 use super::load::{decode_image, texture_from_image, Limits};
 use super::{
-    sample, sample_cube, sample_lanes, ColorSpace, CubeFootprint, Footprint, FootprintLanes,
-    Sampler, TextureCube, TextureOptions, Wrap,
+    sample, sample_cube, sample_lanes, ColorSpace, CubeFootprint, CubeFootprintLanes, Footprint,
+    FootprintLanes, Sampler, TextureCube, TextureOptions, Wrap,
 };
 use super::{Texture2D, UnknownName};
 use crate::{Error, Result};
@@ -156,20 +156,20 @@ impl EnvironmentMap {
     /// skipped, left zero): the same values, a panorama's footprints computed four at a time
     /// ([`equirect_footprint_lanes`]) and read through [`sample_lanes`].
     #[must_use]
-    pub fn sample_lanes(&self, sampler: &Sampler, fps: &[CubeFootprint; 4], mask: u8) -> [Vec4; 4] {
+    pub fn sample_lanes(&self, sampler: &Sampler, fp: &CubeFootprintLanes, mask: u8) -> [Vec4; 4] {
         if let EnvironmentMap::Equirect(t) = self {
-            if let Some(fp) = equirect_footprint_lanes(fps, t.height()) {
+            if let Some(uv) = equirect_footprint_lanes(fp, t.height()) {
                 let s = wrapped(sampler, Wrap::Repeat, Wrap::ClampToEdge);
-                return sample_lanes(t, &s, &fp, mask);
+                return sample_lanes(t, &s, &uv, mask);
             }
         }
-        std::array::from_fn(|j| {
-            if mask & (1 << j) == 0 {
-                Vec4::ZERO
-            } else {
-                self.sample(sampler, &fps[j])
+        let mut out = [Vec4::ZERO; 4];
+        for (j, o) in out.iter_mut().enumerate() {
+            if mask & (1 << j) != 0 {
+                *o = self.sample(sampler, &fp.footprint(j));
             }
-        })
+        }
+        out
     }
 
     /// The layout's kind (a cube map reports [`EnvironmentKind::Faces`]).
@@ -281,29 +281,24 @@ pub fn equirect_footprint(fp: &CubeFootprint, height: u32) -> Footprint {
 /// order lane by lane (atan2 and acos by the same library calls per lane), so the same
 /// values. `None` when a direction is zero or not finite (the scalar rule's special case).
 #[must_use]
-pub fn equirect_footprint_lanes(fps: &[CubeFootprint; 4], height: u32) -> Option<FootprintLanes> {
-    let lane = |f: &dyn Fn(&CubeFootprint) -> f32| Vec4::from_array(fps.each_ref().map(f));
-    let (x, y, z) = (lane(&|f| f.dir.x), lane(&|f| f.dir.y), lane(&|f| f.dir.z));
+pub fn equirect_footprint_lanes(fp: &CubeFootprintLanes, height: u32) -> Option<FootprintLanes> {
+    let [x, y, z] = fp.dir;
     // Unit direction and derivatives (`unit_with_derivatives`).
     let len = sqrt4(x * x + y * y + z * z);
     if !len.cmpgt(Vec4::ZERO).all() || !len.is_finite() {
         return None;
     }
     let (dx, dy, dz) = (x / len, y / len, z / len);
-    let project = |ddx: Vec4, ddy: Vec4, ddz: Vec4| {
+    let project = |[ddx, ddy, ddz]: [Vec4; 3]| {
         let dot = dx * ddx + dy * ddy + dz * ddz;
-        ((ddx - dx * dot) / len, (ddy - dy * dot) / len, (ddz - dz * dot) / len)
+        (
+            (ddx - dx * dot) / len,
+            (ddy - dy * dot) / len,
+            (ddz - dz * dot) / len,
+        )
     };
-    let (xx, xy, xz) = project(
-        lane(&|f| f.ddir_dx.x),
-        lane(&|f| f.ddir_dx.y),
-        lane(&|f| f.ddir_dx.z),
-    );
-    let (yx, yy, yz) = project(
-        lane(&|f| f.ddir_dy.x),
-        lane(&|f| f.ddir_dy.y),
-        lane(&|f| f.ddir_dy.z),
-    );
+    let (xx, xy, xz) = project(fp.ddir_dx);
+    let (yx, yy, yz) = project(fp.ddir_dy);
     // `equirect_uv`, the library calls per lane.
     let u = Vec4::from_array(std::array::from_fn(|j| dx[j].atan2(-dz[j])))
         * (0.5 / std::f32::consts::PI);

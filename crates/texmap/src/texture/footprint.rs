@@ -63,6 +63,29 @@ pub struct CubeFootprint {
     pub ddir_dy: Vec3,
 }
 
+/// Four [`CubeFootprint`]s in lanes, one pixel per lane: `dir[0]` holds the four `dir.x`,
+/// `ddir_dx[1]` the four `ddir_dx.y`, and so on.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CubeFootprintLanes {
+    pub dir: [Vec4; 3],
+    pub ddir_dx: [Vec4; 3],
+    pub ddir_dy: [Vec4; 3],
+}
+
+impl CubeFootprintLanes {
+    /// Lane `j`'s footprint.
+    #[inline]
+    #[must_use]
+    pub fn footprint(&self, j: usize) -> CubeFootprint {
+        let v = |c: &[Vec4; 3]| Vec3::new(c[0][j], c[1][j], c[2][j]);
+        CubeFootprint {
+            dir: v(&self.dir),
+            ddir_dx: v(&self.ddir_dx),
+            ddir_dy: v(&self.ddir_dy),
+        }
+    }
+}
+
 /// Four [`Footprint`]s in lanes, one pixel per lane: `u` holds the four `uv.x`, `dudx` the
 /// four `duv_dx.x`, and so on (each pixel its own derivatives).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -110,8 +110,16 @@ pub fn sample_lanes(
 fn bilinear_lanes<C: Codec>(lv: &LevelRef, s: &Sampler, u: Vec4, v: Vec4, mask: u8) -> [Vec4; 4] {
     // `prewrap`, then `bilinear`'s coordinates.
     let fract = |t: Vec4| t - t.floor();
-    let pu = if s.wrap_u == Wrap::Repeat { fract(u) } else { u };
-    let pv = if s.wrap_v == Wrap::Repeat { fract(v) } else { v };
+    let pu = if s.wrap_u == Wrap::Repeat {
+        fract(u)
+    } else {
+        u
+    };
+    let pv = if s.wrap_v == Wrap::Repeat {
+        fract(v)
+    } else {
+        v
+    };
     let px = pu * lv.w as f32 - 0.5;
     let py = pv * lv.h as f32 - 0.5;
     let (fx, fy) = (px.floor(), py.floor());
