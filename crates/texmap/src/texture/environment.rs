@@ -549,6 +549,89 @@ mod tests {
         (d * 0.5 + Vec3::splat(0.5)).extend(1.0)
     }
 
+    /// Four reads in lanes give the four scalar reads' bits: panoramas stored as floats and as
+    /// 16-bit texels, OpenGL filters magnified and minified (one level, two, nearest) and
+    /// anisotropic, directions at the seam, the poles and zero, footprints from a point to
+    /// wider than the image, every mask.
+    #[test]
+    fn equirect_lanes_read_as_four_scalar_reads() {
+        let float = Texture2D::from_fn(64, 32, TextureOptions::default(), |x, y| {
+            Vec4::new(
+                x as f32 / 64.0,
+                y as f32 / 32.0,
+                ((x * 7 + y * 3) % 11) as f32,
+                1.0,
+            )
+        })
+        .unwrap();
+        let bytes: Vec<u8> = (0..64 * 32 * 4).map(|i| (i * 37 % 251) as u8).collect();
+        let unorm = Texture2D::from_rgba8(64, 32, ColorSpace::Srgb, &bytes).unwrap();
+        let mut seed = 7u32;
+        let mut rand = move || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f32 / (1 << 24) as f32 * 2.0 - 1.0
+        };
+        let mut fps = Vec::new();
+        for i in 0..64 {
+            let dir = Vec3::new(rand(), rand(), rand());
+            let scale = [0.0, 1e-4, 1e-2, 0.3, 3.0][i % 5];
+            let ddir_dx = Vec3::new(rand(), rand(), rand()) * scale;
+            let ddir_dy = Vec3::new(rand(), rand(), rand()) * scale;
+            fps.push(CubeFootprint {
+                dir,
+                ddir_dx,
+                ddir_dy,
+            });
+        }
+        let special = [
+            Vec3::NEG_Z,
+            Vec3::Y,
+            Vec3::NEG_Y,
+            Vec3::ZERO,
+            Vec3::new(0.0, 0.5, -1.0),
+        ];
+        for (fp, dir) in fps.iter_mut().zip(special) {
+            fp.dir = dir;
+        }
+        let samplers = [
+            Sampler::new(Filter::TRILINEAR, Wrap::Repeat),
+            Sampler::new(Filter::BILINEAR, Wrap::Repeat),
+            Sampler::new(Filter::NEAREST, Wrap::Repeat),
+            Sampler::new(Filter::Anisotropic { max_aniso: 4 }, Wrap::Repeat),
+        ];
+        for map in [
+            EnvironmentMap::Equirect(float),
+            EnvironmentMap::Equirect(unorm),
+        ] {
+            for s in &samplers {
+                for (k, group) in fps.chunks_exact(4).enumerate() {
+                    let fp = CubeFootprintLanes {
+                        dir: [0, 1, 2]
+                            .map(|c| Vec4::from_array(std::array::from_fn(|j| group[j].dir[c]))),
+                        ddir_dx: [0, 1, 2].map(|c| {
+                            Vec4::from_array(std::array::from_fn(|j| group[j].ddir_dx[c]))
+                        }),
+                        ddir_dy: [0, 1, 2].map(|c| {
+                            Vec4::from_array(std::array::from_fn(|j| group[j].ddir_dy[c]))
+                        }),
+                    };
+                    let mask = [0b1111, 0b0101, 0b1000][k % 3];
+                    let got = map.sample_lanes(s, &fp, mask);
+                    for j in 0..4 {
+                        assert_eq!(fp.footprint(j), group[j]);
+                        let want = if mask & (1 << j) != 0 {
+                            map.sample(s, &group[j])
+                        } else {
+                            Vec4::ZERO
+                        };
+                        let bits = |v: Vec4| v.to_array().map(f32::to_bits);
+                        assert_eq!(bits(got[j]), bits(want), "{s:?} group {k} lane {j}");
+                    }
+                }
+            }
+        }
+    }
+
     #[test]
     fn convention_matches_the_peers_docstring() {
         let h = 512;
