@@ -167,8 +167,7 @@ pub(crate) trait Codec: Copy + Send + Sync + 'static {
     fn decode_premultiplied(bytes: &[u8], lut: &[f32]) -> Vec4 {
         let c = Self::decode(bytes, lut);
         if Self::HAS_ALPHA {
-            // One vector multiply: (r·a, g·a, b·a, a·1), the same values as three products.
-            c * Vec4::new(c.w, c.w, c.w, 1.0)
+            (c.truncate() * c.w).extend(c.w)
         } else {
             c
         }
@@ -248,24 +247,12 @@ codec!(CodecR32F, 4, false, |b, _l| Vec4::new(
     0.0,
     1.0
 ));
-codec!(CodecRgba32F, 16, true, |b, _l| decode_rgba32f(b));
-
-/// Four little-endian f32 → `Vec4`: one unaligned 16-byte load (SSE), the same bits as
-/// reading each float.
-#[inline(always)]
-fn decode_rgba32f(b: &[u8]) -> Vec4 {
-    let b: &[u8; 16] = b[..16].try_into().unwrap_or(&[0; 16]);
-    #[cfg(target_arch = "x86_64")]
-    {
-        // SAFETY: SSE is part of x86_64; `b` is 16 readable bytes and `_mm_loadu_ps` reads
-        // exactly 16, unaligned (x86-64 is little-endian, as the texels are stored).
-        Vec4::from(unsafe { std::arch::x86_64::_mm_loadu_ps(b.as_ptr().cast::<f32>()) })
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        Vec4::new(f32le(b, 0), f32le(b, 4), f32le(b, 8), f32le(b, 12))
-    }
-}
+codec!(CodecRgba32F, 16, true, |b, _l| Vec4::new(
+    f32le(b, 0),
+    f32le(b, 4),
+    f32le(b, 8),
+    f32le(b, 12)
+));
 
 // Already premultiplied: `HAS_ALPHA` is false so readers do not multiply again.
 codec!(CodecRgba16Premultiplied, 8, false, |b, _l| decode_rgba16(b));
