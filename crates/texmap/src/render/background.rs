@@ -18,7 +18,7 @@ use rayon::prelude::*;
 
 use crate::camera::{Camera, CameraProjection};
 use crate::shading::ibl::EnvLight;
-use crate::texture::CubeFootprint;
+use crate::texture::CubeFootprintLanes;
 
 /// Lays the environment under `color` (`width × height`, premultiplied), seen by `camera`.
 pub(super) fn composite_environment(
@@ -52,18 +52,36 @@ pub(super) fn composite_environment(
         .enumerate()
         .for_each(|(y, row)| {
             let ndc_y = 1.0 - 2.0 * (y as f32 + 0.5) / height as f32;
-            for (x, c) in row.iter_mut().enumerate() {
-                if c.w >= 1.0 {
+            // Four pixels at a time (`background_lanes`: the same values as one by one), each
+            // direction `forward + right·sx + up·sy` in that order, as for one pixel.
+            let sy = ndc_y * tan;
+            let derivative = |d: Vec3| [d.x, d.y, d.z].map(Vec4::splat);
+            for (x0, group) in (0..).step_by(4).zip(row.chunks_mut(4)) {
+                let mask =
+                    group
+                        .iter()
+                        .enumerate()
+                        .fold(0u8, |m, (j, c)| if c.w < 1.0 { m | 1 << j } else { m });
+                if mask == 0 {
                     continue;
                 }
-                let ndc_x = 2.0 * (x as f32 + 0.5) / width as f32 - 1.0;
-                let dir = forward + right * (ndc_x * tan * aspect) + up * (ndc_y * tan);
-                let bg = light.background(&CubeFootprint {
-                    dir,
-                    ddir_dx: dx,
-                    ddir_dy: dy,
-                });
-                *c += bg * (1.0 - c.w);
+                let sx = Vec4::from_array(std::array::from_fn(|j| {
+                    let ndc_x = 2.0 * ((x0 + j) as f32 + 0.5) / width as f32 - 1.0;
+                    ndc_x * tan * aspect
+                }));
+                let axis =
+                    |c: usize| Vec4::splat(forward[c]) + sx * right[c] + Vec4::splat(up[c] * sy);
+                let fp = CubeFootprintLanes {
+                    dir: [axis(0), axis(1), axis(2)],
+                    ddir_dx: derivative(dx),
+                    ddir_dy: derivative(dy),
+                };
+                let bg = light.background_lanes(&fp, mask);
+                for (j, c) in group.iter_mut().enumerate() {
+                    if mask & (1 << j) != 0 {
+                        *c += bg[j] * (1.0 - c.w);
+                    }
+                }
             }
         });
 }

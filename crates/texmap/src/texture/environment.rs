@@ -55,8 +55,8 @@ use image::DynamicImage;
 use super::container::{cube_from_file, flat_image, read_texture_file, Container};
 use super::load::{decode_image, texture_from_image, Limits};
 use super::{
-    sample, sample_cube, ColorSpace, CubeFootprint, Footprint, Sampler, TextureCube,
-    TextureOptions, Wrap,
+    sample, sample_cube, sample_lanes, ColorSpace, CubeFootprint, CubeFootprintLanes, Footprint,
+    FootprintLanes, Sampler, TextureCube, TextureOptions, Wrap,
 };
 use super::{Texture2D, UnknownName};
 use crate::{Error, Result};
@@ -150,6 +150,26 @@ impl EnvironmentMap {
                 sample(t, &s, &sphere_map_footprint(fp))
             }
         }
+    }
+
+    /// [`EnvironmentMap::sample`] of four footprints (lanes whose bit in `mask` is clear are
+    /// skipped, left zero): the same values, a panorama's footprints computed four at a time
+    /// ([`equirect_footprint_lanes`]) and read through [`sample_lanes`].
+    #[must_use]
+    pub fn sample_lanes(&self, sampler: &Sampler, fp: &CubeFootprintLanes, mask: u8) -> [Vec4; 4] {
+        if let EnvironmentMap::Equirect(t) = self {
+            if let Some(uv) = equirect_footprint_lanes(fp, t.height()) {
+                let s = wrapped(sampler, Wrap::Repeat, Wrap::ClampToEdge);
+                return sample_lanes(t, &s, &uv, mask);
+            }
+        }
+        let mut out = [Vec4::ZERO; 4];
+        for (j, o) in out.iter_mut().enumerate() {
+            if mask & (1 << j) != 0 {
+                *o = self.sample(sampler, &fp.footprint(j));
+            }
+        }
+        out
     }
 
     /// The layout's kind (a cube map reports [`EnvironmentKind::Faces`]).
@@ -255,6 +275,66 @@ pub fn equirect_footprint(fp: &CubeFootprint, height: u32) -> Footprint {
         )
     };
     Footprint::new(uv, deriv(dx), deriv(dy))
+}
+
+/// [`equirect_footprint`] of four footprints, one per lane: the same operations in the same
+/// order lane by lane (atan2 and acos by the same library calls per lane), so the same
+/// values. `None` when a direction is zero or not finite (the scalar rule's special case).
+#[must_use]
+pub fn equirect_footprint_lanes(fp: &CubeFootprintLanes, height: u32) -> Option<FootprintLanes> {
+    let [x, y, z] = fp.dir;
+    // Unit direction and derivatives (`unit_with_derivatives`).
+    let len = sqrt4(x * x + y * y + z * z);
+    if !len.cmpgt(Vec4::ZERO).all() || !len.is_finite() {
+        return None;
+    }
+    let (dx, dy, dz) = (x / len, y / len, z / len);
+    let project = |[ddx, ddy, ddz]: [Vec4; 3]| {
+        let dot = dx * ddx + dy * ddy + dz * ddz;
+        (
+            (ddx - dx * dot) / len,
+            (ddy - dy * dot) / len,
+            (ddz - dz * dot) / len,
+        )
+    };
+    let (xx, xy, xz) = project(fp.ddir_dx);
+    let (yx, yy, yz) = project(fp.ddir_dy);
+    // `equirect_uv`, the library calls per lane.
+    let u = Vec4::from_array(std::array::from_fn(|j| dx[j].atan2(-dz[j])))
+        * (0.5 / std::f32::consts::PI);
+    let u = Vec4::select(u.cmplt(Vec4::ZERO), u + 1.0, u);
+    let v = Vec4::from_array(std::array::from_fn(|j| dy[j].clamp(-1.0, 1.0).acos()))
+        / std::f32::consts::PI;
+    let h = height.max(2) as f32;
+    let v = (v * (h - 1.0) + 0.5) / h;
+    // The chain rule (`equirect_footprint`).
+    let r2 = (dx * dx + dz * dz).max(Vec4::splat(1e-12));
+    let r = sqrt4(r2);
+    let row_scale = (h - 1.0) / h;
+    let du = |ddx: Vec4, ddz: Vec4| (-dz * ddx + dx * ddz) / (std::f32::consts::TAU * r2);
+    let dv = |ddy: Vec4| -ddy / (std::f32::consts::PI * r) * row_scale;
+    Some(FootprintLanes {
+        u,
+        v,
+        dudx: du(xx, xz),
+        dvdx: dv(xy),
+        dudy: du(yx, yz),
+        dvdy: dv(yy),
+    })
+}
+
+/// Lane-wise square root (one `sqrtps`, correctly rounded as `f32::sqrt` is).
+#[inline(always)]
+fn sqrt4(v: Vec4) -> Vec4 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        // SAFETY: SSE is part of x86_64.
+        Vec4::from(unsafe { std::arch::x86_64::_mm_sqrt_ps(v.into()) })
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        Vec4::from_array(v.to_array().map(f32::sqrt))
+    }
 }
 
 /// The footprint on an OpenGL sphere map: `(u, v) = (x/m + ½, ½ − y/m)` with
@@ -467,6 +547,89 @@ mod tests {
     /// A linear colour that identifies a direction (smooth, every component in 0..1).
     fn colour_of(d: Vec3) -> Vec4 {
         (d * 0.5 + Vec3::splat(0.5)).extend(1.0)
+    }
+
+    /// Four reads in lanes give the four scalar reads' bits: panoramas stored as floats and as
+    /// 16-bit texels, OpenGL filters magnified and minified (one level, two, nearest) and
+    /// anisotropic, directions at the seam, the poles and zero, footprints from a point to
+    /// wider than the image, every mask.
+    #[test]
+    fn equirect_lanes_read_as_four_scalar_reads() {
+        let float = Texture2D::from_fn(64, 32, TextureOptions::default(), |x, y| {
+            Vec4::new(
+                x as f32 / 64.0,
+                y as f32 / 32.0,
+                ((x * 7 + y * 3) % 11) as f32,
+                1.0,
+            )
+        })
+        .unwrap();
+        let bytes: Vec<u8> = (0..64 * 32 * 4).map(|i| (i * 37 % 251) as u8).collect();
+        let unorm = Texture2D::from_rgba8(64, 32, ColorSpace::Srgb, &bytes).unwrap();
+        let mut seed = 7u32;
+        let mut rand = move || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f32 / (1 << 24) as f32 * 2.0 - 1.0
+        };
+        let mut fps = Vec::new();
+        for i in 0..64 {
+            let dir = Vec3::new(rand(), rand(), rand());
+            let scale = [0.0, 1e-4, 1e-2, 0.3, 3.0][i % 5];
+            let ddir_dx = Vec3::new(rand(), rand(), rand()) * scale;
+            let ddir_dy = Vec3::new(rand(), rand(), rand()) * scale;
+            fps.push(CubeFootprint {
+                dir,
+                ddir_dx,
+                ddir_dy,
+            });
+        }
+        let special = [
+            Vec3::NEG_Z,
+            Vec3::Y,
+            Vec3::NEG_Y,
+            Vec3::ZERO,
+            Vec3::new(0.0, 0.5, -1.0),
+        ];
+        for (fp, dir) in fps.iter_mut().zip(special) {
+            fp.dir = dir;
+        }
+        let samplers = [
+            Sampler::new(Filter::TRILINEAR, Wrap::Repeat),
+            Sampler::new(Filter::BILINEAR, Wrap::Repeat),
+            Sampler::new(Filter::NEAREST, Wrap::Repeat),
+            Sampler::new(Filter::Anisotropic { max_aniso: 4 }, Wrap::Repeat),
+        ];
+        for map in [
+            EnvironmentMap::Equirect(float),
+            EnvironmentMap::Equirect(unorm),
+        ] {
+            for s in &samplers {
+                for (k, group) in fps.chunks_exact(4).enumerate() {
+                    let fp = CubeFootprintLanes {
+                        dir: [0, 1, 2]
+                            .map(|c| Vec4::from_array(std::array::from_fn(|j| group[j].dir[c]))),
+                        ddir_dx: [0, 1, 2].map(|c| {
+                            Vec4::from_array(std::array::from_fn(|j| group[j].ddir_dx[c]))
+                        }),
+                        ddir_dy: [0, 1, 2].map(|c| {
+                            Vec4::from_array(std::array::from_fn(|j| group[j].ddir_dy[c]))
+                        }),
+                    };
+                    let mask = [0b1111, 0b0101, 0b1000][k % 3];
+                    let got = map.sample_lanes(s, &fp, mask);
+                    for j in 0..4 {
+                        assert_eq!(fp.footprint(j), group[j]);
+                        let want = if mask & (1 << j) != 0 {
+                            map.sample(s, &group[j])
+                        } else {
+                            Vec4::ZERO
+                        };
+                        let bits = |v: Vec4| v.to_array().map(f32::to_bits);
+                        assert_eq!(bits(got[j]), bits(want), "{s:?} group {k} lane {j}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -63,6 +63,54 @@ pub struct CubeFootprint {
     pub ddir_dy: Vec3,
 }
 
+/// Four [`CubeFootprint`]s in lanes, one pixel per lane: `dir[0]` holds the four `dir.x`,
+/// `ddir_dx[1]` the four `ddir_dx.y`, and so on.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CubeFootprintLanes {
+    pub dir: [Vec4; 3],
+    pub ddir_dx: [Vec4; 3],
+    pub ddir_dy: [Vec4; 3],
+}
+
+impl CubeFootprintLanes {
+    /// Lane `j`'s footprint.
+    #[inline]
+    #[must_use]
+    pub fn footprint(&self, j: usize) -> CubeFootprint {
+        let v = |c: &[Vec4; 3]| Vec3::new(c[0][j], c[1][j], c[2][j]);
+        CubeFootprint {
+            dir: v(&self.dir),
+            ddir_dx: v(&self.ddir_dx),
+            ddir_dy: v(&self.ddir_dy),
+        }
+    }
+}
+
+/// Four [`Footprint`]s in lanes, one pixel per lane: `u` holds the four `uv.x`, `dudx` the
+/// four `duv_dx.x`, and so on (each pixel its own derivatives).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FootprintLanes {
+    pub u: Vec4,
+    pub v: Vec4,
+    pub dudx: Vec4,
+    pub dvdx: Vec4,
+    pub dudy: Vec4,
+    pub dvdy: Vec4,
+}
+
+impl FootprintLanes {
+    /// Lane `j`'s footprint.
+    #[inline]
+    #[must_use]
+    pub fn footprint(&self, j: usize) -> Footprint {
+        Footprint::new(
+            Vec2::new(self.u[j], self.v[j]),
+            Vec2::new(self.dudx[j], self.dvdx[j]),
+            Vec2::new(self.dudy[j], self.dvdy[j]),
+        )
+    }
+}
+
 /// How the level of detail is computed from the derivatives, in texel units.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum LodRule {

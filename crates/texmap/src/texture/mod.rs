@@ -32,10 +32,12 @@ mod wrap;
 pub use cube::{sample_cube, CubeFace, TextureCube};
 pub use environment::{load_environment, EnvironmentKind, EnvironmentMap};
 pub use filter::{
-    quad_mip_choice, sample, sample_batch, sample_quad, sample_quad_lanes, sample_quad_lanes_at,
-    sample_quads_lanes, sample_quads_lanes_shared, QuadCoords,
+    quad_mip_choice, sample, sample_batch, sample_lanes, sample_quad, sample_quad_lanes,
+    sample_quad_lanes_at, sample_quads_lanes, sample_quads_lanes_shared, QuadCoords,
 };
-pub use footprint::{CubeFootprint, Footprint, Footprint3, LodRule};
+pub use footprint::{
+    CubeFootprint, CubeFootprintLanes, Footprint, Footprint3, FootprintLanes, LodRule,
+};
 pub use format::{f16_to_f32, f32_to_f16, ColorSpace, Format};
 pub use lod::{MipBlend, MipChoice, TexelFilter};
 pub use mip::level_count;

@@ -5,7 +5,7 @@ use glam::{Mat3, Vec2, Vec3, Vec3A, Vec4};
 
 use super::super::{pbr, Surface, Viewer};
 use super::{Environment, FaceSet, MirrorCube, LEVELS};
-use crate::texture::{CubeFootprint, Filter, Sampler};
+use crate::texture::{CubeFootprint, CubeFootprintLanes, Filter, Sampler};
 
 /// The environment as one frame reads it: rotation, intensity and the prefiltered forms
 /// resolved.
@@ -178,6 +178,39 @@ impl<'a> EnvLight<'a> {
     #[must_use]
     pub fn background(&self, fp: &CubeFootprint) -> Vec4 {
         self.mirror(fp).extend(1.0)
+    }
+
+    /// [`EnvLight::background`] of four footprints (lanes whose bit in `mask` is clear are
+    /// left zero): the same values, the map read four at a time
+    /// ([`crate::texture::EnvironmentMap::sample_lanes`]).
+    #[must_use]
+    pub fn background_lanes(&self, fp: &CubeFootprintLanes, mask: u8) -> [Vec4; 4] {
+        let c = if self.rotated {
+            // `in_map_frame` lane by lane: glam's `Mat3 * Vec3` order, x + y then + z.
+            let m = &self.env_from_world;
+            let turn = |[vx, vy, vz]: [Vec4; 3]| {
+                std::array::from_fn(|c| {
+                    Vec4::splat(m.x_axis[c]) * vx
+                        + Vec4::splat(m.y_axis[c]) * vy
+                        + Vec4::splat(m.z_axis[c]) * vz
+                })
+            };
+            let local = CubeFootprintLanes {
+                dir: turn(fp.dir),
+                ddir_dx: turn(fp.ddir_dx),
+                ddir_dy: turn(fp.ddir_dy),
+            };
+            self.env.map.sample_lanes(&self.sampler, &local, mask)
+        } else {
+            self.env.map.sample_lanes(&self.sampler, fp, mask)
+        };
+        let mut out = [Vec4::ZERO; 4];
+        for (j, o) in out.iter_mut().enumerate() {
+            if mask & (1 << j) != 0 {
+                *o = (c[j].truncate() * self.env.intensity).extend(1.0);
+            }
+        }
+        out
     }
 }
 

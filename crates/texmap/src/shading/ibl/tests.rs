@@ -278,3 +278,36 @@ fn sheen_levels_keep_a_uniform_environment_and_lean_to_the_horizon() {
     let plain = EnvLight::new(&env, true, false);
     assert_eq!(plain.sheen_radiance(Vec3::Y, Vec3::Y, 0.5).x, e);
 }
+
+/// The background four pixels at a time is the background pixel by pixel, bit for bit, with
+/// the map turned (the turn in lanes) and not.
+#[test]
+fn background_lanes_are_the_background_per_pixel() {
+    let sun = Vec3::new(-0.4, 0.8, 0.45).normalize();
+    for degrees in [0.0, 30.0] {
+        let env = sun_env(sun).with_rotation_deg(degrees);
+        let light = EnvLight::new(&env, false, false);
+        let (ddir_dx, ddir_dy) = (Vec3::new(2e-3, 0.0, 1e-4), Vec3::new(0.0, -2e-3, 3e-4));
+        for k in 0..16 {
+            let group: [CubeFootprint; 4] = std::array::from_fn(|j| CubeFootprint {
+                dir: Vec3::new((k * 4 + j) as f32 * 0.11 - 3.0, 0.7 - k as f32 * 0.1, -1.0),
+                ddir_dx,
+                ddir_dy,
+            });
+            let lanes = crate::texture::CubeFootprintLanes {
+                dir: [0, 1, 2].map(|c| Vec4::from_array(group.map(|f| f.dir[c]))),
+                ddir_dx: [0, 1, 2].map(|c| Vec4::splat(ddir_dx[c])),
+                ddir_dy: [0, 1, 2].map(|c| Vec4::splat(ddir_dy[c])),
+            };
+            let got = light.background_lanes(&lanes, 0b1111);
+            for j in 0..4 {
+                let want = light.background(&group[j]);
+                assert_eq!(
+                    got[j].to_array().map(f32::to_bits),
+                    want.to_array().map(f32::to_bits),
+                    "rotation {degrees}, group {k}, lane {j}"
+                );
+            }
+        }
+    }
+}

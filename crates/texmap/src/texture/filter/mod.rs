@@ -17,8 +17,8 @@ use glam::{Vec2, Vec4};
 use super::format::{with_texture_codec, Codec};
 use super::storage::LevelRef;
 use super::{
-    Filter, Footprint, MagFilter, MinFilter, MipChoice, Sampler, TexelFilter, Texture2D, Wrap,
-    BORDER,
+    Filter, Footprint, FootprintLanes, MagFilter, MinFilter, MipChoice, Sampler, TexelFilter,
+    Texture2D, Wrap, BORDER,
 };
 
 /// Reads `texture` through `sampler` over `footprint`: linear, premultiplied RGBA.
@@ -54,6 +54,95 @@ pub fn sample_batch(
             *o = sample_with::<C>(texture, sampler, fp);
         }
     })
+}
+
+/// [`sample`] of four footprints, each with its own derivatives (one pixel per lane): the
+/// same values as four calls (lane `j` is `sample` of `fp.footprint(j)`), with the format and
+/// filter dispatched once and, for OpenGL filters, λ four at a time ([`LodRule::lod4`]) and the
+/// float filters' reads. Lanes whose bit in `mask` is clear are skipped (left zero).
+///
+/// [`LodRule::lod4`]: super::LodRule::lod4
+#[must_use]
+pub fn sample_lanes(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    fp: &FootprintLanes,
+    mask: u8,
+) -> [Vec4; 4] {
+    let Filter::Gl { mag, min } = sampler.filter else {
+        return with_texture_codec!(texture, C => std::array::from_fn(|j| {
+            if mask & (1 << j) == 0 {
+                return Vec4::ZERO;
+            }
+            sample_with::<C>(texture, sampler, &fp.footprint(j))
+        }));
+    };
+    // λ as `gl` computes it (texel derivatives of level 0), four lanes at once.
+    let (w, h) = (texture.width() as f32, texture.height() as f32);
+    let lod = sampler
+        .lod_rule
+        .lod4(fp.dudx * w, fp.dvdx * h, fp.dudy * w, fp.dvdy * h);
+    let levels = texture.levels().len();
+    let lod = lod.to_array().map(|l| sampler.adjust_lod(l));
+    // Every lane read magnified with a bilinear filter (a background's common case): one
+    // level, the texel coordinates four at a time.
+    let magnified = (0..4).all(|j| mask & (1 << j) == 0 || !(lod[j] > 0.0));
+    with_texture_codec!(texture, C => {
+        if magnified && mag == MagFilter::Linear {
+            bilinear_lanes::<C>(&texture.level(0), sampler, fp.u, fp.v, mask)
+        } else {
+            let mut out = [Vec4::ZERO; 4];
+            for (j, o) in out.iter_mut().enumerate() {
+                if mask & (1 << j) != 0 {
+                    let choice = MipChoice::gl(lod[j], levels, mag, min);
+                    *o = read_choice::<C>(texture, sampler, Vec2::new(fp.u[j], fp.v[j]), choice);
+                }
+            }
+            out
+        }
+    })
+}
+
+/// [`bilinear`] at four points of one level (one pixel per lane, any wraps): the texel
+/// coordinates and weights four at a time by the same operations, so the same values; a
+/// lane whose 2×2 texels are not all inside the level takes [`bilinear`] itself.
+#[inline(always)]
+fn bilinear_lanes<C: Codec>(lv: &LevelRef, s: &Sampler, u: Vec4, v: Vec4, mask: u8) -> [Vec4; 4] {
+    // `prewrap`, then `bilinear`'s coordinates.
+    let fract = |t: Vec4| t - t.floor();
+    let pu = if s.wrap_u == Wrap::Repeat {
+        fract(u)
+    } else {
+        u
+    };
+    let pv = if s.wrap_v == Wrap::Repeat {
+        fract(v)
+    } else {
+        v
+    };
+    let px = pu * lv.w as f32 - 0.5;
+    let py = pv * lv.h as f32 - 0.5;
+    let (fx, fy) = (px.floor(), py.floor());
+    let (ax, ay) = ((px - fx).to_array(), (py - fy).to_array());
+    // Integral floats: truncation is `floor_index` wherever the result is in range (out of
+    // range or NaN gives i32::MIN, which is not inside, and `bilinear` decides).
+    let (x0, y0) = (truncate4(fx), truncate4(fy));
+    let mut out = [Vec4::ZERO; 4];
+    for (j, o) in out.iter_mut().enumerate() {
+        if mask & (1 << j) == 0 {
+            continue;
+        }
+        let (x, y) = (x0[j], y0[j]);
+        *o = if x >= 0 && y >= 0 && x < lv.w - 1 && y < lv.h - 1 {
+            let (top, bottom) = lv.quad::<C>(x, y);
+            top.0
+                .lerp(top.1, ax[j])
+                .lerp(bottom.0.lerp(bottom.1, ax[j]), ay[j])
+        } else {
+            bilinear::<C>(lv, s, Vec2::new(u[j], v[j]))
+        };
+    }
+    out
 }
 
 /// [`sample`] for the four pixels of a 2×2 quad, which share their derivatives (as the
