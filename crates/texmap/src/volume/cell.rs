@@ -11,7 +11,7 @@
 //! - One blend order for every caller (x, then y, then z): the marcher's cached cells, the
 //!   plain reads and the normals give the same bits at the same point.
 
-use glam::Vec3;
+use glam::{Vec3, Vec4, Vec4Swizzles};
 
 /// The trilinear cell of a voxel-space point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -117,6 +117,15 @@ impl CellValue for Vec3 {
     }
 }
 
+/// Vectors in four lanes: the lanes blend as [`Vec3`]'s components do (glam's `lerp` is
+/// `a·(1 − t) + b·t` for both), one instruction per operation for all lanes.
+impl CellValue for Vec4 {
+    #[inline(always)]
+    fn mix(self, other: Vec4, t: f32) -> Vec4 {
+        self.lerp(other, t)
+    }
+}
+
 /// Trilinear blend of a cell's corners ([`Cell::corners`]) at fractions `f` (x first, then
 /// y, then z).
 #[inline(always)]
@@ -126,6 +135,39 @@ pub(crate) fn blend_cell<T: CellValue>(c: &[T; 8], f: Vec3) -> T {
     let c01 = c[4].mix(c[5], f.x);
     let c11 = c[6].mix(c[7], f.x);
     c00.mix(c10, f.y).mix(c01.mix(c11, f.y), f.z)
+}
+
+/// A cell's eight scalar corners kept for blending in lanes: the low ends of its four x-pairs
+/// `[c000, c010, c001, c011]` and the steps to their high ends (`c100 − c000`, …), so a blend
+/// ([`XPairs::blend`]) is [`blend_cell`]'s arithmetic, the same bits, the x step of all four
+/// pairs in one multiply-add and the y step of both halves in another.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct XPairs {
+    lo: Vec4,
+    dx: Vec4,
+}
+
+impl XPairs {
+    /// The pairs of corners in [`Cell::corners`]'s order.
+    #[inline(always)]
+    pub fn new(c: [f32; 8]) -> Self {
+        let lo = Vec4::new(c[0], c[2], c[4], c[6]);
+        XPairs {
+            lo,
+            dx: Vec4::new(c[1], c[3], c[5], c[7]) - lo,
+        }
+    }
+
+    /// The trilinear blend at fractions `f`: [`blend_cell`] of the same corners.
+    #[inline(always)]
+    pub fn blend(&self, f: Vec3) -> f32 {
+        // [c00, c10, c01, c11]: `c0 + (c1 − c0)·x` per pair, as `f32::mix`.
+        let x = self.lo + self.dx * f.x;
+        // [c00, c01] towards [c10, c11] along y, then the two along z.
+        let (a, b) = (x.xzxz(), x.ywyw());
+        let y = a + (b - a) * f.y;
+        y.x + (y.y - y.x) * f.z
+    }
 }
 
 /// A cell's eight voxels (in [`blend_cell`]'s order) and the point's position inside it.
