@@ -18,7 +18,7 @@
 use glam::{Vec3, Vec4};
 
 use super::bricks::BrickCursor;
-use super::cell::{blend_cell, corners_at, voxel_count, Cell, XPairs};
+use super::cell::{blend_cell, corners_at, voxel_count, Cell, Locator, XPairs};
 use super::marcher::{Marcher, Traced};
 use super::normals::{direction_or_zero_lanes, normal_lanes, trilinear_normal};
 use super::params::Classification;
@@ -29,6 +29,8 @@ use super::transfer::gradient_factor;
 /// sample stays in the same cell, and then skips the eight loads. Values and normals are
 /// blended in lanes ([`XPairs`], [`normal_lanes`]), the same bits as the plain reads.
 struct CellCache {
+    /// The grid's cells (`None`: a side is zero, nothing to read).
+    grid: Option<Locator>,
     /// The cell last read ([`Cell::index`], `usize::MAX` before the first).
     index: usize,
     corners: XPairs,
@@ -40,8 +42,9 @@ struct CellCache {
 }
 
 impl CellCache {
-    fn new() -> Self {
+    fn new(dims: [u32; 3]) -> Self {
         CellCache {
+            grid: Locator::new(dims),
             index: usize::MAX,
             corners: XPairs::new([0.0; 8]),
             frac: Vec3::ZERO,
@@ -53,12 +56,11 @@ impl CellCache {
     /// Trilinear level at `p`, equal to [`super::cell::trilinear`].
     #[inline(always)]
     fn value(&mut self, data: &[u16], dims: [u32; 3], p: Vec3) -> f32 {
+        let Some(grid) = &self.grid else {
+            return 0.0;
+        };
         // The length check is done below, once per new cell.
-        let cell = Cell::locate(dims, p, usize::MAX).unwrap_or(Cell {
-            index: 0,
-            strides: [0; 3],
-            frac: Vec3::ZERO,
-        });
+        let cell = grid.locate(p);
         self.frac = cell.frac;
         if cell.index != self.index {
             if data.len() < voxel_count(dims) {
@@ -105,7 +107,7 @@ pub(crate) fn cells<const SHADE: bool>(
     let (mut k, mut taken) = (0u32, 0u64);
     let stop = m.p.early_termination;
     let mut bricks = BrickCursor::new(s, &m.empty);
-    let mut cell = CellCache::new();
+    let mut cell = CellCache::new(m.dims);
     let mut acc = Vec4::ZERO;
     while k < s.count {
         let q = s.at(k);
@@ -272,7 +274,7 @@ mod tests {
     fn cached_cells_in_lanes_give_the_bits_of_the_plain_reads() {
         let (n, dims) = (7, [7, 7, 7]);
         let (levels, normals) = grid(n);
-        let mut cell = CellCache::new();
+        let mut cell = CellCache::new(dims);
         let mut s = 99u32;
         let mut r = move || {
             s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
