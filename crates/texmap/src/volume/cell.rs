@@ -113,20 +113,50 @@ pub(crate) struct Locator {
 }
 
 impl Locator {
-    /// The locator of a `dims` grid; `None` when a side is zero.
+    /// The locator of a `dims` grid, a zero side counted as one voxel (its callers read no
+    /// voxel of a grid with a zero side).
     #[must_use]
-    pub fn new(dims: [u32; 3]) -> Option<Self> {
-        if dims.contains(&0) {
-            return None;
-        }
+    pub fn new(dims: [u32; 3]) -> Self {
+        let dims = dims.map(|n| n.max(1));
         let [nx, ny, nz] = dims;
-        Some(Locator {
+        Locator {
             dims,
             far: Vec4::new((nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32, 0.0),
             last: dims.map(|n| n.saturating_sub(2)),
             strides: Cell::strides(dims),
             lanes: dims.iter().all(|&n| n < 1 << 31),
-        })
+        }
+    }
+
+    /// The lowest corner of the cell of voxel-space `p` (voxel coordinates), as
+    /// [`Cell::locate`] names it.
+    #[inline(always)]
+    pub fn corner(&self, p: Vec3) -> [u32; 3] {
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse4.1"))]
+        if self.lanes {
+            use std::arch::x86_64::{
+                _mm_cvttps_epi32, _mm_max_ps, _mm_min_epi32, _mm_min_ps, _mm_setr_epi32,
+                _mm_setzero_ps,
+            };
+            let [lx, ly, lz] = self.last;
+            // SAFETY: SSE4.1 is enabled for this build; the lanes as in `locate`.
+            let i = unsafe {
+                let v = _mm_min_ps(
+                    _mm_max_ps(p.extend(0.0).into(), _mm_setzero_ps()),
+                    self.far.into(),
+                );
+                let i = _mm_min_epi32(
+                    _mm_cvttps_epi32(v),
+                    _mm_setr_epi32(lx as i32, ly as i32, lz as i32, 0),
+                );
+                std::mem::transmute::<std::arch::x86_64::__m128i, [u32; 4]>(i)
+            };
+            return [i[0], i[1], i[2]];
+        }
+        let [nx, ny, nz] = self.dims;
+        let axis =
+            |v: f32, n: u32| (v.max(0.0).min((n - 1) as f32) as u32).min(n.saturating_sub(2));
+        [axis(p.x, nx), axis(p.y, ny), axis(p.z, nz)]
     }
 
     /// The cell of voxel-space `p`, as [`Cell::locate`] (without its length check).
@@ -306,7 +336,7 @@ mod tests {
             (s >> 8) as f32 / (1u32 << 24) as f32
         };
         for dims in [[9, 5, 3], [1, 4, 6], [2, 1, 1], [1, 1, 1], [300, 2, 70]] {
-            let grid = Locator::new(dims).expect("no zero side");
+            let grid = Locator::new(dims);
             let n = Vec3::from_array(dims.map(|d| d as f32));
             let mut points: Vec<Vec3> = (0..2000)
                 .map(|_| (Vec3::new(r(), r(), r()) * 1.4 - 0.2) * n)
@@ -326,8 +356,10 @@ mod tests {
                 assert_eq!(got.index, want.index, "{dims:?} {p}");
                 assert_eq!(got.strides, want.strides, "{dims:?} {p}");
                 assert_eq!(got.frac, want.frac, "{dims:?} {p}");
+                let [x, y, z] = grid.corner(p);
+                let [nx, ny, _] = dims.map(|d| d as usize);
+                assert_eq!((z as usize * ny + y as usize) * nx + x as usize, want.index);
             }
         }
-        assert!(Locator::new([4, 0, 4]).is_none());
     }
 }

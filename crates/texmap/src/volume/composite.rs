@@ -44,7 +44,7 @@ struct CellCache {
 impl CellCache {
     fn new(dims: [u32; 3]) -> Self {
         CellCache {
-            grid: Locator::new(dims),
+            grid: (!dims.contains(&0)).then(|| Locator::new(dims)),
             index: usize::MAX,
             corners: XPairs::new([0.0; 8]),
             frac: Vec3::ZERO,
