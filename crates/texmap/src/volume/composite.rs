@@ -9,6 +9,9 @@
 //!   voxels (and normals) once per cell ([`CellCache`]); unshaded, it composites premultiplied
 //!   table entries with one 4-wide multiply-add. Every other case runs [`general`], with the
 //!   same samples.
+//! - Shaded, [`cells`] blends the cell's eight normals in lanes (one `Vec4` per corner) and
+//!   raises the specular term by inline squaring: the same bits as the scalar code, about a
+//!   third of the shaded frame's instructions fewer with the lanes of `cell` and `bricks`.
 //! - A variant of [`cells`] that kept four samples in flight (independent load → interpolate
 //!   → table chains) measured no faster, so the simpler loop stays.
 //! - Pre-classification classifies the eight voxels and interpolates premultiplied colour;
