@@ -16,9 +16,10 @@
 //!   take (an iterator owning the sample index) cost the shaded loop more instructions than
 //!   this test inside the caller's loop.
 
-use glam::Vec3;
+use glam::{BVec4A, Vec3, Vec4};
 use rayon::prelude::*;
 
+use super::cell::Locator;
 use super::rays::RaySamples;
 
 /// Cells per brick side for empty-space skipping.
@@ -83,7 +84,8 @@ impl Bricks {
 pub(crate) struct EmptyBricks {
     empty: Vec<bool>,
     counts: [u32; 3],
-    dims: [u32; 3],
+    /// The grid's cells.
+    grid: Locator,
     /// Whether a brick may be skipped at all; when not ([`Self::none`]), the composite
     /// loops never look a brick up.
     any: bool,
@@ -110,7 +112,7 @@ impl EmptyBricks {
                 .map(|&(lo, hi)| is_empty(lo, hi))
                 .collect(),
             counts: bricks.counts,
-            dims,
+            grid: Locator::new(dims),
             any: true,
         }
     }
@@ -128,15 +130,8 @@ impl EmptyBricks {
     /// its brick coordinates.
     #[inline(always)]
     fn brick_of(&self, q: Vec3) -> (usize, [u32; 3]) {
-        let c = |v: f32, n: u32, k: u32| {
-            let i = (v.max(0.0) as u32).min(n.saturating_sub(2));
-            (i / BRICK).min(k - 1)
-        };
-        let b = [
-            c(q.x, self.dims[0], self.counts[0]),
-            c(q.y, self.dims[1], self.counts[1]),
-            c(q.z, self.dims[2], self.counts[2]),
-        ];
+        let c = self.grid.corner(q);
+        let b: [u32; 3] = std::array::from_fn(|a| (c[a] / BRICK).min(self.counts[a] - 1));
         (
             ((b[2] * self.counts[1] + b[1]) * self.counts[0] + b[0]) as usize,
             b,
@@ -165,11 +160,18 @@ impl EmptyBricks {
 }
 
 /// A ray's samples as the brick tests need them: the reciprocal direction and step, so an
-/// exit costs multiplications only.
+/// exit costs multiplications only, and per axis which face of a brick the ray leaves by, so
+/// the three axes' exits are computed in lanes.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BrickWalk {
-    origin: Vec3,
-    inv_dir: Vec3,
+    origin: Vec4,
+    inv_dir: Vec4,
+    /// Per axis, the exit face's offset from a brick's lowest corner: a brick's side where the
+    /// ray runs towards +, else 0.
+    exit_face: Vec4,
+    /// The axes whose reciprocal direction is finite (the others never leave a brick); the
+    /// fourth lane is off.
+    crosses: BVec4A,
     t0: f32,
     inv_step: f32,
     jitter: f32,
@@ -178,9 +180,21 @@ pub(crate) struct BrickWalk {
 impl BrickWalk {
     #[inline]
     pub fn new(samples: &RaySamples) -> Self {
+        let inv_dir = samples.ray.dir.recip();
         BrickWalk {
-            origin: samples.ray.origin,
-            inv_dir: samples.ray.dir.recip(),
+            origin: samples.ray.origin.extend(0.0),
+            inv_dir: inv_dir.extend(0.0),
+            exit_face: Vec4::select(
+                inv_dir.extend(0.0).cmpgt(Vec4::ZERO),
+                Vec4::splat(BRICK as f32),
+                Vec4::ZERO,
+            ),
+            crosses: BVec4A::new(
+                inv_dir.x.is_finite(),
+                inv_dir.y.is_finite(),
+                inv_dir.z.is_finite(),
+                false,
+            ),
             t0: samples.t0,
             inv_step: samples.inv_step,
             jitter: samples.jitter,
@@ -190,15 +204,11 @@ impl BrickWalk {
     /// The first sample after `k` past brick `b`'s box (aimed 1/1000 of a step short).
     #[inline(always)]
     fn first_sample_past(&self, b: [u32; 3], k: u32) -> u32 {
-        let lo = Vec3::new(b[0] as f32, b[1] as f32, b[2] as f32) * BRICK as f32;
-        let hi = lo + BRICK as f32;
-        let mut t_exit = f32::INFINITY;
-        for a in 0..3 {
-            if self.inv_dir[a].is_finite() {
-                let edge = if self.inv_dir[a] > 0.0 { hi[a] } else { lo[a] };
-                t_exit = t_exit.min((edge - self.origin[a]) * self.inv_dir[a]);
-            }
-        }
+        let lo = Vec4::new(b[0] as f32, b[1] as f32, b[2] as f32, 0.0) * BRICK as f32;
+        // Per axis the exit face's parameter; the nearest of the crossing axes (no lane is
+        // NaN there: finite origins, faces and reciprocals).
+        let t = (lo + self.exit_face - self.origin) * self.inv_dir;
+        let t_exit = Vec4::select(self.crosses, t, Vec4::INFINITY).min_element();
         let past = ((t_exit - self.t0) * self.inv_step - self.jitter - 1e-3).floor() + 1.0;
         (past.max(0.0) as u32).max(k + 1)
     }

@@ -10,8 +10,11 @@
 //!   loop.
 //! - One blend order for every caller (x, then y, then z): the marcher's cached cells, the
 //!   plain reads and the normals give the same bits at the same point.
+//! - The marcher's loop does the same arithmetic in lanes ([`Locator`] for the cell and its
+//!   fraction, [`XPairs`] for the blend; SSE4.1, this crate's x86-64 build, else the plain
+//!   code): per lane the same operations in the same order, so the same bits (tested).
 
-use glam::Vec3;
+use glam::{Vec3, Vec4, Vec4Swizzles};
 
 /// The trilinear cell of a voxel-space point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -92,6 +95,117 @@ impl Cell {
     }
 }
 
+/// [`Cell::locate`] for many points of one grid: the grid's bounds and strides computed once,
+/// and with SSE4.1 (this crate's x86-64 build) the three axes in lanes — the clamp, the
+/// truncation, the last cell's bound and the fraction each one instruction for all three.
+/// The same cell and fraction as [`Cell::locate`] (tested).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Locator {
+    dims: [u32; 3],
+    /// `n − 1` per axis as floats (the box's far corner), the fourth lane 0.
+    far: Vec4,
+    /// `n − 2` per axis (0 on a one-voxel axis): the last cell's lowest corner.
+    last: [u32; 3],
+    strides: [usize; 3],
+    /// Every side below 2³¹ voxels: a clamped coordinate converts to `i32` in a lane.
+    #[cfg_attr(
+        not(all(target_arch = "x86_64", target_feature = "sse4.1")),
+        allow(dead_code)
+    )]
+    lanes: bool,
+}
+
+impl Locator {
+    /// The locator of a `dims` grid, a zero side counted as one voxel (its callers read no
+    /// voxel of a grid with a zero side).
+    #[must_use]
+    pub fn new(dims: [u32; 3]) -> Self {
+        let dims = dims.map(|n| n.max(1));
+        let [nx, ny, nz] = dims;
+        Locator {
+            dims,
+            far: Vec4::new((nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32, 0.0),
+            last: dims.map(|n| n.saturating_sub(2)),
+            strides: Cell::strides(dims),
+            lanes: dims.iter().all(|&n| n < 1 << 31),
+        }
+    }
+
+    /// The lowest corner of the cell of voxel-space `p` (voxel coordinates), as
+    /// [`Cell::locate`] names it.
+    #[inline(always)]
+    pub fn corner(&self, p: Vec3) -> [u32; 3] {
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse4.1"))]
+        if self.lanes {
+            use std::arch::x86_64::{
+                _mm_cvttps_epi32, _mm_max_ps, _mm_min_epi32, _mm_min_ps, _mm_setr_epi32,
+                _mm_setzero_ps,
+            };
+            let [lx, ly, lz] = self.last;
+            // SAFETY: SSE4.1 is enabled for this build; the lanes as in `locate`.
+            let i = unsafe {
+                let v = _mm_min_ps(
+                    _mm_max_ps(p.extend(0.0).into(), _mm_setzero_ps()),
+                    self.far.into(),
+                );
+                let i = _mm_min_epi32(
+                    _mm_cvttps_epi32(v),
+                    _mm_setr_epi32(lx as i32, ly as i32, lz as i32, 0),
+                );
+                std::mem::transmute::<std::arch::x86_64::__m128i, [u32; 4]>(i)
+            };
+            return [i[0], i[1], i[2]];
+        }
+        let [nx, ny, nz] = self.dims;
+        let axis =
+            |v: f32, n: u32| (v.max(0.0).min((n - 1) as f32) as u32).min(n.saturating_sub(2));
+        [axis(p.x, nx), axis(p.y, ny), axis(p.z, nz)]
+    }
+
+    /// The cell of voxel-space `p`, as [`Cell::locate`] (without its length check).
+    #[inline(always)]
+    pub fn locate(&self, p: Vec3) -> Cell {
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse4.1"))]
+        if self.lanes {
+            use std::arch::x86_64::{
+                _mm_cvtepi32_ps, _mm_cvttps_epi32, _mm_max_ps, _mm_min_epi32, _mm_min_ps,
+                _mm_setr_epi32, _mm_setzero_ps, _mm_sub_ps,
+            };
+            let [lx, ly, lz] = self.last;
+            // SAFETY: SSE4.1 is enabled for this build. `max` returns its second operand
+            // (0) for a NaN lane, as `f32::max` does, so every lane is in [0, n − 1] below
+            // 2³¹ and converts exactly as `to_int_unchecked::<u32>`; `n − 2 < 2³¹` too, so
+            // the signed minimum is the unsigned one.
+            let (i, frac) = unsafe {
+                let v = _mm_min_ps(
+                    _mm_max_ps(p.extend(0.0).into(), _mm_setzero_ps()),
+                    self.far.into(),
+                );
+                let i = _mm_min_epi32(
+                    _mm_cvttps_epi32(v),
+                    _mm_setr_epi32(lx as i32, ly as i32, lz as i32, 0),
+                );
+                let frac = Vec4::from(_mm_sub_ps(v, _mm_cvtepi32_ps(i)));
+                (
+                    std::mem::transmute::<std::arch::x86_64::__m128i, [u32; 4]>(i),
+                    frac,
+                )
+            };
+            let [nx, ny, _] = self.dims;
+            return Cell {
+                index: (i[2] as usize * ny as usize + i[1] as usize) * nx as usize + i[0] as usize,
+                strides: self.strides,
+                frac: frac.truncate(),
+            };
+        }
+        Cell::locate(self.dims, p, usize::MAX).unwrap_or(Cell {
+            index: 0,
+            strides: self.strides,
+            frac: Vec3::ZERO,
+        })
+    }
+}
+
 /// The number of voxels of a `dims` grid.
 #[inline(always)]
 pub(crate) fn voxel_count(dims: [u32; 3]) -> usize {
@@ -117,6 +231,15 @@ impl CellValue for Vec3 {
     }
 }
 
+/// Vectors in four lanes: the lanes blend as [`Vec3`]'s components do (glam's `lerp` is
+/// `a·(1 − t) + b·t` for both), one instruction per operation for all lanes.
+impl CellValue for Vec4 {
+    #[inline(always)]
+    fn mix(self, other: Vec4, t: f32) -> Vec4 {
+        self.lerp(other, t)
+    }
+}
+
 /// Trilinear blend of a cell's corners ([`Cell::corners`]) at fractions `f` (x first, then
 /// y, then z).
 #[inline(always)]
@@ -126,6 +249,39 @@ pub(crate) fn blend_cell<T: CellValue>(c: &[T; 8], f: Vec3) -> T {
     let c01 = c[4].mix(c[5], f.x);
     let c11 = c[6].mix(c[7], f.x);
     c00.mix(c10, f.y).mix(c01.mix(c11, f.y), f.z)
+}
+
+/// A cell's eight scalar corners kept for blending in lanes: the low ends of its four x-pairs
+/// `[c000, c010, c001, c011]` and the steps to their high ends (`c100 − c000`, …), so a blend
+/// ([`XPairs::blend`]) is [`blend_cell`]'s arithmetic, the same bits, the x step of all four
+/// pairs in one multiply-add and the y step of both halves in another.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct XPairs {
+    lo: Vec4,
+    dx: Vec4,
+}
+
+impl XPairs {
+    /// The pairs of corners in [`Cell::corners`]'s order.
+    #[inline(always)]
+    pub fn new(c: [f32; 8]) -> Self {
+        let lo = Vec4::new(c[0], c[2], c[4], c[6]);
+        XPairs {
+            lo,
+            dx: Vec4::new(c[1], c[3], c[5], c[7]) - lo,
+        }
+    }
+
+    /// The trilinear blend at fractions `f`: [`blend_cell`] of the same corners.
+    #[inline(always)]
+    pub fn blend(&self, f: Vec3) -> f32 {
+        // [c00, c10, c01, c11]: `c0 + (c1 − c0)·x` per pair, as `f32::mix`.
+        let x = self.lo + self.dx * f.x;
+        // [c00, c01] towards [c10, c11] along y, then the two along z.
+        let (a, b) = (x.xzxz(), x.ywyw());
+        let y = a + (b - a) * f.y;
+        y.x + (y.y - y.x) * f.z
+    }
 }
 
 /// A cell's eight voxels (in [`blend_cell`]'s order) and the point's position inside it.
@@ -169,4 +325,44 @@ pub(crate) fn interpolate<T: Copy, V: CellValue>(
 #[inline(always)]
 pub(crate) fn trilinear(data: &[u16], dims: [u32; 3], p: Vec3) -> f32 {
     interpolate(data, dims, p, f32::from).unwrap_or(0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_locator_finds_cell_locates_cells() {
+        let mut s = 7u32;
+        let mut r = move || {
+            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (s >> 8) as f32 / (1u32 << 24) as f32
+        };
+        for dims in [[9, 5, 3], [1, 4, 6], [2, 1, 1], [1, 1, 1], [300, 2, 70]] {
+            let grid = Locator::new(dims);
+            let n = Vec3::from_array(dims.map(|d| d as f32));
+            let mut points: Vec<Vec3> = (0..2000)
+                .map(|_| (Vec3::new(r(), r(), r()) * 1.4 - 0.2) * n)
+                .collect();
+            // Corners, faces, beyond the box, NaN and infinities.
+            points.extend([
+                Vec3::ZERO,
+                n - 1.0,
+                n,
+                Vec3::splat(-1.0),
+                Vec3::new(f32::NAN, 0.5, f32::INFINITY),
+                Vec3::new(f32::NEG_INFINITY, f32::NAN, 1e30),
+            ]);
+            for p in points {
+                let want = Cell::locate(dims, p, usize::MAX).expect("no zero side");
+                let got = grid.locate(p);
+                assert_eq!(got.index, want.index, "{dims:?} {p}");
+                assert_eq!(got.strides, want.strides, "{dims:?} {p}");
+                assert_eq!(got.frac, want.frac, "{dims:?} {p}");
+                let [x, y, z] = grid.corner(p);
+                let [nx, ny, _] = dims.map(|d| d as usize);
+                assert_eq!((z as usize * ny + y as usize) * nx + x as usize, want.index);
+            }
+        }
+    }
 }

@@ -13,7 +13,7 @@
 //!   ([`central_difference`]) remain where the gradient's magnitude matters (gradient
 //!   opacity) and for iso-surface hits (one per ray).
 
-use glam::{Mat3, Mat4, Vec3};
+use glam::{Mat3, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::cell::interpolate;
@@ -65,6 +65,36 @@ pub(crate) fn voxel_normals(
 #[inline(always)]
 pub(crate) fn normal_of(n: [i8; 4]) -> Vec3 {
     Vec3::new(f32::from(n[0]), f32::from(n[1]), f32::from(n[2]))
+}
+
+/// A stored normal (×127) in four lanes, for blending in lanes: the values of [`normal_of`]
+/// (the fourth lane, the stored 0, is never read back). With SSE4.1 (this crate's x86-64 build) one load, sign extension and
+/// conversion.
+#[inline(always)]
+pub(crate) fn normal_lanes(n: [i8; 4]) -> Vec4 {
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse4.1"))]
+    {
+        use std::arch::x86_64::{_mm_cvtepi32_ps, _mm_cvtepi8_epi32, _mm_cvtsi32_si128};
+        let bits = i32::from_ne_bytes(n.map(|b| b as u8));
+        // SAFETY: SSE4.1 is enabled for this build.
+        Vec4::from(unsafe { _mm_cvtepi32_ps(_mm_cvtepi8_epi32(_mm_cvtsi32_si128(bits))) })
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "sse4.1")))]
+    {
+        normal_of(n).extend(f32::from(n[3]))
+    }
+}
+
+/// [`direction_or_zero`] of a normal blended in lanes ([`normal_lanes`]; the fourth lane is
+/// ignored): the same bits.
+#[inline(always)]
+pub(crate) fn direction_or_zero_lanes(n127: Vec4) -> Vec3 {
+    let v = (n127 * (1.0 / 127.0)).truncate();
+    if v.length_squared() < 0.25 * 0.25 {
+        Vec3::ZERO
+    } else {
+        v
+    }
 }
 
 /// An interpolated normal (×127) as a direction: below half length the neighbours disagree

@@ -47,6 +47,8 @@ pub(crate) struct VolumeLights {
     lights: Vec<Light>,
     /// Each light's index in the list it was made from (the scene's, which shadow maps use).
     index: Vec<usize>,
+    /// The specular power when it is a whole number in `0..=64` (then raised by squaring).
+    whole_power: Option<u32>,
 }
 
 impl VolumeLights {
@@ -58,18 +60,25 @@ impl VolumeLights {
             .enumerate()
             .filter_map(|(i, l)| Some((i, l.normalized()?)))
             .unzip();
-        VolumeLights { k, lights, index }
+        let p = k.power;
+        let whole_power = (p == p.round() && (0.0..=64.0).contains(&p)).then_some(p as u32);
+        VolumeLights {
+            k,
+            lights,
+            index,
+            whole_power,
+        }
     }
 
     /// `x^power`, by multiplications when the power is a small integer (powf costs more than
     /// the rest of the shading).
     #[inline(always)]
     fn spec_pow(&self, x: f32) -> f32 {
-        let p = self.k.power;
-        if p == p.round() && (0.0..=64.0).contains(&p) {
-            x.powi(p as i32)
-        } else {
-            x.powf(p)
+        match self.whole_power {
+            // VTK's power and the default: the loop unrolled to four multiplications.
+            Some(10) => powi_by_squaring(x, 10),
+            Some(n) => powi_by_squaring(x, n),
+            None => x.powf(self.k.power),
         }
     }
 
@@ -129,9 +138,43 @@ impl VolumeLights {
     }
 }
 
+/// `x^n` by repeated squaring: the multiplications of `f32::powi`'s library routine
+/// (compiler-builtins' `__powisf2`, a call per sample) in its order, so the same bits, inline.
+#[inline(always)]
+fn powi_by_squaring(x: f32, n: u32) -> f32 {
+    let (mut base, mut n) = (x, n);
+    let mut acc = if n & 1 != 0 { x } else { 1.0 };
+    loop {
+        n >>= 1;
+        if n == 0 {
+            return acc;
+        }
+        base *= base;
+        if n & 1 != 0 {
+            acc *= base;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn powers_by_squaring_are_powi_bits() {
+        // `black_box`: a constant power would let the compiler expand `powi` itself.
+        for n in 0..=64u32 {
+            let e = std::hint::black_box(n as i32);
+            for i in 0..=1000 {
+                let x = i as f32 / 1000.0 * 1.25;
+                assert_eq!(
+                    powi_by_squaring(x, n).to_bits(),
+                    x.powi(e).to_bits(),
+                    "{x}^{n}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn headlight_is_two_sided_and_scene_light_is_not() {
