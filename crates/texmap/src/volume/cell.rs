@@ -131,28 +131,44 @@ impl Locator {
         }
     }
 
+    /// `p` clamped to the box in lanes and its cell's lowest corner (voxel coordinates), the
+    /// fourth lane 0.
+    ///
+    /// # Safety
+    /// SSE4.1 must be enabled (this build's target) and `self.lanes` true. `max` returns its
+    /// second operand (0) for a NaN lane, as `f32::max` does, so every lane is in
+    /// [0, n − 1] below 2³¹ and converts exactly as `to_int_unchecked::<u32>`; `n − 2 < 2³¹`
+    /// too, so the signed minimum is the unsigned one.
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse4.1"))]
+    #[inline(always)]
+    unsafe fn clamp_lanes(
+        &self,
+        p: Vec3,
+    ) -> (std::arch::x86_64::__m128, std::arch::x86_64::__m128i) {
+        use std::arch::x86_64::{
+            _mm_cvttps_epi32, _mm_max_ps, _mm_min_epi32, _mm_min_ps, _mm_setr_epi32, _mm_setzero_ps,
+        };
+        let [lx, ly, lz] = self.last;
+        let v = _mm_min_ps(
+            _mm_max_ps(p.extend(0.0).into(), _mm_setzero_ps()),
+            self.far.into(),
+        );
+        let i = _mm_min_epi32(
+            _mm_cvttps_epi32(v),
+            _mm_setr_epi32(lx as i32, ly as i32, lz as i32, 0),
+        );
+        (v, i)
+    }
+
     /// The lowest corner of the cell of voxel-space `p` (voxel coordinates), as
     /// [`Cell::locate`] names it.
     #[inline(always)]
     pub fn corner(&self, p: Vec3) -> [u32; 3] {
         #[cfg(all(target_arch = "x86_64", target_feature = "sse4.1"))]
         if self.lanes {
-            use std::arch::x86_64::{
-                _mm_cvttps_epi32, _mm_max_ps, _mm_min_epi32, _mm_min_ps, _mm_setr_epi32,
-                _mm_setzero_ps,
-            };
-            let [lx, ly, lz] = self.last;
-            // SAFETY: SSE4.1 is enabled for this build; the lanes as in `locate`.
+            // SAFETY: SSE4.1 is enabled for this build and the lanes are in range (`lanes`).
             let i = unsafe {
-                let v = _mm_min_ps(
-                    _mm_max_ps(p.extend(0.0).into(), _mm_setzero_ps()),
-                    self.far.into(),
-                );
-                let i = _mm_min_epi32(
-                    _mm_cvttps_epi32(v),
-                    _mm_setr_epi32(lx as i32, ly as i32, lz as i32, 0),
-                );
-                std::mem::transmute::<std::arch::x86_64::__m128i, [u32; 4]>(i)
+                std::mem::transmute::<std::arch::x86_64::__m128i, [u32; 4]>(self.clamp_lanes(p).1)
             };
             return [i[0], i[1], i[2]];
         }
@@ -167,24 +183,10 @@ impl Locator {
     pub fn locate(&self, p: Vec3) -> Cell {
         #[cfg(all(target_arch = "x86_64", target_feature = "sse4.1"))]
         if self.lanes {
-            use std::arch::x86_64::{
-                _mm_cvtepi32_ps, _mm_cvttps_epi32, _mm_max_ps, _mm_min_epi32, _mm_min_ps,
-                _mm_setr_epi32, _mm_setzero_ps, _mm_sub_ps,
-            };
-            let [lx, ly, lz] = self.last;
-            // SAFETY: SSE4.1 is enabled for this build. `max` returns its second operand
-            // (0) for a NaN lane, as `f32::max` does, so every lane is in [0, n − 1] below
-            // 2³¹ and converts exactly as `to_int_unchecked::<u32>`; `n − 2 < 2³¹` too, so
-            // the signed minimum is the unsigned one.
+            use std::arch::x86_64::{_mm_cvtepi32_ps, _mm_sub_ps};
+            // SAFETY: SSE4.1 is enabled for this build and the lanes are in range (`lanes`).
             let (i, frac) = unsafe {
-                let v = _mm_min_ps(
-                    _mm_max_ps(p.extend(0.0).into(), _mm_setzero_ps()),
-                    self.far.into(),
-                );
-                let i = _mm_min_epi32(
-                    _mm_cvttps_epi32(v),
-                    _mm_setr_epi32(lx as i32, ly as i32, lz as i32, 0),
-                );
+                let (v, i) = self.clamp_lanes(p);
                 let frac = Vec4::from(_mm_sub_ps(v, _mm_cvtepi32_ps(i)));
                 (
                     std::mem::transmute::<std::arch::x86_64::__m128i, [u32; 4]>(i),
