@@ -274,15 +274,34 @@ impl XPairs {
         }
     }
 
+    /// The pairs from their low ends (`[c000, c010, c001, c011]`) and high ends along x.
+    #[inline(always)]
+    pub fn from_ends(lo: Vec4, hi: Vec4) -> Self {
+        XPairs { lo, dx: hi - lo }
+    }
+
+    /// The four steps along x (`c100 − c000`, …), which an in-cell gradient reuses.
+    #[inline(always)]
+    pub fn dx(&self) -> Vec4 {
+        self.dx
+    }
+
     /// The trilinear blend at fractions `f`: [`blend_cell`] of the same corners.
     #[inline(always)]
     pub fn blend(&self, f: Vec3) -> f32 {
+        self.blend_steps(f).2
+    }
+
+    /// [`Self::blend`] with its intermediate blends: along x `[c00, c10, c01, c11]`, along y
+    /// `(c0, c1)` (z = 0 and 1), and the value.
+    #[inline(always)]
+    pub fn blend_steps(&self, f: Vec3) -> (Vec4, (f32, f32), f32) {
         // [c00, c10, c01, c11]: `c0 + (c1 − c0)·x` per pair, as `f32::mix`.
         let x = self.lo + self.dx * f.x;
         // [c00, c01] towards [c10, c11] along y, then the two along z.
         let (a, b) = (x.xzxz(), x.ywyw());
         let y = a + (b - a) * f.y;
-        y.x + (y.y - y.x) * f.z
+        (x, (y.x, y.y), y.x + (y.y - y.x) * f.z)
     }
 }
 

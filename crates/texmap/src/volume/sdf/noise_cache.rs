@@ -16,7 +16,9 @@
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
-use glam::{Vec3, Vec4};
+use glam::Vec3;
+
+use super::super::cell::XPairs;
 
 /// Lattice points per cell of the finest noise octave, along each axis.
 pub(super) const POINTS_PER_CELL: f32 = 4.0;
@@ -90,15 +92,7 @@ impl NoiseCache {
                 }
             }
         }
-        let v = bits.map(f32::from_bits);
-        // Lane by lane `a + t · (b − a)` along x (corners 0, 2, 4, 6 to 1, 3, 5, 7), then y
-        // and z: the scalar blend's operations in its order.
-        let lo = Vec4::new(v[0], v[2], v[4], v[6]);
-        let hi = Vec4::new(v[1], v[3], v[5], v[7]);
-        let x = lo + f.x * (hi - lo);
-        let y0 = x.x + f.y * (x.y - x.x);
-        let y1 = x.z + f.y * (x.w - x.z);
-        Some(y0 + f.z * (y1 - y0))
+        Some(XPairs::new(bits.map(f32::from_bits)).blend(f))
     }
 
     /// Evaluates and stores the noise at lattice point `idx` (a miss).

@@ -12,7 +12,7 @@
 
 use glam::{Mat3, Mat4, Vec3, Vec4};
 
-use super::super::cell::voxel_count;
+use super::super::cell::{voxel_count, XPairs};
 use super::super::grid::Volume;
 
 /// A distance field's reads, with the transforms of its grid.
@@ -86,7 +86,10 @@ impl<'a> FieldReader<'a> {
         let i = iz as usize * self.nxy + iy as usize * self.nx + ix as usize;
         let f = Vec3::new(x - ix as f32, y - iy as f32, z - iz as f32);
         let (lo, hi) = self.corners(i);
-        Some(FieldCell { lo, hi, f })
+        Some(FieldCell {
+            pairs: XPairs::from_ends(lo, hi),
+            f,
+        })
     }
 
     /// The eight levels of the cell whose first corner is level `i` (at most `dims − 2`
@@ -177,13 +180,11 @@ impl<'a> FieldReader<'a> {
     }
 }
 
-/// A cell's eight levels and a point's place inside it: the corners at `x = 0` in `lo`
-/// and their neighbours along x in `hi`, in the order (y, z) = (0, 0), (1, 0), (0, 1),
-/// (1, 1) — [`super::super::cell::blend_cell`]'s corners 0, 2, 4, 6 and 1, 3, 5, 7.
+/// A cell's eight levels as x-pairs (blended in lanes, [`XPairs`]) and a point's place
+/// inside it.
 #[derive(Clone, Copy, Debug)]
 struct FieldCell {
-    lo: Vec4,
-    hi: Vec4,
+    pairs: XPairs,
     f: Vec3,
 }
 
@@ -212,9 +213,7 @@ unsafe fn pairs_sse2(levels: &[u16], i: usize, sy: usize, sz: usize) -> (Vec4, V
 #[derive(Clone, Copy, Debug)]
 struct Blend {
     cell: FieldCell,
-    /// `hi − lo`: the four differences along x.
-    dx: Vec4,
-    /// The blends along x: x00, x10, x01, x11 (y, z as in [`FieldCell`]).
+    /// The blends along x: x00, x10, x01, x11.
     x: Vec4,
     y0: f32,
     y1: f32,
@@ -224,16 +223,9 @@ struct Blend {
 impl FieldCell {
     #[inline(always)]
     fn blend(self) -> Blend {
-        let f = self.f;
-        // Lane by lane `c0 + (c1 − c0) · fx`, the scalar blend's operations in its order.
-        let dx = self.hi - self.lo;
-        let x = self.lo + dx * f.x;
-        let y0 = x.x + (x.y - x.x) * f.y;
-        let y1 = x.z + (x.w - x.z) * f.y;
-        let level = y0 + (y1 - y0) * f.z;
+        let (x, (y0, y1), level) = self.pairs.blend_steps(self.f);
         Blend {
             cell: self,
-            dx,
             x,
             y0,
             y1,
@@ -265,7 +257,7 @@ impl<'r> LazyGradient<'r> {
         let Some(b) = self.blend else {
             return Vec3::ZERO;
         };
-        let (d, x) = (b.dx, b.x);
+        let (d, x) = (b.cell.pairs.dx(), b.x);
         let f = b.cell.f;
         let (gy, gz) = (1.0 - f.y, 1.0 - f.z);
         let dx = gz * (gy * d.x + f.y * d.y) + f.z * (gy * d.z + f.y * d.w);
