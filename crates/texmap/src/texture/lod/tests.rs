@@ -159,7 +159,9 @@ fn fixed_2d() -> Texture2D {
         N,
         N,
         Format::Rgba8,
-        ColorSpace::Linear,
+        // sRGB: the default storage holds it in 16 bits (linear data it keeps in 8), which
+        // `replace_levels` writes as linear values.
+        ColorSpace::Srgb,
         &bytes,
         TextureOptions::default(),
     )

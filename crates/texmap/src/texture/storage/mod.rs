@@ -1,10 +1,13 @@
 //! Texture storage: 2D textures with their mip chains, in a cache-friendly tiled layout.
 //!
-//! By default 8-bit colour (RGB8, RGBA8, sRGB or linear) is stored decoded, as 16-bit linear
+//! By default 8-bit sRGB colour (RGB8, RGBA8) is stored decoded, as 16-bit linear
 //! premultiplied RGBA ([`Storage::Linear16`], 8 bytes a texel): a read is one 8-byte load
 //! and a conversion, where the native format costs a table lookup per channel and a multiply
 //! by alpha. 16 bits in linear light hold every 8-bit sRGB value to within 8·10⁻⁶, and the mip
-//! levels keep that precision instead of being rounded back to 8-bit sRGB.
+//! levels keep that precision instead of being rounded back to 8-bit sRGB. 8-bit linear data
+//! keeps its own 8 bits (4 bytes a texel, as [`Storage::Rgba8`]): its codes widen exactly to
+//! the 16-bit values, so 16 bits would only add precision to its mip levels (which GL holds
+//! in 8 bits too) at twice the memory.
 //! [`Storage::Native`] keeps the texels in their own [`Format`] (half the memory) and decodes
 //! them when read.
 //!
@@ -67,8 +70,11 @@ impl Level {
 /// How texels are held in memory.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum Storage {
-    /// RGB8 and RGBA8 stored as [`Format::Rgba16Premultiplied`] (8 bytes a texel), decoded
-    /// once at load; other formats as given.
+    /// sRGB RGB8 and RGBA8 stored as [`Format::Rgba16Premultiplied`] (8 bytes a texel),
+    /// decoded once at load; linear RGB8 and RGBA8 (data: normals, metallic-roughness,
+    /// occlusion) as [`Storage::Rgba8`] holds them, since their codes widen exactly to the
+    /// 16-bit values (`c · 257`) and only their mip levels would keep more bits; other
+    /// formats as given.
     #[default]
     Linear16,
     /// Every format as given (an sRGB RGBA8 texel costs 4 bytes), decoded at each read; a
@@ -309,21 +315,31 @@ impl Texture2D {
             ColorSpace::Linear
         };
         let lut_of = |f: Format| decode_table(f, color_space);
+        let eight_bit = matches!(format, Format::Rgb8 | Format::Rgba8);
+        let opaque = eight_bit
+            && (format == Format::Rgb8
+                || levels
+                    .iter()
+                    .take(given)
+                    .all(|l| l.chunks_exact(4).all(|t| t[3] == 255)));
+        // Linear 8-bit data widens exactly to the values 16 bits would hold (`c · 257`, read
+        // by the same fixed-point path): the default storage keeps it in its own 8 bits.
+        let as_rgba8 = eight_bit
+            && match options.storage {
+                Storage::Rgba8 => true,
+                Storage::Linear16 => color_space == ColorSpace::Linear,
+                Storage::Native | Storage::Compressed => false,
+            };
         let stored = match (options.storage, format) {
+            _ if as_rgba8 => Format::Rgba8,
             (Storage::Linear16, Format::Rgb8 | Format::Rgba8) => Format::Rgba16Premultiplied,
-            (Storage::Rgba8, Format::Rgb8 | Format::Rgba8) => Format::Rgba8,
             _ => format,
         };
-        let rgba8 =
-            (options.storage == Storage::Rgba8 && stored == Format::Rgba8).then(|| Rgba8Texels {
-                srgb: (color_space == ColorSpace::Srgb).then(srgb_to_linear16),
-                srgb15: (color_space == ColorSpace::Srgb).then(srgb_to_linear15),
-                opaque: format == Format::Rgb8
-                    || levels
-                        .iter()
-                        .take(given)
-                        .all(|l| l.chunks_exact(4).all(|t| t[3] == 255)),
-            });
+        let rgba8 = as_rgba8.then(|| Rgba8Texels {
+            srgb: (color_space == ColorSpace::Srgb).then(srgb_to_linear16),
+            srgb15: (color_space == ColorSpace::Srgb).then(srgb_to_linear15),
+            opaque,
+        });
         let mut tex = Texture2D {
             format,
             stored,
@@ -428,8 +444,9 @@ impl Texture2D {
     pub fn format(&self) -> Format {
         self.format
     }
-    /// The format the texels are held in: [`Format::Rgba16Premultiplied`] for 8-bit colour
-    /// with [`Storage::Linear16`], else [`Self::format`]. For a texture held
+    /// The format the texels are held in: [`Format::Rgba16Premultiplied`] for 8-bit sRGB
+    /// colour with [`Storage::Linear16`], [`Format::Rgba8`] for 8-bit colour with
+    /// [`Storage::Rgba8`] and 8-bit linear data with either, else [`Self::format`]. For a texture held
     /// block-compressed, the format its blocks decode to (and its levels without blocks are
     /// held in): see [`Self::block_format`].
     #[must_use]
