@@ -16,7 +16,7 @@
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
 use super::super::cell::XPairs;
 
@@ -35,6 +35,8 @@ pub(super) struct NoiseCache {
     density: f32,
     /// Points per axis.
     dims: [usize; 3],
+    /// The last point's index along each axis (`dims − 1`), as floats.
+    last: Vec3,
     /// `f32` bits, [`EMPTY`] until read.
     values: Vec<AtomicU32>,
 }
@@ -56,6 +58,7 @@ impl NoiseCache {
             origin: lo,
             density,
             dims,
+            last: Vec3::from_array(dims.map(|d| (d - 1) as f32)),
             values: (0..n).map(|_| AtomicU32::new(EMPTY)).collect(),
         })
     }
@@ -65,9 +68,8 @@ impl NoiseCache {
     #[inline(always)]
     pub(super) fn read(&self, x: Vec3, noise: impl Fn(Vec3) -> f32) -> Option<f32> {
         let q = (x - self.origin) * self.density;
-        let [nx, ny, nz] = self.dims;
-        let lim = Vec3::new((nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32);
-        if !(q.cmpge(Vec3::ZERO).all() && q.cmplt(lim).all()) {
+        let [nx, ny, _] = self.dims;
+        if !(q.cmpge(Vec3::ZERO).all() && q.cmplt(self.last).all()) {
             return None;
         }
         let c = q.floor();
@@ -86,13 +88,34 @@ impl NoiseCache {
         let mut bits = offsets.map(load);
         // One test for the eight (all stored, after the lattice's first reads).
         if bits.contains(&EMPTY) {
-            for (b, &o) in bits.iter_mut().zip(&offsets) {
-                if *b == EMPTY {
-                    *b = self.fill(base + o, &noise).to_bits();
-                }
+            bits = self.fill_missing(base, bits, &noise);
+        }
+        // The pairs straight from the loaded values (an array built in memory and read
+        // back in lanes stalls on the store forwarding).
+        let v = |k: usize| f32::from_bits(bits[k]);
+        let lo = Vec4::new(v(0), v(2), v(4), v(6));
+        let hi = Vec4::new(v(1), v(3), v(5), v(7));
+        Some(XPairs::from_ends(lo, hi).blend(f))
+    }
+
+    /// `bits` (the corners of the cell at `base`) with the missing ones evaluated and stored.
+    #[cold]
+    #[inline(never)]
+    fn fill_missing(
+        &self,
+        base: usize,
+        mut bits: [u32; 8],
+        noise: &impl Fn(Vec3) -> f32,
+    ) -> [u32; 8] {
+        let [nx, ny, _] = self.dims;
+        let (sy, sz) = (nx, nx * ny);
+        let offsets = [0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1];
+        for (b, &o) in bits.iter_mut().zip(&offsets) {
+            if *b == EMPTY {
+                *b = self.fill(base + o, noise).to_bits();
             }
         }
-        Some(XPairs::new(bits.map(f32::from_bits)).blend(f))
+        bits
     }
 
     /// Evaluates and stores the noise at lattice point `idx` (a miss).

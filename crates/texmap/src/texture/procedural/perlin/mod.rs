@@ -29,6 +29,28 @@ fn p(i: usize) -> usize {
     PERMUTATION[i & 255] as usize
 }
 
+/// [`PERMUTATION`] twice over (the reference's `p[512]`): the hashes of [`noise3f`] and
+/// [`noise3f_x4`] index it below 512 without a mask.
+const PERMUTATION_2: [u8; 512] = {
+    let mut out = [0u8; 512];
+    let mut i = 0;
+    while i < 512 {
+        out[i] = PERMUTATION[i & 255];
+        i += 1;
+    }
+    out
+};
+
+/// `p(i)` for `i < 512`, one load.
+///
+/// # Safety
+/// `i < 512`.
+#[inline(always)]
+unsafe fn p2(i: usize) -> usize {
+    // SAFETY: the caller's bound.
+    usize::from(unsafe { *PERMUTATION_2.get_unchecked(i) })
+}
+
 /// 6t⁵ − 15t⁴ + 10t³.
 #[inline(always)]
 fn fade(t: f64) -> f64 {
@@ -338,6 +360,28 @@ const GRADIENTS_F32X4: [[f32; 4]; 16] = {
     out
 };
 
+/// The gradient a corner's hash `h < 512` picks, `GRADIENTS_F32X4[p(h) & 15]`: one load
+/// instead of the lookup, the mask and the second load (the same values).
+const GRADIENT_OF_HASH: [[f32; 4]; 512] = {
+    let mut out = [[0.0f32; 4]; 512];
+    let mut i = 0;
+    while i < 512 {
+        out[i] = GRADIENTS_F32X4[(PERMUTATION[i & 255] & 15) as usize];
+        i += 1;
+    }
+    out
+};
+
+/// [`GRADIENT_OF_HASH`]`[h]`.
+///
+/// # Safety
+/// `h < 512`.
+#[inline(always)]
+unsafe fn gradient_of_hash(h: usize) -> &'static [f32; 4] {
+    // SAFETY: the caller's bound.
+    unsafe { GRADIENT_OF_HASH.get_unchecked(h) }
+}
+
 /// [`noise3`] in `f32`, for volume work that evaluates noise millions of times a frame
 /// (hypertexture): the same lattice, hashes and gradients, so it agrees with [`noise3`] to
 /// `f32` rounding (about 1e-6) for coordinates below 2¹⁶.
@@ -351,16 +395,19 @@ pub fn noise3f(x: f32, y: f32, z: f32) -> f32 {
     let (xi, x) = cellf(x);
     let (yi, y) = cellf(y);
     let (zi, z) = cellf(z);
+    // SAFETY (the `p2` and `gradient_of_hash` calls): xi, yi, zi ≤ 255 and a table entry
+    // ≤ 255, so `a`, `b`, `aa`, `ab`, `ba`, `bb` ≤ 510 and every index (each + 1 at most)
+    // is below 512.
     let a = p(xi) + yi;
-    let (aa, ab) = (p(a) + zi, p(a + 1) + zi);
-    let b = p(xi + 1) + yi;
-    let (ba, bb) = (p(b) + zi, p(b + 1) + zi);
+    let (aa, ab) = unsafe { (p2(a) + zi, p2(a + 1) + zi) };
+    let b = unsafe { p2(xi + 1) } + yi;
+    let (ba, bb) = unsafe { (p2(b) + zi, p2(b + 1) + zi) };
     let fadef = |t: f32| t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
     let (u, v, w) = (fadef(x), fadef(y), fadef(z));
     // The reference's twelve directions (and four repeats) as a table: a branch per hash
-    // bit mispredicts half the time on random hashes.
+    // bit mispredicts half the time on random hashes. `hash` is a corner's `aa`… (+ 1).
     let g = |hash: usize, x: f32, y: f32, z: f32| {
-        let [gx, gy, gz] = GRADIENTS_F32[hash & 15];
+        let [gx, gy, gz, _] = *unsafe { gradient_of_hash(hash) };
         gx * x + gy * y + gz * z
     };
     let lerp = |t: f32, a: f32, b: f32| a + t * (b - a);
@@ -368,20 +415,16 @@ pub fn noise3f(x: f32, y: f32, z: f32) -> f32 {
         w,
         lerp(
             v,
-            lerp(u, g(p(aa), x, y, z), g(p(ba), x - 1.0, y, z)),
-            lerp(u, g(p(ab), x, y - 1.0, z), g(p(bb), x - 1.0, y - 1.0, z)),
+            lerp(u, g(aa, x, y, z), g(ba, x - 1.0, y, z)),
+            lerp(u, g(ab, x, y - 1.0, z), g(bb, x - 1.0, y - 1.0, z)),
         ),
         lerp(
             v,
+            lerp(u, g(aa + 1, x, y, z - 1.0), g(ba + 1, x - 1.0, y, z - 1.0)),
             lerp(
                 u,
-                g(p(aa + 1), x, y, z - 1.0),
-                g(p(ba + 1), x - 1.0, y, z - 1.0),
-            ),
-            lerp(
-                u,
-                g(p(ab + 1), x, y - 1.0, z - 1.0),
-                g(p(bb + 1), x - 1.0, y - 1.0, z - 1.0),
+                g(ab + 1, x, y - 1.0, z - 1.0),
+                g(bb + 1, x - 1.0, y - 1.0, z - 1.0),
             ),
         ),
     )
@@ -413,15 +456,16 @@ pub fn noise3f_x4(x: glam::Vec4, y: glam::Vec4, z: glam::Vec4) -> glam::Vec4 {
     let mut hashes = [[0usize; 4]; 8];
     for l in 0..4 {
         let (xi, yi, zi) = (xs[l], ys[l], zs[l]);
+        // SAFETY: as `noise3f`'s (cells masked to 255): every index is below 512.
         let a = p(xi) + yi;
-        let (aa, ab) = (p(a) + zi, p(a + 1) + zi);
-        let b = p(xi + 1) + yi;
-        let (ba, bb) = (p(b) + zi, p(b + 1) + zi);
+        let (aa, ab) = unsafe { (p2(a) + zi, p2(a + 1) + zi) };
+        let b = unsafe { p2(xi + 1) } + yi;
+        let (ba, bb) = unsafe { (p2(b) + zi, p2(b + 1) + zi) };
         for (k, h) in [aa, ba, ab, bb, aa + 1, ba + 1, ab + 1, bb + 1]
             .into_iter()
             .enumerate()
         {
-            hashes[k][l] = p(h) & 15;
+            hashes[k][l] = h;
         }
     }
     let (x, y, z) = (x - fx, y - fy, z - fz);
@@ -431,7 +475,8 @@ pub fn noise3f_x4(x: glam::Vec4, y: glam::Vec4, z: glam::Vec4) -> glam::Vec4 {
         let h = hashes[k];
         // The four lanes' gradients as a matrix's columns; its transpose's columns are
         // their x, y and z components in lanes (the same table values).
-        let row = |l: usize| Vec4::from_array(GRADIENTS_F32X4[h[l]]);
+        // SAFETY: a corner's hash is below 512 (above).
+        let row = |l: usize| Vec4::from_array(*unsafe { gradient_of_hash(h[l]) });
         let c = glam::Mat4::from_cols(row(0), row(1), row(2), row(3)).transpose();
         c.x_axis * x + c.y_axis * y + c.z_axis * z
     };

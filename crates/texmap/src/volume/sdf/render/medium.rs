@@ -115,11 +115,18 @@ impl Tracer<'_> {
                 None => return (0.0, 0.0, 0),
             },
         };
-        let u = (h.amplitude * n - height.max(0.0)) / h.softness;
+        // The sign first (softness > 0): most samples stop here, before the division.
+        let reach = h.amplitude * n - height.max(0.0);
+        if reach <= 0.0 {
+            return (0.0, 0.0, 0);
+        }
+        let u = reach / h.softness;
         if u <= 0.0 {
             return (0.0, 0.0, 0);
         }
-        let i = ((u.min(1.0) * SHAPE_LUT as f32) as usize).min(SHAPE_LUT);
+        // SAFETY: `u > 0` or NaN here, and `min` gives 1 for NaN: the product is in
+        // `(0, SHAPE_LUT]`, which needs none of `as`'s saturation.
+        let i = unsafe { (u.min(1.0) * SHAPE_LUT as f32).to_int_unchecked::<usize>() };
         (self.shape[i], u.min(1.0), i)
     }
 
