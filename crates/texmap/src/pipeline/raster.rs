@@ -29,6 +29,7 @@ use glam::Vec4;
 use super::bin::{Bins, TileRect};
 use super::framebuffer::{over, stream_fence, stream_fill, TileBuffer};
 use super::interpolate::Planes;
+use super::quad_edges::{QuadEdges, QuadStep};
 use super::setup::{Edges, EXTRA_VERTEX};
 use super::transform::PostVertex;
 use super::transform::ScreenCall;
@@ -273,9 +274,13 @@ fn raster_prims<const S: usize, const PRE: bool>(
         let mut planes: Option<Planes> = None;
         let mut zoff = [0.0f32; S];
         let mut row = edges.e;
+        // One sample a pixel: the four pixels' tests at once (quad_edges.rs).
+        let (quad_step_x, quad_step_y) = (QuadStep::new(step_x), QuadStep::new(step_y));
+        let mut quad_row = QuadEdges::new(edges.e, edges.dx, edges.dy);
         let mut qy = y0;
         while qy <= y1 {
             let mut e = row;
+            let mut quad_e = quad_row;
             let mut qx = x0;
             let valid_y = if qy + 1 < rect.y1 as i32 {
                 0b1111
@@ -286,8 +291,12 @@ fn raster_prims<const S: usize, const PRE: bool>(
                 // Coverage of the four pixels' samples.
                 let mut cov = [all_samples; 4];
                 let mut pmask = 0b1111u8;
+                if S == 1 && !full {
+                    pmask = quad_e.covered();
+                    cov = std::array::from_fn(|j| u32::from(pmask >> j) & 1);
+                }
                 for j in 0..4 {
-                    if full {
+                    if full || S == 1 {
                         break;
                     }
                     if j == 0 {
@@ -401,11 +410,13 @@ fn raster_prims<const S: usize, const PRE: bool>(
                 for k in 0..3 {
                     e[k] += step_x[k];
                 }
+                quad_e.step(&quad_step_x);
                 qx += 2;
             }
             for k in 0..3 {
                 row[k] += step_y[k];
             }
+            quad_row.step(&quad_step_y);
             qy += 2;
         }
         batch.flush::<S>(ctx, prim.call, &zoff, color, depth, stats);
