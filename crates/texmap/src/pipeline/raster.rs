@@ -216,6 +216,9 @@ fn raster_prims<const S: usize, const PRE: bool>(
     let positions = sample_positions(S as u32);
     let tile = super::bin::TILE as usize;
     let mut batch = Batch::new();
+    // Set up in place at a primitive's first covered quad (`Planes::set`: no copy, no
+    // clearing of the unused varyings' planes).
+    let mut planes = Planes::empty();
     for &pi in prims {
         let prim = &ctx.prims[pi as usize];
         let call = &ctx.calls[prim.call as usize];
@@ -271,7 +274,7 @@ fn raster_prims<const S: usize, const PRE: bool>(
             continue;
         }
         let all_samples = if S >= 32 { u32::MAX } else { (1u32 << S) - 1 };
-        let mut planes: Option<Planes> = None;
+        let mut have_planes = false;
         let mut zoff = [0.0f32; S];
         let mut row = edges.e;
         // One sample a pixel: the four pixels' tests at once (quad_edges.rs).
@@ -319,8 +322,8 @@ fn raster_prims<const S: usize, const PRE: bool>(
                 };
                 pmask &= valid_x & valid_y;
                 if pmask != 0 {
-                    let pl = planes.get_or_insert_with(|| {
-                        let p = Planes::new(
+                    if !have_planes {
+                        planes.set(
                             v,
                             // The pre-pass needs only depth (the same plane either way).
                             if PRE { 0 } else { state.varyings },
@@ -329,10 +332,11 @@ fn raster_prims<const S: usize, const PRE: bool>(
                             rect.y0 as i32,
                         );
                         for (s, &(ox, oy)) in positions.iter().enumerate().take(S) {
-                            zoff[s] = (p.z.dx * ox as f32 + p.z.dy * oy as f32) / 16.0;
+                            zoff[s] = (planes.z.dx * ox as f32 + planes.z.dy * oy as f32) / 16.0;
                         }
-                        p
-                    });
+                        have_planes = true;
+                    }
+                    let pl = &planes;
                     let fx = (qx - rect.x0 as i32) as f32;
                     let fy = (qy - rect.y0 as i32) as f32;
                     let lx = (qx - rect.x0 as i32) as usize;
