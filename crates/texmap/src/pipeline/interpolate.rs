@@ -73,6 +73,27 @@ impl Planes {
     /// centre of pixel `(px, py)`, for the first `n` varyings.
     #[must_use]
     pub fn new(v: [&PostVertex; 3], n: usize, perspective: bool, px: i32, py: i32) -> Self {
+        let mut planes = Planes::empty();
+        planes.set(v, n, perspective, px, py);
+        planes
+    }
+
+    /// Planes of nothing (every plane zero), to be [`Planes::set`].
+    #[must_use]
+    pub fn empty() -> Self {
+        Planes {
+            n: 0,
+            perspective: true,
+            z: Plane::default(),
+            q: Plane::default(),
+            a: [Plane::default(); MAX_VARYINGS],
+        }
+    }
+
+    /// [`Planes::new`] in place: the planes it would make, the unused varyings' planes
+    /// (index `n` on) left as they were (the rasterizer sets up one triangle's planes after
+    /// another in one value).
+    pub fn set(&mut self, v: [&PostVertex; 3], n: usize, perspective: bool, px: i32, py: i32) {
         let s = 1.0 / SUBPIXEL_ONE as f64;
         let p = v.map(|v| (v.sx as f64 * s, v.sy as f64 * s));
         let (x10, y10) = (p[1].0 - p[0].0, p[1].1 - p[0].1);
@@ -88,24 +109,19 @@ impl Planes {
             rx: px as f64 + 0.5,
             ry: py as f64 + 0.5,
         };
-        let z = g.plane(v[0].z as f64, v[1].z as f64, v[2].z as f64);
         let q = v.map(|v| v.inv_w as f64);
-        let mut planes = Planes {
-            n,
-            perspective,
-            z,
-            q: g.plane(q[0], q[1], q[2]),
-            a: [Plane::default(); MAX_VARYINGS],
-        };
+        self.n = n;
+        self.perspective = perspective;
+        self.z = g.plane(v[0].z as f64, v[1].z as f64, v[2].z as f64);
+        self.q = g.plane(q[0], q[1], q[2]);
         for i in 0..n.min(MAX_VARYINGS) {
             let f = v.map(|v| v.varyings[i] as f64);
-            planes.a[i] = if perspective {
+            self.a[i] = if perspective {
                 g.plane(f[0] * q[0], f[1] * q[1], f[2] * q[2])
             } else {
                 g.plane(f[0], f[1], f[2])
             };
         }
-        planes
     }
 
     /// Evaluates the varyings at the four pixel centres of the quad whose top-left pixel is at

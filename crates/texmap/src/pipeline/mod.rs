@@ -32,6 +32,7 @@ pub mod bin;
 pub mod clip;
 pub mod framebuffer;
 pub mod interpolate;
+mod quad_edges;
 pub mod raster;
 pub mod setup;
 pub mod transform;

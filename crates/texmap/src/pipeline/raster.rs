@@ -29,6 +29,7 @@ use glam::Vec4;
 use super::bin::{Bins, TileRect};
 use super::framebuffer::{over, stream_fence, stream_fill, TileBuffer};
 use super::interpolate::Planes;
+use super::quad_edges::{QuadEdges, QuadStep};
 use super::setup::{Edges, EXTRA_VERTEX};
 use super::transform::PostVertex;
 use super::transform::ScreenCall;
@@ -215,6 +216,9 @@ fn raster_prims<const S: usize, const PRE: bool>(
     let positions = sample_positions(S as u32);
     let tile = super::bin::TILE as usize;
     let mut batch = Batch::new();
+    // Set up in place at a primitive's first covered quad (`Planes::set`: no copy, no
+    // clearing of the unused varyings' planes).
+    let mut planes = Planes::empty();
     for &pi in prims {
         let prim = &ctx.prims[pi as usize];
         let call = &ctx.calls[prim.call as usize];
@@ -270,12 +274,16 @@ fn raster_prims<const S: usize, const PRE: bool>(
             continue;
         }
         let all_samples = if S >= 32 { u32::MAX } else { (1u32 << S) - 1 };
-        let mut planes: Option<Planes> = None;
+        let mut have_planes = false;
         let mut zoff = [0.0f32; S];
         let mut row = edges.e;
+        // One sample a pixel: the four pixels' tests at once (quad_edges.rs).
+        let (quad_step_x, quad_step_y) = (QuadStep::new(step_x), QuadStep::new(step_y));
+        let mut quad_row = QuadEdges::new(edges.e, edges.dx, edges.dy);
         let mut qy = y0;
         while qy <= y1 {
             let mut e = row;
+            let mut quad_e = quad_row;
             let mut qx = x0;
             let valid_y = if qy + 1 < rect.y1 as i32 {
                 0b1111
@@ -286,8 +294,12 @@ fn raster_prims<const S: usize, const PRE: bool>(
                 // Coverage of the four pixels' samples.
                 let mut cov = [all_samples; 4];
                 let mut pmask = 0b1111u8;
+                if S == 1 && !full {
+                    pmask = quad_e.covered();
+                    cov = std::array::from_fn(|j| u32::from(pmask >> j) & 1);
+                }
                 for j in 0..4 {
-                    if full {
+                    if full || S == 1 {
                         break;
                     }
                     if j == 0 {
@@ -310,8 +322,8 @@ fn raster_prims<const S: usize, const PRE: bool>(
                 };
                 pmask &= valid_x & valid_y;
                 if pmask != 0 {
-                    let pl = planes.get_or_insert_with(|| {
-                        let p = Planes::new(
+                    if !have_planes {
+                        planes.set(
                             v,
                             // The pre-pass needs only depth (the same plane either way).
                             if PRE { 0 } else { state.varyings },
@@ -320,10 +332,11 @@ fn raster_prims<const S: usize, const PRE: bool>(
                             rect.y0 as i32,
                         );
                         for (s, &(ox, oy)) in positions.iter().enumerate().take(S) {
-                            zoff[s] = (p.z.dx * ox as f32 + p.z.dy * oy as f32) / 16.0;
+                            zoff[s] = (planes.z.dx * ox as f32 + planes.z.dy * oy as f32) / 16.0;
                         }
-                        p
-                    });
+                        have_planes = true;
+                    }
+                    let pl = &planes;
                     let fx = (qx - rect.x0 as i32) as f32;
                     let fy = (qy - rect.y0 as i32) as f32;
                     let lx = (qx - rect.x0 as i32) as usize;
@@ -401,11 +414,13 @@ fn raster_prims<const S: usize, const PRE: bool>(
                 for k in 0..3 {
                     e[k] += step_x[k];
                 }
+                quad_e.step(&quad_step_x);
                 qx += 2;
             }
             for k in 0..3 {
                 row[k] += step_y[k];
             }
+            quad_row.step(&quad_step_y);
             qy += 2;
         }
         batch.flush::<S>(ctx, prim.call, &zoff, color, depth, stats);

@@ -105,6 +105,9 @@ pub(super) fn read_quad(
     }
 }
 
+mod prefetch;
+pub(super) use prefetch::prefetch_quads;
+
 /// The most textures [`read_quad_shared`] reads together.
 pub(super) const MAX_SHARED: usize = 5;
 
@@ -341,6 +344,35 @@ mod sse2 {
         })
     }
 
+    /// The tiled texel indices of the nearest texels to `(u, v)` on `lv` (one lane per pixel).
+    #[inline(always)]
+    pub(super) fn nearest_offsets(
+        lv: &LevelRef,
+        tiles_x: u32,
+        s: &Sampler,
+        u: Vec4,
+        v: Vec4,
+    ) -> [i32; 4] {
+        let (x, y) = (
+            nearest_axis(s.wrap_u, u, lv.w),
+            nearest_axis(s.wrap_v, v, lv.h),
+        );
+        // SAFETY: SSE2 is part of x86_64 (SSE4.1 where `times` uses it); both indices are in
+        // range, so the texel index is below tiles_x·tiles_y·16 (see `taps`).
+        unsafe {
+            let three = _mm_set1_epi32(3);
+            let col = _mm_or_si128(
+                _mm_slli_epi32(_mm_srli_epi32(x, 2), 4),
+                _mm_and_si128(x, three),
+            );
+            let row = _mm_add_epi32(
+                times(_mm_srli_epi32(y, 2), 16 * tiles_x as i32),
+                _mm_slli_epi32(_mm_and_si128(y, three), 2),
+            );
+            lanes(_mm_add_epi32(col, row))
+        }
+    }
+
     /// The nearest texels to `(u, v)` on `lv` (pixels outside `mask` zero).
     #[inline(always)]
     pub(super) fn nearest_level(
@@ -352,24 +384,7 @@ mod sse2 {
         mask: u8,
     ) -> [Vec4; 4] {
         let (data, tiles_x) = lv.tiled_texels(bpp(texels));
-        let (x, y) = (
-            nearest_axis(s.wrap_u, u, lv.w),
-            nearest_axis(s.wrap_v, v, lv.h),
-        );
-        // SAFETY: SSE2 is part of x86_64 (SSE4.1 where `times` uses it); both indices are in
-        // range, so the texel index is below tiles_x·tiles_y·16 (see `taps`).
-        let offsets = unsafe {
-            let three = _mm_set1_epi32(3);
-            let col = _mm_or_si128(
-                _mm_slli_epi32(_mm_srli_epi32(x, 2), 4),
-                _mm_and_si128(x, three),
-            );
-            let row = _mm_add_epi32(
-                times(_mm_srli_epi32(y, 2), 16 * tiles_x as i32),
-                _mm_slli_epi32(_mm_and_si128(y, three), 2),
-            );
-            lanes(_mm_add_epi32(col, row))
-        };
+        let offsets = nearest_offsets(&lv, tiles_x, s, u, v);
         let base = data.as_ptr();
         std::array::from_fn(|j| {
             if mask & (1 << j) == 0 {
@@ -525,7 +540,7 @@ mod sse2 {
 
     /// Bytes a texel of `texels` takes.
     #[inline(always)]
-    fn bpp(texels: Texels) -> usize {
+    pub(super) fn bpp(texels: Texels) -> usize {
         match texels {
             Texels::Linear16 => 8,
             Texels::Rgba8(_) => 4,
@@ -534,8 +549,8 @@ mod sse2 {
 
     /// A quad's bilinear taps on one level: each pixel's four texel indices and its
     /// 15-bit weights, packed in pairs (top row, bottom row).
-    struct Taps {
-        offsets: [[i32; 4]; 4],
+    pub(super) struct Taps {
+        pub(super) offsets: [[i32; 4]; 4],
         top: [i32; 4],
         bottom: [i32; 4],
         /// The level's tiles per row the offsets were computed for.
@@ -545,7 +560,14 @@ mod sse2 {
     /// Level `lv`'s bilinear taps at `(u, v)`, weighted `level_weight / ONE` in all
     /// (`tiles_x` from its `tiled_texels`).
     #[inline(always)]
-    fn taps(lv: &LevelRef, tiles_x: u32, s: &Sampler, u: Vec4, v: Vec4, level_weight: i32) -> Taps {
+    pub(super) fn taps(
+        lv: &LevelRef,
+        tiles_x: u32,
+        s: &Sampler,
+        u: Vec4,
+        v: Vec4,
+        level_weight: i32,
+    ) -> Taps {
         let (xa, xb, fx) = axis(s.wrap_u, u, lv.w);
         let (ya, yb, fy) = axis(s.wrap_v, v, lv.h);
         let lw = level_weight as f32;

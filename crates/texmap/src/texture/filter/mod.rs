@@ -305,6 +305,10 @@ pub fn sample_quads_lanes(
         .zip(out.chunks_mut(CHUNK))
     {
         let choices = gl_choices(texture, sampler, coords, mag, min);
+        // Level 0 minified: its texels requested first (fixed16/prefetch.rs).
+        if matches!(min, MinFilter::Nearest | MinFilter::Linear) {
+            fixed16::prefetch_quads(texture, sampler, coords, &choices, masks);
+        }
         for (((c, &m), o), &choice) in coords.iter().zip(masks).zip(out.iter_mut()).zip(&choices) {
             *o = gl_read(texture, sampler, (c.u, c.v), choice, m);
         }
