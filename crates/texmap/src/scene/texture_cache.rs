@@ -210,12 +210,37 @@ impl TextureCache {
         if todo.len() < 2 {
             return; // nothing to overlap: `get` builds it
         }
+        // Largest first, each thread taking the next when it is done: the big textures'
+        // decoding buffers are freed before the small ones are made (a lower peak of
+        // memory), and the last to finish is a short one. The size is guessed from the
+        // encoded bytes; sRGB colour is held in twice the bytes of linear data (`Storage`).
+        let weight = |(key, source, _): &(CacheKey, ImageSource<'_>, String)| {
+            let encoded = match source {
+                ImageSource::File(p) => std::fs::metadata(p).map_or(0, |m| m.len()),
+                ImageSource::Bytes { bytes, .. } => bytes.len() as u64,
+            };
+            let bytes_a_texel = if key.color_space == ColorSpace::Srgb {
+                2
+            } else {
+                1
+            };
+            encoded * bytes_a_texel
+        };
+        todo.sort_by_key(|t| std::cmp::Reverse(weight(t)));
         let this = &*self;
-        let built: Vec<_> = todo
-            .par_iter()
-            .map(|(key, source, name)| {
-                let t = this.build(source, name, key.color_space, key.alpha, storage);
-                (key.clone(), t)
+        let next = std::sync::atomic::AtomicUsize::new(0);
+        let workers = rayon::current_num_threads().min(todo.len());
+        let built: Vec<_> = (0..workers)
+            .into_par_iter()
+            .flat_map_iter(|_| {
+                let mut mine = Vec::new();
+                while let Some((key, source, name)) =
+                    todo.get(next.fetch_add(1, std::sync::atomic::Ordering::Relaxed))
+                {
+                    let t = this.build(source, name, key.color_space, key.alpha, storage);
+                    mine.push((key.clone(), t));
+                }
+                mine
             })
             .collect();
         self.ready.extend(built);
