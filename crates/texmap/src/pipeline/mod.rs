@@ -341,7 +341,10 @@ pub fn draw_into(
     // Tiles in parallel, each writing its own rows of the target: many more tasks than
     // threads, so the costly tiles (the floor at the horizon) balance out.
     let (w, h) = (target.width as usize, target.height as usize);
-    color.resize(w * h, Vec4::ZERO);
+    if color.len() != w * h {
+        // Every tile writes all its pixels: a new frame needs no clearing pass.
+        *color = framebuffer::zeroed_frame(w * h);
+    }
     let tile = TILE as usize;
     let mut tiles: Vec<Vec<&mut [Vec4]>> = (0..bins.tile_count())
         .map(|_| Vec::with_capacity(tile))
