@@ -224,8 +224,8 @@ pub struct RenderArgs {
     /// of three bands (no outline) [default: the scene's].
     #[arg(long, value_enum, value_name = "on|off")]
     pub(crate) toon: Option<Switch>,
-    /// How image textures are held in memory: `decoded` (16-bit linear premultiplied, 8
-    /// bytes a texel: the fastest reads), `native` (as the file stores them: 8-bit RGBA in 4
+    /// How image textures are held in memory: `decoded` (sRGB colour as 16-bit linear
+    /// premultiplied, 8 bytes a texel: the fastest reads; linear data as `rgba8`), `native` (as the file stores them: 8-bit RGBA in 4
     /// bytes, RGB in 3), `compressed` (DDS/KTX/KTX2 BC1–BC7 files stay block-compressed,
     /// each block decoded when first read through a small cache per thread; other images as
     /// native), `rgba8` (8-bit RGB and RGBA as RGBA8 in 4 bytes, sRGB or linear, mip chain
