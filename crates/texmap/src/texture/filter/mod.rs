@@ -304,10 +304,10 @@ pub fn sample_quads_lanes(
         .zip(masks.chunks(CHUNK))
         .zip(out.chunks_mut(CHUNK))
     {
-        let choices = gl_choices(texture, sampler, coords, mag, min);
-        // Level 0 minified: its texels requested first (fixed16/prefetch.rs).
-        if matches!(min, MinFilter::Nearest | MinFilter::Linear) {
-            fixed16::prefetch_quads(texture, sampler, coords, &choices, masks);
+        let (choices, far) = gl_choices(texture, sampler, coords, mag, min);
+        // Level 0 minified: the far quads' texels requested first (fixed16/prefetch.rs).
+        if far != 0 && matches!(min, MinFilter::Nearest | MinFilter::Linear) {
+            fixed16::prefetch_quads(texture, sampler, coords, &choices, masks, far);
         }
         for (((c, &m), o), &choice) in coords.iter().zip(masks).zip(out.iter_mut()).zip(&choices) {
             *o = gl_read(texture, sampler, (c.u, c.v), choice, m);
@@ -319,8 +319,13 @@ pub fn sample_quads_lanes(
 /// time.
 const CHUNK: usize = 16;
 
+/// λ above which a quad's neighbouring pixels read texels more than two apart, so that on
+/// level 0 their texels leave the cache lines already read (fixed16/prefetch.rs).
+const FAR_LOD: f32 = 1.0;
+
 /// The OpenGL level choices of up to [`CHUNK`] quads: λ four quads at a time (one per lane),
-/// then each quad's levels. (Inlined: as a call it cost the one-map read 2% more.)
+/// then each quad's levels; and a mask of the quads whose λ is over [`FAR_LOD`] (bit `i` for
+/// quad `i`). (Inlined: as a call it cost the one-map read 2% more.)
 #[inline(always)]
 fn gl_choices(
     texture: &Texture2D,
@@ -328,7 +333,7 @@ fn gl_choices(
     coords: &[QuadCoords],
     mag: MagFilter,
     min: MinFilter,
-) -> [MipChoice; CHUNK] {
+) -> ([MipChoice; CHUNK], u32) {
     let size = Vec2::new(texture.width() as f32, texture.height() as f32);
     let level_count = texture.levels().len();
     let mut choices = [MipChoice {
@@ -336,7 +341,8 @@ fn gl_choices(
         blend: None,
         texels: TexelFilter::Nearest,
     }; CHUNK];
-    for (choices, coords) in choices.chunks_mut(4).zip(coords.chunks(4)) {
+    let mut far = 0;
+    for (k, (choices, coords)) in choices.chunks_mut(4).zip(coords.chunks(4)).enumerate() {
         let lane = |f: &dyn Fn(&QuadCoords) -> f32| {
             Vec4::from_array(std::array::from_fn(|i| coords.get(i).map_or(0.0, f)))
         };
@@ -347,10 +353,12 @@ fn gl_choices(
             lane(&|c| c.duv_dy.y * size.y),
         );
         for (i, choice) in choices.iter_mut().enumerate().take(coords.len()) {
-            *choice = MipChoice::gl(sampler.adjust_lod(lod[i]), level_count, mag, min);
+            let lod = sampler.adjust_lod(lod[i]);
+            *choice = MipChoice::gl(lod, level_count, mag, min);
+            far |= u32::from(lod > FAR_LOD) << (4 * k + i);
         }
     }
-    choices
+    (choices, far)
 }
 
 /// [`sample_quads_lanes`] of several textures read at the same coordinates through one
@@ -390,7 +398,7 @@ pub fn sample_quads_lanes_shared(
     };
     let mut quad = [[Vec4::ZERO; 4]; fixed16::MAX_SHARED];
     for (start, (coords, masks)) in coords.chunks(CHUNK).zip(masks.chunks(CHUNK)).enumerate() {
-        let choices = gl_choices(first, sampler, coords, mag, min);
+        let (choices, _) = gl_choices(first, sampler, coords, mag, min);
         for (k, ((c, &m), &choice)) in coords.iter().zip(masks).zip(&choices).enumerate() {
             let i = start * CHUNK + k;
             for (group, textures) in textures.chunks(fixed16::MAX_SHARED).enumerate() {

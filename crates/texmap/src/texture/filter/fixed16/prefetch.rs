@@ -4,15 +4,18 @@
 //! neighbouring pixels read texels far apart: on the 1080p plane's far rows nearly every load
 //! misses the caches, and the reads, one quad after another, wait for each quad's misses in
 //! turn (perf: 92% of the nearest read's samples on the instruction after its load). Asking
-//! for the whole batch's texels first lets the misses overlap. Mipmapped reads stay in cache;
-//! for them this would only compute the addresses twice.
+//! for the whole batch's texels first lets the misses overlap. Mipmapped reads stay in cache,
+//! and so do the quads minified by less than two texels a pixel (λ ≤ 1: their texels sit in
+//! the lines their neighbours read): for them this would only compute the addresses twice,
+//! so only the far quads are prefetched.
 
 use super::super::super::{MipChoice, Sampler, Texture2D};
 use super::super::QuadCoords;
 
-/// Asks the cache for the texels [`super::read_quad`] will read for each quad of a batch
-/// (`coords[i]`, `choices[i]`, `masks[i]`): on the level chosen, each covered pixel's nearest
-/// texel, or the first and last of its bilinear taps. Nothing is read or changed.
+/// Asks the cache for the texels [`super::read_quad`] will read for each quad `i` of a batch
+/// whose bit is set in `far` (`coords[i]`, `choices[i]`, `masks[i]`): on the level chosen,
+/// each covered pixel's nearest texel, or the first and last of its bilinear taps. Nothing is
+/// read or changed.
 #[inline]
 pub(in super::super) fn prefetch_quads(
     tex: &Texture2D,
@@ -20,16 +23,19 @@ pub(in super::super) fn prefetch_quads(
     coords: &[QuadCoords],
     choices: &[MipChoice],
     masks: &[u8],
+    far: u32,
 ) {
     let Some(texels) = super::texels_of(tex, s) else {
         return;
     };
     #[cfg(target_arch = "x86_64")]
-    for ((c, &choice), &mask) in coords.iter().zip(choices).zip(masks) {
-        prefetch_quad(tex, texels, s, choice, c.u, c.v, mask);
+    for (i, ((c, &choice), &mask)) in coords.iter().zip(choices).zip(masks).enumerate() {
+        if far & (1 << i) != 0 {
+            prefetch_quad(tex, texels, s, choice, c.u, c.v, mask);
+        }
     }
     #[cfg(not(target_arch = "x86_64"))]
-    let _ = (texels, coords, choices, masks);
+    let _ = (texels, coords, choices, masks, far);
 }
 
 /// [`prefetch_quads`] of one quad.
