@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use texmap::frame::Frame;
 use texmap::Error;
 
-use crate::formats::{OutputFormat, Store};
+use crate::formats::{png_error, OutputFormat, Store};
 
 enum Encoder<W: Write> {
     Gif(Box<image::codecs::gif::GifEncoder<W>>),
@@ -146,11 +146,4 @@ fn apng_header<W: Write>(
     e.set_animated(frames, 0).map_err(|e| png_error(path, e))?;
     e.set_frame_delay(1, fps).map_err(|e| png_error(path, e))?;
     e.write_header().map_err(|e| png_error(path, e))
-}
-
-fn png_error(path: &Path, e: png::EncodingError) -> Error {
-    match e {
-        png::EncodingError::IoError(e) => Error::io(path, e),
-        e => Error::decode(path, e.to_string()),
-    }
 }

@@ -142,12 +142,14 @@ impl OutputFormat {
     }
 
     /// The bytes per pixel the encoding holds in memory besides the frame, for the memory
-    /// budget: PNG's 8-bit rows; Radiance's float RGB copy; an EXR's encoded file when it goes
+    /// budget: an APNG frame's 8-bit rows (a still PNG holds a band of rows only); Radiance's float RGB copy; an EXR's encoded file when it goes
     /// to a stream (at most its uncompressed size, 16 bytes, and its block table).
     #[must_use]
     pub fn buffer_bytes_per_pixel(self) -> u64 {
         match self {
-            OutputFormat::Png | OutputFormat::Apng => 8,
+            // A still PNG is encoded a band of rows at a time (`png_bands`).
+            OutputFormat::Png => 0,
+            OutputFormat::Apng => 8,
             OutputFormat::Exr => 17,
             OutputFormat::Hdr => 12,
             OutputFormat::Jpeg | OutputFormat::Gif => 4,
@@ -178,11 +180,16 @@ impl Store {
     /// The bytes of `frame` as PNG rows: 8-bit, or 16-bit big-endian with `big_endian`
     /// (else native-endian, as `image`'s PNG encoder takes them).
     pub fn png_rows(self, frame: &Frame, big_endian: bool) -> Vec<u8> {
+        self.png_pixels(&frame.color, big_endian)
+    }
+
+    /// [`Store::png_rows`] of some pixels (whole rows of a frame).
+    pub fn png_pixels(self, color: &[Vec4], big_endian: bool) -> Vec<u8> {
         match (self.sixteen, self.alpha) {
-            (false, false) => frame.to_srgb8(),
-            (false, true) => frame.to_srgba8(),
+            (false, false) => texmap::frame::srgb8(color),
+            (false, true) => texmap::frame::srgba8(color),
             (true, alpha) => {
-                let mut out = Vec::with_capacity(frame.color.len() * if alpha { 8 } else { 6 });
+                let mut out = Vec::with_capacity(color.len() * if alpha { 8 } else { 6 });
                 let mut push = |v: u16| {
                     out.extend(if big_endian {
                         v.to_be_bytes()
@@ -190,7 +197,7 @@ impl Store {
                         v.to_ne_bytes()
                     })
                 };
-                for c in &frame.color {
+                for c in color {
                     let (rgb, a) = if alpha {
                         // Also NaN: nothing to divide by.
                         if c.w > 0.0 {
@@ -273,16 +280,7 @@ pub fn encode_stream(
             png(&mut w, path, width, height, rgba, true)?
         }
         (OutputFormat::Png, Picture::Linear(frame, store)) => {
-            let rows = store.png_rows(frame, false);
-            let color = match (store.sixteen, store.alpha) {
-                (false, false) => image::ExtendedColorType::Rgb8,
-                (false, true) => image::ExtendedColorType::Rgba8,
-                (true, false) => image::ExtendedColorType::Rgb16,
-                (true, true) => image::ExtendedColorType::Rgba16,
-            };
-            image::codecs::png::PngEncoder::new(&mut w)
-                .write_image(&rows, width, height, color)
-                .map_err(|e| encode_error(path, e))?;
+            png_bands(&mut w, path, frame, *store)?
         }
         (OutputFormat::Jpeg, Picture::Linear(frame, store)) => {
             image::codecs::jpeg::JpegEncoder::new_with_quality(&mut w, store.quality)
@@ -395,6 +393,40 @@ fn png(
         .map_err(|e| encode_error(path, e))
 }
 
+/// The rows [`png_bands`] encodes at a time.
+const PNG_BAND_ROWS: usize = 64;
+
+/// `frame` as a PNG, its rows encoded to 8 or 16 bits a band of [`PNG_BAND_ROWS`] at a time
+/// and streamed into the compressor: no whole 8/16-bit copy of the frame is held (6 MB for a
+/// 1080p RGB8 image). The settings are `image`'s defaults (fast compression, adaptive
+/// filter), so the pixels are those its encoder wrote.
+fn png_bands(w: impl Write, path: &Path, frame: &Frame, store: Store) -> Result<(), Error> {
+    let err = |e| png_error(path, e);
+    let mut e = png::Encoder::new(w, frame.width, frame.height);
+    e.set_color(if store.alpha {
+        png::ColorType::Rgba
+    } else {
+        png::ColorType::Rgb
+    });
+    e.set_depth(if store.sixteen {
+        png::BitDepth::Sixteen
+    } else {
+        png::BitDepth::Eight
+    });
+    e.set_compression(png::Compression::Fast);
+    e.set_filter(png::Filter::Adaptive);
+    let mut writer = e.write_header().map_err(err)?;
+    let mut stream = writer.stream_writer().map_err(err)?;
+    let band = PNG_BAND_ROWS * frame.width as usize;
+    for pixels in frame.color.chunks(band.max(1)) {
+        stream
+            .write_all(&store.png_pixels(pixels, true))
+            .map_err(|e| Error::io(path, e))?;
+    }
+    stream.finish().map_err(err)?;
+    writer.finish().map_err(err)
+}
+
 /// RGBE holds non-negative finite values below 2¹²⁸: NaN and negatives become 0 and larger
 /// values the largest it holds (the encoder's exponent would overflow).
 fn rgbe_input(c: Vec4) -> [f32; 3] {
@@ -435,6 +467,14 @@ fn exr_rgba(w: impl Write + Seek, path: &Path, frame: &Frame) -> Result<(), Erro
             exr::error::Error::Io(e) => Error::io(path, e),
             e => Error::decode(path, e.to_string()),
         })
+}
+
+/// A `png` encoder's failure, naming the output.
+pub(crate) fn png_error(path: &Path, e: png::EncodingError) -> Error {
+    match e {
+        png::EncodingError::IoError(e) => Error::io(path, e),
+        e => Error::decode(path, e.to_string()),
+    }
 }
 
 fn encode_error(path: &Path, e: image::ImageError) -> Error {
@@ -492,6 +532,54 @@ mod tests {
             e.contains("OpenEXR") && e.contains("--format is png"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn png_bands_hold_the_frame_in_every_store() {
+        // More rows than a band, and a last band cut short; some pixels half covered.
+        let (w, h) = (7u32, (2 * PNG_BAND_ROWS + 5) as u32);
+        let color = (0..w * h)
+            .map(|i| {
+                let t = (i % 97) as f32 / 96.0;
+                let a = if i % 3 == 0 { 0.5 } else { 1.0 };
+                Vec4::new(t, 1.0 - t, t * t, 1.0) * a
+            })
+            .collect();
+        let frame = Frame {
+            width: w,
+            height: h,
+            color,
+            ..Frame::default()
+        };
+        for (alpha, sixteen) in [(false, false), (true, false), (false, true), (true, true)] {
+            let store = Store {
+                alpha,
+                sixteen,
+                ..Store::SRGB
+            };
+            let mut file = Vec::new();
+            png_bands(&mut file, Path::new("t.png"), &frame, store).unwrap();
+            let img = image::load_from_memory(&file).unwrap();
+            assert_eq!((img.width(), img.height()), (w, h));
+            let want = store.png_rows(&frame, false);
+            let got: Vec<u8> = match (sixteen, alpha) {
+                (false, false) => img.to_rgb8().into_raw(),
+                (false, true) => img.to_rgba8().into_raw(),
+                (true, false) => img
+                    .to_rgb16()
+                    .into_raw()
+                    .iter()
+                    .flat_map(|v| v.to_ne_bytes())
+                    .collect(),
+                (true, true) => img
+                    .to_rgba16()
+                    .into_raw()
+                    .iter()
+                    .flat_map(|v| v.to_ne_bytes())
+                    .collect(),
+            };
+            assert!(got == want, "alpha {alpha}, 16-bit {sixteen}");
+        }
     }
 
     #[test]

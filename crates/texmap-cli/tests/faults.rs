@@ -168,12 +168,14 @@ fn oversized_requests_are_refused_before_allocation() {
         &["grid.toml", "divisions"],
         &out,
     );
-    // A 16384² frame is above the default budget, and fits a larger one.
+    // A 16384² frame supersampled twice (16 GiB of samples) is above the default budget.
     let big = texmap(&[
         "render",
         "builtin:plane",
         "--size",
         "16384x16384",
+        "--ssaa",
+        "2",
         "-o",
         out.to_str().unwrap(),
     ]);

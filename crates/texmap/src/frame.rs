@@ -76,16 +76,7 @@ impl Frame {
     /// RGB8 rows, sRGB-encoded (the premultiplied colour, i.e. composited over black).
     #[must_use]
     pub fn to_srgb8(&self) -> Vec<u8> {
-        let e = Srgb8Encoder::new();
-        let mut out = vec![0; self.color.len() * 3];
-        out.par_chunks_mut(3 * CHUNK)
-            .zip(self.color.par_chunks(CHUNK))
-            .for_each(|(out, color)| {
-                for (o, c) in out.chunks_exact_mut(3).zip(color) {
-                    o.copy_from_slice(&[e.encode(c.x), e.encode(c.y), e.encode(c.z)]);
-                }
-            });
-        out
+        srgb8(&self.color)
     }
 
     /// RGBA8 rows with straight (un-premultiplied) alpha, as PNG stores it: the colour is
@@ -110,22 +101,43 @@ impl Frame {
     /// ```
     #[must_use]
     pub fn to_srgba8(&self) -> Vec<u8> {
-        let e = Srgb8Encoder::new();
-        let mut out = vec![0; self.color.len() * 4];
-        out.par_chunks_mut(4 * CHUNK)
-            .zip(self.color.par_chunks(CHUNK))
-            .for_each(|(out, color)| {
-                for (o, c) in out.chunks_exact_mut(4).zip(color) {
-                    // Also NaN: nothing to divide by (the pixel stays zero).
-                    if c.w > 0.0 {
-                        let s = c.truncate() / c.w.min(1.0);
-                        let a = linear_to_unorm8(c.w);
-                        o.copy_from_slice(&[e.encode(s.x), e.encode(s.y), e.encode(s.z), a]);
-                    }
-                }
-            });
-        out
+        srgba8(&self.color)
     }
+}
+
+/// [`Frame::to_srgb8`] of some pixels (a band of a frame's rows, say).
+#[must_use]
+pub fn srgb8(color: &[Vec4]) -> Vec<u8> {
+    let e = Srgb8Encoder::new();
+    let mut out = vec![0; color.len() * 3];
+    out.par_chunks_mut(3 * CHUNK)
+        .zip(color.par_chunks(CHUNK))
+        .for_each(|(out, color)| {
+            for (o, c) in out.chunks_exact_mut(3).zip(color) {
+                o.copy_from_slice(&[e.encode(c.x), e.encode(c.y), e.encode(c.z)]);
+            }
+        });
+    out
+}
+
+/// [`Frame::to_srgba8`] of some pixels (a band of a frame's rows, say).
+#[must_use]
+pub fn srgba8(color: &[Vec4]) -> Vec<u8> {
+    let e = Srgb8Encoder::new();
+    let mut out = vec![0; color.len() * 4];
+    out.par_chunks_mut(4 * CHUNK)
+        .zip(color.par_chunks(CHUNK))
+        .for_each(|(out, color)| {
+            for (o, c) in out.chunks_exact_mut(4).zip(color) {
+                // Also NaN: nothing to divide by (the pixel stays zero).
+                if c.w > 0.0 {
+                    let s = c.truncate() / c.w.min(1.0);
+                    let a = linear_to_unorm8(c.w);
+                    o.copy_from_slice(&[e.encode(s.x), e.encode(s.y), e.encode(s.z), a]);
+                }
+            }
+        });
+    out
 }
 
 #[cfg(test)]
