@@ -23,7 +23,7 @@ use super::iso;
 use super::marcher::{Marcher, Traced};
 use super::output::{check_request, display_to_frame};
 use super::params::{Classification, MarchParams, Mode};
-use super::rays::{camera_ray, clip_to_box, pixel_hash, RaySamples, VoxelRay};
+use super::rays::{clip_to_box, pixel_hash, CameraRays, RaySamples, VoxelRay};
 use super::transfer::TransferFunction;
 use crate::camera::Camera;
 use crate::frame::{Frame, FrameStats};
@@ -94,8 +94,9 @@ pub fn raymarch(
     let headlight = (camera.target - camera.eye).normalize();
     let m = Marcher::new(vol, tf, params, Some(headlight))?;
     let rays = RayLoop::for_frame(&m);
+    let camera_rays = CameraRays::new(camera, width, height);
     let (color, samples) = tiled_frame(width, height, |x, y| {
-        let (o, d) = camera_ray(camera, width, height, x as f32 + 0.5, y as f32 + 0.5);
+        let (o, d) = camera_rays.ray(x as f32 + 0.5, y as f32 + 0.5);
         let t_max = depth.map_or(f32::INFINITY, |dd| dd[(y * width + x) as usize]);
         let j = if params.jitter { pixel_hash(x, y) } else { 0.0 };
         let traced = trace(&m, rays, o, d, t_max, j);

@@ -35,23 +35,61 @@ pub(crate) fn pixel_hash(x: u32, y: u32) -> f32 {
 #[inline]
 #[must_use]
 pub fn camera_ray(cam: &Camera, width: u32, height: u32, x: f32, y: f32) -> (Vec3, Vec3) {
-    let f = (cam.target - cam.eye).normalize();
-    let r = f.cross(cam.up).normalize();
-    let u = r.cross(f);
-    let aspect = width as f32 / height as f32;
-    // Half the image height: at unit distance (perspective) or in world units (orthographic).
-    let (th, ortho) = match cam.projection {
-        CameraProjection::Perspective { fov_y_deg } => {
-            ((fov_y_deg.to_radians() * 0.5).tan(), false)
+    CameraRays::new(cam, width, height).ray(x, y)
+}
+
+/// [`camera_ray`] for many pixels of one frame: the camera's basis and the view's tangent
+/// made once (a `tan` and three normalizations a pixel otherwise), each ray the same bits.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CameraRays {
+    eye: Vec3,
+    /// View direction, right and up (unit).
+    f: Vec3,
+    r: Vec3,
+    u: Vec3,
+    /// Half the image height: at unit distance (perspective) or in world units (orthographic).
+    th: f32,
+    aspect: f32,
+    width: f32,
+    height: f32,
+    ortho: bool,
+}
+
+impl CameraRays {
+    pub fn new(cam: &Camera, width: u32, height: u32) -> Self {
+        let f = (cam.target - cam.eye).normalize();
+        let r = f.cross(cam.up).normalize();
+        let u = r.cross(f);
+        let aspect = width as f32 / height as f32;
+        let (th, ortho) = match cam.projection {
+            CameraProjection::Perspective { fov_y_deg } => {
+                ((fov_y_deg.to_radians() * 0.5).tan(), false)
+            }
+            CameraProjection::Orthographic { half_height } => (half_height, true),
+        };
+        CameraRays {
+            eye: cam.eye,
+            f,
+            r,
+            u,
+            th,
+            aspect,
+            width: width as f32,
+            height: height as f32,
+            ortho,
         }
-        CameraProjection::Orthographic { half_height } => (half_height, true),
-    };
-    let sx = (2.0 * x / width as f32 - 1.0) * th * aspect;
-    let sy = (1.0 - 2.0 * y / height as f32) * th;
-    if ortho {
-        (cam.eye + r * sx + u * sy, f)
-    } else {
-        (cam.eye, (f + r * sx + u * sy).normalize())
+    }
+
+    /// The ray through image point `(x, y)` (pixels): origin and unit direction.
+    #[inline]
+    pub fn ray(&self, x: f32, y: f32) -> (Vec3, Vec3) {
+        let sx = (2.0 * x / self.width - 1.0) * self.th * self.aspect;
+        let sy = (1.0 - 2.0 * y / self.height) * self.th;
+        if self.ortho {
+            (self.eye + self.r * sx + self.u * sy, self.f)
+        } else {
+            (self.eye, (self.f + self.r * sx + self.u * sy).normalize())
+        }
     }
 }
 

@@ -436,8 +436,65 @@ pub fn noise3f(x: f32, y: f32, z: f32) -> f32 {
 #[must_use]
 #[inline]
 pub fn noise3f_x4(x: glam::Vec4, y: glam::Vec4, z: glam::Vec4) -> glam::Vec4 {
-    use glam::Vec4;
     let (fx, fy, fz) = (x.floor(), y.floor(), z.floor());
+    let mut g = [[glam::Vec4::ZERO; 3]; 8];
+    corner_gradients_x4(fx, fy, fz, &mut g);
+    blend_x4(x - fx, y - fy, z - fz, &g)
+}
+
+/// The lattice cells of the last four points [`noise3f_x4_cached`] took and their corners'
+/// gradients: a pure function of the cells, so reusing it for points in the same cells
+/// gives the same bits.
+#[derive(Clone, Copy, Debug)]
+pub struct CellsX4 {
+    /// The four lanes' cells (the points' floors; NaN: none yet).
+    floors: [glam::Vec4; 3],
+    /// Per corner (`noise3f`'s order), the four lanes' gradients' x, y and z in lanes.
+    gradients: [[glam::Vec4; 3]; 8],
+}
+
+impl CellsX4 {
+    /// No cells yet.
+    pub const EMPTY: CellsX4 = CellsX4 {
+        floors: [glam::Vec4::NAN; 3],
+        gradients: [[glam::Vec4::ZERO; 3]; 8],
+    };
+}
+
+/// [`noise3f_x4`] taking the corners' gradients from `cells` when the four points lie in
+/// the cells it holds (each lane the same one as before), else hashing and storing them:
+/// the same bits as [`noise3f_x4`]. Points that move little between calls (a ray's steps,
+/// a normal's central differences) skip the 56 table reads of the hashes and the
+/// gradients' transposes.
+#[must_use]
+#[inline]
+pub fn noise3f_x4_cached(
+    x: glam::Vec4,
+    y: glam::Vec4,
+    z: glam::Vec4,
+    cells: &mut CellsX4,
+) -> glam::Vec4 {
+    let (fx, fy, fz) = (x.floor(), y.floor(), z.floor());
+    let [cx, cy, cz] = cells.floors;
+    // NaN (no cells yet, or a NaN point) is never equal: hashed afresh.
+    if !(fx.cmpeq(cx) & fy.cmpeq(cy) & fz.cmpeq(cz)).all() {
+        corner_gradients_x4(fx, fy, fz, &mut cells.gradients);
+        cells.floors = [fx, fy, fz];
+    }
+    blend_x4(x - fx, y - fy, z - fz, &cells.gradients)
+}
+
+/// The gradients of the eight corners of the cells whose lowest corners are the four
+/// lanes' `(fx, fy, fz)` (whole numbers), into `out`: per corner, in [`noise3f`]'s order
+/// (aa, ba, ab, bb, then +1), the lanes' x, y and z components in lanes.
+#[inline(always)]
+fn corner_gradients_x4(
+    fx: glam::Vec4,
+    fy: glam::Vec4,
+    fz: glam::Vec4,
+    out: &mut [[glam::Vec4; 3]; 8],
+) {
+    use glam::Vec4;
     // The lattice cells' low bytes, as `noise3f`'s saturating `as i32`; without its checks
     // when every lane is in `i32`'s range (NaN is not).
     let lim = Vec4::splat(2_147_483_648.0);
@@ -468,17 +525,26 @@ pub fn noise3f_x4(x: glam::Vec4, y: glam::Vec4, z: glam::Vec4) -> glam::Vec4 {
             hashes[k][l] = h;
         }
     }
-    let (x, y, z) = (x - fx, y - fy, z - fz);
-    let fadef = |t: Vec4| t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
-    let (u, v, w) = (fadef(x), fadef(y), fadef(z));
-    let g = |k: usize, x: Vec4, y: Vec4, z: Vec4| {
-        let h = hashes[k];
+    for (o, h) in out.iter_mut().zip(&hashes) {
         // The four lanes' gradients as a matrix's columns; its transpose's columns are
         // their x, y and z components in lanes (the same table values).
         // SAFETY: a corner's hash is below 512 (above).
         let row = |l: usize| Vec4::from_array(*unsafe { gradient_of_hash(h[l]) });
         let c = glam::Mat4::from_cols(row(0), row(1), row(2), row(3)).transpose();
-        c.x_axis * x + c.y_axis * y + c.z_axis * z
+        *o = [c.x_axis, c.y_axis, c.z_axis];
+    }
+}
+
+/// The noise of four lanes at `(x, y, z)` inside their cells (the fractions) whose corners'
+/// gradients are `g` ([`corner_gradients_x4`]): `noise3f`'s fades, products and blends.
+#[inline(always)]
+fn blend_x4(x: glam::Vec4, y: glam::Vec4, z: glam::Vec4, g: &[[glam::Vec4; 3]; 8]) -> glam::Vec4 {
+    use glam::Vec4;
+    let fadef = |t: Vec4| t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
+    let (u, v, w) = (fadef(x), fadef(y), fadef(z));
+    let g = |k: usize, x: Vec4, y: Vec4, z: Vec4| {
+        let [gx, gy, gz] = g[k];
+        gx * x + gy * y + gz * z
     };
     let lerp = |t: Vec4, a: Vec4, b: Vec4| a + t * (b - a);
     let (x1, y1, z1) = (x - 1.0, y - 1.0, z - 1.0);

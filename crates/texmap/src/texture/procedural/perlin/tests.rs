@@ -59,6 +59,59 @@ fn four_lanes_of_noise_have_the_scalar_noise_bits() {
 }
 
 #[test]
+fn cached_cells_give_the_four_lanes_bits() {
+    use glam::Vec4;
+    let mut state = 0x2545_f491_u32;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        (state as f32 / u32::MAX as f32 - 0.5) * 2.0
+    };
+    let mut cells = CellsX4::EMPTY;
+    let mut hits = 0;
+    // A walk of small steps (most stay in their cells) with jumps (new cells), one lane
+    // at a time leaving its cell too; and a NaN point, which is never a hit.
+    let mut pts = [
+        [0.3f32, -1.7, 2.2],
+        [5.1, 0.2, -3.3],
+        [-7.9, 4.4, 0.01],
+        [0.0, -0.0, 9.5],
+    ];
+    for i in 0..20_000 {
+        let step = if i % 97 == 0 { 40.0 } else { 0.05 };
+        let lane = i % 4;
+        for q in &mut pts[lane] {
+            *q += step * next();
+        }
+        if i == 5_000 {
+            pts[2][1] = f32::NAN;
+        }
+        if i == 5_001 {
+            pts[2][1] = 1.5;
+        }
+        let (x, y, z) = (
+            Vec4::from_array(pts.map(|q| q[0])),
+            Vec4::from_array(pts.map(|q| q[1])),
+            Vec4::from_array(pts.map(|q| q[2])),
+        );
+        let before = cells.floors;
+        let cached = noise3f_x4_cached(x, y, z, &mut cells);
+        hits += usize::from(before == cells.floors);
+        let plain = noise3f_x4(x, y, z);
+        for l in 0..4 {
+            let (c, p) = (cached.to_array()[l], plain.to_array()[l]);
+            assert!(
+                c.to_bits() == p.to_bits() || (c.is_nan() && p.is_nan()),
+                "step {i} lane {l}: {c} vs {p}"
+            );
+        }
+    }
+    // The walk does reuse its cells (and is not all misses).
+    assert!(hits > 10_000, "{hits} hits");
+}
+
+#[test]
 fn the_f32_gradient_table_is_the_reference_gradient() {
     for h in 0..16 {
         assert_eq!(

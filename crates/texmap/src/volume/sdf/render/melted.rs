@@ -12,7 +12,16 @@ use glam::{Vec3, Vec4};
 use super::super::hyper::{Hypertexture, NoiseKind};
 use super::warp;
 use super::{Tracer, BISECTIONS};
-use crate::texture::procedural::perlin::noise3f_x4;
+use std::cell::RefCell;
+
+use crate::texture::procedural::perlin::{noise3f_x4, noise3f_x4_cached, CellsX4};
+
+thread_local! {
+    /// The noise cells of this thread's last melted-core distance with the preset's two
+    /// octaves: the next one (the ray's next step, a normal's neighbour) is most often in
+    /// the same cells and reuses their gradients ([`noise3f_x4_cached`]: the same bits).
+    static CELLS: RefCell<CellsX4> = const { RefCell::new(CellsX4::EMPTY) };
+}
 
 impl Tracer<'_> {
     /// True when the core surface is not the field's zero set (melted or displaced).
@@ -167,8 +176,8 @@ impl Tracer<'_> {
     }
 
     /// [`Self::sag_and_noise`] when sagging with a noise of two octaves (the melt preset's):
-    /// the four octaves in one [`noise3f_x4`] call straight from their points, each sum in
-    /// the same order (the same bits). `t` is `p` in texture space, `w1` the second noise
+    /// the four octaves in one [`noise3f_x4_cached`] call straight from their points (the
+    /// thread's last cells reused), each sum in the same order (the same bits). `t` is `p` in texture space, `w1` the second noise
     /// octave's weight.
     #[inline(always)]
     fn sag_and_two_octaves(&self, h: &Hypertexture, p: Vec3, t: Vec3, w1: f32) -> (Vec3, f32) {
@@ -178,11 +187,14 @@ impl Tracer<'_> {
         let x = x + up * (x.dot(up) * (h.stretch - 1.0) - h.rise * h.time);
         // The octaves at frequency 1 and 2, as the general loop's `x * freq`.
         let (o0, o1) = (x * 1.0, x * 2.0);
-        let v = noise3f_x4(
-            Vec4::new(s0.x, s1.x, o0.x, o1.x),
-            Vec4::new(s0.y, s1.y, o0.y, o1.y),
-            Vec4::new(s0.z, s1.z, o0.z, o1.z),
-        );
+        let v = CELLS.with(|cells| {
+            noise3f_x4_cached(
+                Vec4::new(s0.x, s1.x, o0.x, o1.x),
+                Vec4::new(s0.y, s1.y, o0.y, o1.y),
+                Vec4::new(s0.z, s1.z, o0.z, o1.z),
+                &mut cells.borrow_mut(),
+            )
+        });
         let mut sag = 0.0f32;
         sag += v.x;
         sag += 0.5 * v.y;

@@ -31,7 +31,7 @@ use super::super::grid::Volume;
 use super::super::output::check_request;
 use super::super::params::MarchParams;
 use super::super::raymarch::tiled_frame;
-use super::super::rays::{camera_ray, clip_to_box, pixel_hash, VoxelRay};
+use super::super::rays::{clip_to_box, pixel_hash, CameraRays, VoxelRay};
 use super::super::shade::VolumeLights;
 use super::hyper::Hypertexture;
 use super::look::{texture_from_world, SurfaceLook};
@@ -147,8 +147,9 @@ pub fn render_distance_field_shadowed(
     }
     let mut tr = Tracer::new(vol, camera, height, params, look, hyper);
     tr.shadows = shadows.filter(|m| !m.is_empty());
+    let rays = CameraRays::new(camera, width, height);
     let (color, samples) = tiled_frame(width, height, |x, y| {
-        let (o, d) = camera_ray(camera, width, height, x as f32 + 0.5, y as f32 + 0.5);
+        let (o, d) = rays.ray(x as f32 + 0.5, y as f32 + 0.5);
         let t_max = depth.map_or(f32::INFINITY, |dd| dd[(y * width + x) as usize]);
         let j = if tr.jitter { pixel_hash(x, y) } else { 0.0 };
         let (c, n, _) = tr.trace(o, d, t_max, j);
