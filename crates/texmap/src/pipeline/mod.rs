@@ -30,6 +30,7 @@
 
 pub mod bin;
 pub mod clip;
+mod covered;
 pub mod framebuffer;
 pub mod interpolate;
 mod quad_edges;
