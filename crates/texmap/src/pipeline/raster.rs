@@ -237,7 +237,12 @@ fn raster_prims<const S: usize, const PRE: bool>(
         if PRE && !nearest {
             continue;
         }
-        let v = prim.v.map(|r| ctx.vertex(call, r));
+        // Spelled out: `prim.v.map(…)` was an out-of-line call per primitive and pass.
+        let v = [
+            ctx.vertex(call, prim.v[0]),
+            ctx.vertex(call, prim.v[1]),
+            ctx.vertex(call, prim.v[2]),
+        ];
         if let Some(cov) = covered.as_deref_mut() {
             if PRE {
                 cov.begin_prim();
