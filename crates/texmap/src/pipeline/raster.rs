@@ -272,9 +272,9 @@ fn raster_prims<const S: usize, const PRE: bool>(
             continue;
         }
         let edges = Edges::new(v, x0, y0);
-        // Per-sample edge offsets.
+        // Per-sample edge offsets (none with one sample, at the pixel centre).
         let mut soff = [[0i64; 3]; S];
-        for (s, &(ox, oy)) in positions.iter().enumerate().take(S) {
+        for (s, &(ox, oy)) in positions.iter().enumerate().take(S).filter(|_| S > 1) {
             for k in 0..3 {
                 soff[s][k] = edges.sample_offset(k, ox as i64 * 16, oy as i64 * 16);
             }
@@ -456,7 +456,9 @@ fn raster_prims<const S: usize, const PRE: bool>(
             quad_row.step(&quad_step_y);
             qy += 2;
         }
-        batch.flush::<S>(ctx, prim.call, &zoff, color, depth, stats);
+        if !PRE {
+            batch.flush::<S>(ctx, prim.call, &zoff, color, depth, stats);
+        }
     }
 }
 
