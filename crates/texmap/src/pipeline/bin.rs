@@ -2,8 +2,12 @@
 //!
 //! The target is cut into [`TILE`]×[`TILE`] pixel tiles; each primitive is listed in every
 //! tile its bounding box touches, in draw order. The lists are stored compactly (counts,
-//! prefix sums, one index array), so binning allocates three vectors per frame, not one per
-//! tile. Tiles are then rasterized independently, each in draw order.
+//! prefix sums, one index array), so binning allocates a few vectors per frame, not one per
+//! tile. Runs of primitives are binned in parallel into their own places of those lists, so
+//! the lists are the serial pass's. Tiles are then rasterized independently, each in draw
+//! order.
+
+use rayon::prelude::*;
 
 use super::Prim;
 
@@ -58,7 +62,15 @@ impl Bins {
     }
 }
 
+/// Primitives binned by one task of [`bin_prims`]: a run of `order` this long is counted and
+/// placed by one task (fewer and the counting arrays cost more than the work they share).
+const BIN_CHUNK: usize = 16384;
+
 /// Bins `prims` (visited in `order`) for a `width × height` target.
+///
+/// In parallel (rayon's current pool), with the same lists as one pass in order: `order` is cut
+/// into runs; each run counts its primitives per tile, the counts give every run its place
+/// in every tile's list (the runs in order), and each run writes its primitives there.
 #[must_use]
 pub fn bin_prims(prims: &[Prim], order: &[u32], width: u32, height: u32) -> Bins {
     let tiles_x = width.div_ceil(TILE);
@@ -73,34 +85,55 @@ pub fn bin_prims(prims: &[Prim], order: &[u32], width: u32, height: u32) -> Bins
             (p.bbox[3] as u32) >> s,
         )
     };
-    let mut counts = vec![0u32; n + 1];
-    for &i in order {
-        let (x0, y0, x1, y1) = range(&prims[i as usize]);
-        for ty in y0..=y1 {
-            for tx in x0..=x1 {
-                counts[(ty * tiles_x + tx) as usize] += 1;
+    let runs: Vec<&[u32]> = order.chunks(BIN_CHUNK).collect();
+    let counts: Vec<Vec<u32>> = runs
+        .par_iter()
+        .map(|run| {
+            let mut counts = vec![0u32; n];
+            for &i in *run {
+                let (x0, y0, x1, y1) = range(&prims[i as usize]);
+                for ty in y0..=y1 {
+                    for tx in x0..=x1 {
+                        counts[(ty * tiles_x + tx) as usize] += 1;
+                    }
+                }
             }
-        }
-    }
+            counts
+        })
+        .collect();
     let mut offsets = vec![0u32; n + 1];
     let mut sum = 0u32;
     for t in 0..n {
         offsets[t] = sum;
-        sum += counts[t];
+        sum += counts.iter().map(|c| c[t]).sum::<u32>();
     }
     offsets[n] = sum;
-    let mut cursor = offsets.clone();
+    // Each run's piece of each tile's list: tile by tile, the runs in order.
     let mut list = vec![0u32; sum as usize];
-    for &i in order {
-        let (x0, y0, x1, y1) = range(&prims[i as usize]);
-        for ty in y0..=y1 {
-            for tx in x0..=x1 {
-                let t = (ty * tiles_x + tx) as usize;
-                list[cursor[t] as usize] = i;
-                cursor[t] += 1;
-            }
+    let mut pieces: Vec<Vec<&mut [u32]>> = runs.iter().map(|_| Vec::with_capacity(n)).collect();
+    let mut rest = &mut list[..];
+    for t in 0..n {
+        for (k, c) in counts.iter().enumerate() {
+            let (piece, tail) = std::mem::take(&mut rest).split_at_mut(c[t] as usize);
+            pieces[k].push(piece);
+            rest = tail;
         }
     }
+    runs.par_iter()
+        .zip(pieces.into_par_iter())
+        .for_each(|(run, mut pieces)| {
+            let mut cursor = vec![0u32; n];
+            for &i in *run {
+                let (x0, y0, x1, y1) = range(&prims[i as usize]);
+                for ty in y0..=y1 {
+                    for tx in x0..=x1 {
+                        let t = (ty * tiles_x + tx) as usize;
+                        pieces[t][cursor[t] as usize] = i;
+                        cursor[t] += 1;
+                    }
+                }
+            }
+        });
     Bins {
         width,
         height,
@@ -123,6 +156,44 @@ mod tests {
             sort_depth: 0.0,
             front_facing: true,
             affine: false,
+        }
+    }
+
+    #[test]
+    fn runs_binned_in_parallel_make_the_lists_of_one_pass_in_order() {
+        // More primitives than one run, scattered bounding boxes, a shuffled order.
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = |m: u32| {
+            s = s.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            ((s >> 33) as u32) % m
+        };
+        let (w, h) = (700, 300);
+        let prims: Vec<Prim> = (0..3 * BIN_CHUNK + 17)
+            .map(|_| {
+                let (x, y) = (next(w) as i32, next(h) as i32);
+                let (dx, dy) = (next(150) as i32, next(90) as i32);
+                prim([x, y, (x + dx).min(w as i32 - 1), (y + dy).min(h as i32 - 1)])
+            })
+            .collect();
+        let mut order: Vec<u32> = (0..prims.len() as u32).collect();
+        for i in (1..order.len()).rev() {
+            order.swap(i, next(i as u32 + 1) as usize);
+        }
+        let bins = bin_prims(&prims, &order, w, h);
+        for t in 0..bins.tile_count() {
+            let r = bins.tile_rect(t);
+            let want: Vec<u32> = order
+                .iter()
+                .copied()
+                .filter(|&i| {
+                    let b = prims[i as usize].bbox;
+                    b[0] < r.x1 as i32
+                        && b[2] >= r.x0 as i32
+                        && b[1] < r.y1 as i32
+                        && b[3] >= r.y0 as i32
+                })
+                .collect();
+            assert_eq!(bins.tile_prims(t), &want[..], "tile {t}");
         }
     }
 

@@ -55,6 +55,26 @@ struct Gradient {
 }
 
 impl Gradient {
+    /// The gradients of triangle `v`, relative to the centre of pixel `(px, py)`.
+    #[inline]
+    fn new(v: [&PostVertex; 3], px: i32, py: i32) -> Self {
+        let s = 1.0 / SUBPIXEL_ONE as f64;
+        let p = v.map(|v| (v.sx as f64 * s, v.sy as f64 * s));
+        let (x10, y10) = (p[1].0 - p[0].0, p[1].1 - p[0].1);
+        let (x20, y20) = (p[2].0 - p[0].0, p[2].1 - p[0].1);
+        Gradient {
+            x0: p[0].0,
+            y0: p[0].1,
+            x10,
+            y10,
+            x20,
+            y20,
+            inv_area: 1.0 / (x10 * y20 - x20 * y10),
+            rx: px as f64 + 0.5,
+            ry: py as f64 + 0.5,
+        }
+    }
+
     #[inline]
     fn plane(&self, f0: f64, f1: f64, f2: f64) -> Plane {
         let (d1, d2) = (f1 - f0, f2 - f0);
@@ -94,21 +114,7 @@ impl Planes {
     /// (index `n` on) left as they were (the rasterizer sets up one triangle's planes after
     /// another in one value).
     pub fn set(&mut self, v: [&PostVertex; 3], n: usize, perspective: bool, px: i32, py: i32) {
-        let s = 1.0 / SUBPIXEL_ONE as f64;
-        let p = v.map(|v| (v.sx as f64 * s, v.sy as f64 * s));
-        let (x10, y10) = (p[1].0 - p[0].0, p[1].1 - p[0].1);
-        let (x20, y20) = (p[2].0 - p[0].0, p[2].1 - p[0].1);
-        let g = Gradient {
-            x0: p[0].0,
-            y0: p[0].1,
-            x10,
-            y10,
-            x20,
-            y20,
-            inv_area: 1.0 / (x10 * y20 - x20 * y10),
-            rx: px as f64 + 0.5,
-            ry: py as f64 + 0.5,
-        };
+        let g = Gradient::new(v, px, py);
         let q = v.map(|v| v.inv_w as f64);
         self.n = n;
         self.perspective = perspective;
@@ -122,6 +128,13 @@ impl Planes {
                 g.plane(f[0], f[1], f[2])
             };
         }
+    }
+
+    /// Only the depth plane of [`Planes::set`] (the same bits), for a pass that needs
+    /// nothing else; the other planes are left as they were.
+    pub fn set_depth(&mut self, v: [&PostVertex; 3], px: i32, py: i32) {
+        let g = Gradient::new(v, px, py);
+        self.z = g.plane(v[0].z as f64, v[1].z as f64, v[2].z as f64);
     }
 
     /// Evaluates the varyings at the four pixel centres of the quad whose top-left pixel is at
@@ -151,6 +164,23 @@ impl Planes {
 mod tests {
     use super::*;
     use crate::pipeline::Viewport;
+
+    #[test]
+    fn the_depth_plane_alone_is_the_full_setups() {
+        let vp = Viewport::new(100, 100);
+        let mk = |x: f32, y: f32, z: f32, w: f32| {
+            PostVertex::new(Vec4::new(x * w, y * w, z * w, w), [0.5; MAX_VARYINGS], &vp)
+        };
+        let v = [
+            mk(-0.7, 0.3, 0.1, 1.0),
+            mk(0.37, 0.9, 0.8, 2.5),
+            mk(0.1, -0.83, -0.4, 1.7),
+        ];
+        let full = Planes::new([&v[0], &v[1], &v[2]], 3, true, 64, 0);
+        let mut depth = Planes::empty();
+        depth.set_depth([&v[0], &v[1], &v[2]], 64, 0);
+        assert_eq!(depth.z, full.z);
+    }
 
     #[test]
     fn planes_reproduce_vertex_values() {

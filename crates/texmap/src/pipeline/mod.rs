@@ -30,6 +30,7 @@
 
 pub mod bin;
 pub mod clip;
+mod covered;
 pub mod framebuffer;
 pub mod interpolate;
 mod quad_edges;
@@ -297,22 +298,7 @@ pub fn draw_into(
             (prims, extra)
         })
         .collect();
-    let mut prims = Vec::with_capacity(parts.iter().map(|p| p.0.len()).sum());
-    let mut extra = Vec::new();
-    for (mut p, e) in parts {
-        let base = extra.len() as u32;
-        if base > 0 {
-            for prim in &mut p {
-                for v in &mut prim.v {
-                    if *v & setup::EXTRA_VERTEX != 0 {
-                        *v += base;
-                    }
-                }
-            }
-        }
-        prims.extend(p);
-        extra.extend(e);
-    }
+    let (prims, extra) = concat_parts(parts);
     stats.triangles_after_clip = prims.len() as u64;
 
     // Draw order: opaque, then blended, each in submission order; or the painter's sort.
@@ -369,4 +355,45 @@ pub fn draw_into(
         stats.texture_samples += ts.texture_samples;
     }
     stats
+}
+
+/// The assembled chunks' primitives and extra vertices, each in one vector, in order; a
+/// primitive's extra vertex references move by the extra vertices of the chunks before it.
+/// The primitives are copied in parallel (tens of megabytes for a large mesh).
+fn concat_parts(parts: Vec<(Vec<Prim>, Vec<PostVertex>)>) -> (Vec<Prim>, Vec<PostVertex>) {
+    let mut bases = Vec::with_capacity(parts.len());
+    let mut extra = Vec::with_capacity(parts.iter().map(|p| p.1.len()).sum());
+    for (_, e) in &parts {
+        bases.push(extra.len() as u32);
+        extra.extend_from_slice(e);
+    }
+    let total = parts.iter().map(|p| p.0.len()).sum();
+    let mut prims: Vec<Prim> = Vec::with_capacity(total);
+    let mut pieces = Vec::with_capacity(parts.len());
+    let mut rest = &mut prims.spare_capacity_mut()[..total];
+    for (p, _) in &parts {
+        let (piece, tail) = std::mem::take(&mut rest).split_at_mut(p.len());
+        pieces.push(piece);
+        rest = tail;
+    }
+    pieces
+        .into_par_iter()
+        .zip(parts.par_iter())
+        .zip(bases.par_iter())
+        .for_each(|((piece, (p, _)), &base)| {
+            for (d, prim) in piece.iter_mut().zip(p) {
+                let mut prim = *prim;
+                if base > 0 {
+                    for v in &mut prim.v {
+                        if *v & setup::EXTRA_VERTEX != 0 {
+                            *v += base;
+                        }
+                    }
+                }
+                d.write(prim);
+            }
+        });
+    // SAFETY: the pieces cover the first `total` elements and each was written above.
+    unsafe { prims.set_len(total) };
+    (prims, extra)
 }

@@ -19,7 +19,9 @@
 //! rasterized twice: a depth pre-pass finds those primitives' nearest depth per pixel, then
 //! their quads are shaded only where they reach it (`z ≤` that depth, besides `z <` the stored
 //! one), so hidden surfaces cost no shading. The first fragment at the nearest depth is still
-//! the one kept: the image is the single pass's, ties and discarding draws included.
+//! the one kept: the image is the single pass's, ties and discarding draws included. The
+//! pre-pass keeps the quads it covers (`covered.rs`), and the shading pass reads them back
+//! instead of walking those primitives' coverage a second time.
 //!
 //! MSAA sample positions are Direct3D's standard patterns (in 1/16 pixel from the centre),
 //! exact in the 1/256-pixel fixed-point grid.
@@ -27,6 +29,7 @@
 use glam::Vec4;
 
 use super::bin::{Bins, TileRect};
+use super::covered::{with_covered, Covered, CoveredQuad};
 use super::framebuffer::{over, stream_fence, stream_fill, TileBuffer};
 use super::interpolate::Planes;
 use super::quad_edges::{QuadEdges, QuadStep};
@@ -134,13 +137,18 @@ pub fn rasterize_tile(
                 .is_some();
             if pre {
                 zmin.fill(1.0);
-                let z = Depths {
-                    zmin: &mut *zmin,
-                    pre: true,
-                };
-                raster_prims::<1, true>(ctx, rect, prims, color, depth, z, &mut stats);
-                let z = Depths { zmin, pre: true };
-                raster_prims::<1, false>(ctx, rect, prims, color, depth, z, &mut stats);
+                with_covered(|covered| {
+                    let z = Depths {
+                        zmin: &mut *zmin,
+                        covered: Some(&mut *covered),
+                    };
+                    raster_prims::<1, true>(ctx, rect, prims, color, depth, z, &mut stats);
+                    let z = Depths {
+                        zmin,
+                        covered: Some(covered),
+                    };
+                    raster_prims::<1, false>(ctx, rect, prims, color, depth, z, &mut stats);
+                });
             } else {
                 raster_prims::<1, false>(
                     ctx,
@@ -183,10 +191,10 @@ fn prepassed(ctx: &RasterContext, pi: u32) -> bool {
 }
 
 /// The nearest depth per pixel of the pre-passed primitives (one sample a pixel, the depth
-/// buffer's layout), and whether it was made for this tile.
+/// buffer's layout) and their covered quads, when this tile has a pre-pass.
 struct Depths<'a> {
     zmin: &'a mut [f32],
-    pre: bool,
+    covered: Option<&'a mut Covered>,
 }
 
 impl Depths<'static> {
@@ -194,15 +202,17 @@ impl Depths<'static> {
     fn none() -> Self {
         Depths {
             zmin: &mut [],
-            pre: false,
+            covered: None,
         }
     }
 }
 
 /// Rasterizes `prims` into the tile's samples: sample `s` of tile pixel `(x, y)` is at
 /// `(y·TILE + x)·S + s` in `color` and `depth`. With `PRE` (one sample a pixel), only the
-/// depths of the pre-passed primitives ([`prepassed`]) are found, into `z.zmin`; after it
-/// (`z.pre`), their quads are also tested against it (module docs).
+/// pre-passed primitives ([`prepassed`]) are walked: their nearest depths go to `z.zmin`,
+/// their covered quads to `z.covered`. After it (`z.covered` given, not `PRE`), those
+/// primitives' kept quads are shaded where they reach `z.zmin` (module docs), the others
+/// walked as without a pre-pass.
 fn raster_prims<const S: usize, const PRE: bool>(
     ctx: &RasterContext,
     rect: TileRect,
@@ -212,7 +222,7 @@ fn raster_prims<const S: usize, const PRE: bool>(
     z: Depths,
     stats: &mut TileStats,
 ) {
-    let zmin = z.zmin;
+    let Depths { zmin, mut covered } = z;
     let positions = sample_positions(S as u32);
     let tile = super::bin::TILE as usize;
     let mut batch = Batch::new();
@@ -223,11 +233,37 @@ fn raster_prims<const S: usize, const PRE: bool>(
         let prim = &ctx.prims[pi as usize];
         let call = &ctx.calls[prim.call as usize];
         let state = call.state;
-        let nearest = z.pre && prepassed(ctx, pi);
+        let nearest = covered.is_some() && prepassed(ctx, pi);
         if PRE && !nearest {
             continue;
         }
-        let v = prim.v.map(|r| ctx.vertex(call, r));
+        // Spelled out: `prim.v.map(…)` was an out-of-line call per primitive and pass.
+        let v = [
+            ctx.vertex(call, prim.v[0]),
+            ctx.vertex(call, prim.v[1]),
+            ctx.vertex(call, prim.v[2]),
+        ];
+        if let Some(cov) = covered.as_deref_mut() {
+            if PRE {
+                cov.begin_prim();
+            } else if nearest {
+                let quads = cov.next_prim();
+                let z = Kept { zmin, quads };
+                shade_kept(
+                    ctx,
+                    rect,
+                    prim,
+                    v,
+                    z,
+                    color,
+                    depth,
+                    &mut planes,
+                    &mut batch,
+                    stats,
+                );
+                continue;
+            }
+        }
         let x0 = prim.bbox[0].max(rect.x0 as i32) & !1;
         let y0 = prim.bbox[1].max(rect.y0 as i32) & !1;
         let x1 = prim.bbox[2].min(rect.x1 as i32 - 1);
@@ -236,9 +272,9 @@ fn raster_prims<const S: usize, const PRE: bool>(
             continue;
         }
         let edges = Edges::new(v, x0, y0);
-        // Per-sample edge offsets.
+        // Per-sample edge offsets (none with one sample, at the pixel centre).
         let mut soff = [[0i64; 3]; S];
-        for (s, &(ox, oy)) in positions.iter().enumerate().take(S) {
+        for (s, &(ox, oy)) in positions.iter().enumerate().take(S).filter(|_| S > 1) {
             for k in 0..3 {
                 soff[s][k] = edges.sample_offset(k, ox as i64 * 16, oy as i64 * 16);
             }
@@ -323,14 +359,18 @@ fn raster_prims<const S: usize, const PRE: bool>(
                 pmask &= valid_x & valid_y;
                 if pmask != 0 {
                     if !have_planes {
-                        planes.set(
-                            v,
+                        if PRE {
                             // The pre-pass needs only depth (the same plane either way).
-                            if PRE { 0 } else { state.varyings },
-                            !prim.affine,
-                            rect.x0 as i32,
-                            rect.y0 as i32,
-                        );
+                            planes.set_depth(v, rect.x0 as i32, rect.y0 as i32);
+                        } else {
+                            planes.set(
+                                v,
+                                state.varyings,
+                                !prim.affine,
+                                rect.x0 as i32,
+                                rect.y0 as i32,
+                            );
+                        }
                         for (s, &(ox, oy)) in positions.iter().enumerate().take(S) {
                             zoff[s] = (planes.z.dx * ox as f32 + planes.z.dy * oy as f32) / 16.0;
                         }
@@ -345,7 +385,27 @@ fn raster_prims<const S: usize, const PRE: bool>(
                     let zp = [z0, z0 + pl.z.dx, z0 + pl.z.dy, z0 + pl.z.dx + pl.z.dy];
                     let mut pass = [0u32; 4];
                     let mut qmask = 0u8;
-                    if S == 1 {
+                    if PRE {
+                        // Only the nearest depth, and the quad kept for the shading pass:
+                        // nothing is shaded (qmask stays 0).
+                        let i = ly * tile + lx;
+                        let near =
+                            Vec4::new(zmin[i], zmin[i + 1], zmin[i + tile], zmin[i + tile + 1]);
+                        let m = pmask & Vec4::from_array(zp).cmplt(near).bitmask() as u8;
+                        for (j, &z) in zp.iter().enumerate() {
+                            if m & (1 << j) != 0 {
+                                zmin[i + (j & 1) + (j >> 1) * tile] = z;
+                            }
+                        }
+                        if let Some(cov) = covered.as_deref_mut() {
+                            cov.push(CoveredQuad {
+                                zp,
+                                lx: lx as u8,
+                                ly: ly as u8,
+                                mask: pmask,
+                            });
+                        }
+                    } else if S == 1 {
                         // One sample: the quad's four depths compared at once (the sample
                         // offset is zero; the tile buffer holds whole quads, so the reads
                         // stay inside it at the tile's edges).
@@ -357,26 +417,7 @@ fn raster_prims<const S: usize, const PRE: bool>(
                         } else {
                             0b1111
                         };
-                        if nearest {
-                            let near =
-                                Vec4::new(zmin[i], zmin[i + 1], zmin[i + tile], zmin[i + tile + 1]);
-                            if PRE {
-                                // Only the nearest depth: nothing is shaded (qmask stays 0).
-                                let m = pmask & Vec4::from_array(zp).cmplt(near).bitmask() as u8;
-                                for (j, &z) in zp.iter().enumerate() {
-                                    if m & (1 << j) != 0 {
-                                        zmin[i + (j & 1) + (j >> 1) * tile] = z;
-                                    }
-                                }
-                            } else {
-                                // Shaded only where nothing pre-passed lies nearer.
-                                qmask = pmask
-                                    & nearer
-                                    & Vec4::from_array(zp).cmple(near).bitmask() as u8;
-                            }
-                        } else {
-                            qmask = pmask & nearer;
-                        }
+                        qmask = pmask & nearer;
                         pass = std::array::from_fn(|j| u32::from(qmask >> j) & 1);
                     }
                     for j in 0..4 {
@@ -397,16 +438,8 @@ fn raster_prims<const S: usize, const PRE: bool>(
                         qmask |= u8::from(ok != 0) << j;
                     }
                     if qmask != 0 {
-                        let n = batch.len;
-                        let quad = &mut batch.quads[n];
-                        quad.x = qx as u32;
-                        quad.y = qy as u32;
-                        quad.mask = qmask;
-                        quad.front_facing = prim.front_facing;
-                        pl.quad(fx, fy, &mut quad.varyings);
-                        batch.pending[n] = Pending { lx, ly, pass, zp };
-                        batch.len += 1;
-                        if batch.len == BATCH {
+                        let p = Pending { lx, ly, pass, zp };
+                        if batch.push(prim, qmask, p, rect, pl) {
                             batch.flush::<S>(ctx, prim.call, &zoff, color, depth, stats);
                         }
                     }
@@ -423,8 +456,79 @@ fn raster_prims<const S: usize, const PRE: bool>(
             quad_row.step(&quad_step_y);
             qy += 2;
         }
-        batch.flush::<S>(ctx, prim.call, &zoff, color, depth, stats);
+        if !PRE {
+            batch.flush::<S>(ctx, prim.call, &zoff, color, depth, stats);
+        }
     }
+}
+
+/// A pre-passed primitive's covered quads and the tile's nearest depths.
+struct Kept<'a> {
+    zmin: &'a [f32],
+    quads: &'a [CoveredQuad],
+}
+
+/// Shades the quads the pre-pass kept of `prim` (vertices `v`), one sample a pixel, where they
+/// pass the depth test and reach the nearest depth: what walking the primitive again would
+/// shade, quad for quad, in the same order and batches.
+#[allow(clippy::too_many_arguments)]
+fn shade_kept(
+    ctx: &RasterContext,
+    rect: TileRect,
+    prim: &Prim,
+    v: [&PostVertex; 3],
+    kept: Kept,
+    color: &mut [Vec4],
+    depth: &mut [f32],
+    planes: &mut Planes,
+    batch: &mut Batch,
+    stats: &mut TileStats,
+) {
+    let state = ctx.calls[prim.call as usize].state;
+    let tile = super::bin::TILE as usize;
+    let zmin = kept.zmin;
+    let mut have_planes = false;
+    let mut zoff = [0.0f32; 1];
+    for q in kept.quads {
+        let (lx, ly) = (usize::from(q.lx), usize::from(q.ly));
+        let i = ly * tile + lx;
+        let zp = Vec4::from_array(q.zp);
+        let stored = Vec4::new(depth[i], depth[i + 1], depth[i + tile], depth[i + tile + 1]);
+        let nearer = if state.depth_test {
+            zp.cmplt(stored).bitmask() as u8
+        } else {
+            0b1111
+        };
+        let near = Vec4::new(zmin[i], zmin[i + 1], zmin[i + tile], zmin[i + tile + 1]);
+        // Shaded only where nothing pre-passed lies nearer.
+        let qmask = q.mask & nearer & zp.cmple(near).bitmask() as u8;
+        if qmask == 0 {
+            continue;
+        }
+        if !have_planes {
+            // At the first quad shaded: the same planes as at the first covered quad.
+            planes.set(
+                v,
+                state.varyings,
+                !prim.affine,
+                rect.x0 as i32,
+                rect.y0 as i32,
+            );
+            zoff[0] = (planes.z.dx * 0.0 + planes.z.dy * 0.0) / 16.0;
+            have_planes = true;
+        }
+        let pass = std::array::from_fn(|j| u32::from(qmask >> j) & 1);
+        let p = Pending {
+            lx,
+            ly,
+            pass,
+            zp: q.zp,
+        };
+        if batch.push(prim, qmask, p, rect, planes) {
+            batch.flush::<1>(ctx, prim.call, &zoff, color, depth, stats);
+        }
+    }
+    batch.flush::<1>(ctx, prim.call, &zoff, color, depth, stats);
 }
 
 /// Quads shaded in one call: up to this many covered quads of one primitive, so the
@@ -469,6 +573,29 @@ impl Batch {
             colors: [[Vec4::ZERO; 4]; BATCH],
             kept: [0; BATCH],
         }
+    }
+
+    /// Queues quad `p` of `prim` (`qmask` its pixels to shade), its varyings from `planes`;
+    /// true when the batch is full and must be flushed.
+    #[inline(always)]
+    fn push(
+        &mut self,
+        prim: &Prim,
+        qmask: u8,
+        p: Pending,
+        rect: TileRect,
+        planes: &Planes,
+    ) -> bool {
+        let n = self.len;
+        let quad = &mut self.quads[n];
+        quad.x = rect.x0 + p.lx as u32;
+        quad.y = rect.y0 + p.ly as u32;
+        quad.mask = qmask;
+        quad.front_facing = prim.front_facing;
+        planes.quad(p.lx as f32, p.ly as f32, &mut quad.varyings);
+        self.pending[n] = p;
+        self.len += 1;
+        self.len == BATCH
     }
 
     /// Shades the waiting quads of draw `call` and writes their colours and depths.

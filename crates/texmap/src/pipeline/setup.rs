@@ -77,7 +77,7 @@ pub fn assemble_triangle(
     };
     let any = (codes[0] | codes[1] | codes[2]) & outcode::CLIP;
     if any == 0 {
-        cx.emit_or_split(idx, [*a, *b, *c], prims, extra);
+        cx.emit_or_split(idx, [a, b, c], prims, extra);
         return;
     }
     let n = call.state.varyings;
@@ -104,6 +104,7 @@ pub fn assemble_triangle(
         if pv.iter().any(|v| v.outcode == u8::MAX) {
             continue;
         }
+        let pv = [&pv[0], &pv[1], &pv[2]];
         cx.emit_or_split(r.map(|i| i | EXTRA_VERTEX), pv, prims, extra);
     }
 }
@@ -120,14 +121,17 @@ impl Assembly<'_> {
     fn emit_or_split(
         &self,
         r: [u32; 3],
-        v: [PostVertex; 3],
+        v: [&PostVertex; 3],
         prims: &mut Vec<Prim>,
         extra: &mut Vec<PostVertex>,
     ) {
+        // Referenced, not copied: a vertex is some 140 bytes and most triangles are emitted
+        // as they are.
         let Interpolation::Subdivide { max_error_px } = self.interpolation else {
-            self.emit(r, &v, self.interpolation == Interpolation::Affine, prims);
+            self.emit(r, v, self.interpolation == Interpolation::Affine, prims);
             return;
         };
+        let v = v.map(|v| *v);
         // Every edge decides alone whether and where it splits (`split_point` reads only its
         // two ends, in a canonical order), so the triangles on either side of an edge split
         // it at the same points: no T-junctions. Breadth first, so a budget that runs out
@@ -149,7 +153,7 @@ impl Assembly<'_> {
             };
             let count = split.iter().flatten().count();
             if count == 0 {
-                self.emit(r, &v, true, prims);
+                self.emit(r, [&v[0], &v[1], &v[2]], true, prims);
                 continue;
             }
             budget -= 1;
@@ -203,7 +207,7 @@ impl Assembly<'_> {
     }
 
     #[inline]
-    fn emit(&self, r: [u32; 3], v: &[PostVertex; 3], affine: bool, prims: &mut Vec<Prim>) {
+    fn emit(&self, r: [u32; 3], v: [&PostVertex; 3], affine: bool, prims: &mut Vec<Prim>) {
         let (x0, y0) = (v[0].sx as i64, v[0].sy as i64);
         let (x1, y1) = (v[1].sx as i64, v[1].sy as i64);
         let (x2, y2) = (v[2].sx as i64, v[2].sy as i64);
