@@ -391,12 +391,20 @@ fn raster_prims<const S: usize, const PRE: bool>(
                         let i = ly * tile + lx;
                         let near =
                             Vec4::new(zmin[i], zmin[i + 1], zmin[i + tile], zmin[i + tile + 1]);
-                        let m = pmask & Vec4::from_array(zp).cmplt(near).bitmask() as u8;
-                        for (j, &z) in zp.iter().enumerate() {
-                            if m & (1 << j) != 0 {
-                                zmin[i + (j & 1) + (j >> 1) * tile] = z;
-                            }
-                        }
+                        // Without a branch per pixel (which mispredicts): the pixels that
+                        // are not nearer get their own value back.
+                        let z4 = Vec4::from_array(zp);
+                        let covered_px = glam::BVec4A::new(
+                            pmask & 1 != 0,
+                            pmask & 2 != 0,
+                            pmask & 4 != 0,
+                            pmask & 8 != 0,
+                        );
+                        let nearest = Vec4::select(z4.cmplt(near) & covered_px, z4, near);
+                        zmin[i] = nearest.x;
+                        zmin[i + 1] = nearest.y;
+                        zmin[i + tile] = nearest.z;
+                        zmin[i + tile + 1] = nearest.w;
                         if let Some(cov) = covered.as_deref_mut() {
                             cov.push(CoveredQuad {
                                 zp,
