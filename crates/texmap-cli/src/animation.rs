@@ -131,17 +131,7 @@ fn apng_header<W: Write>(
     fps: u16,
     (width, height): (u32, u32),
 ) -> Result<png::Writer<W>, Error> {
-    let mut e = png::Encoder::new(w, width, height);
-    e.set_color(if store.alpha {
-        png::ColorType::Rgba
-    } else {
-        png::ColorType::Rgb
-    });
-    e.set_depth(if store.sixteen {
-        png::BitDepth::Sixteen
-    } else {
-        png::BitDepth::Eight
-    });
+    let mut e = store.png_encoder(w, (width, height));
     e.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
     e.set_animated(frames, 0).map_err(|e| png_error(path, e))?;
     e.set_frame_delay(1, fps).map_err(|e| png_error(path, e))?;

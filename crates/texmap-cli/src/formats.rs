@@ -177,6 +177,26 @@ impl Store {
         quality: 90,
     };
 
+    /// A `png` encoder of an image of `size` with this store's colour type and bit depth.
+    pub fn png_encoder<W: Write>(
+        self,
+        w: W,
+        (width, height): (u32, u32),
+    ) -> png::Encoder<'static, W> {
+        let mut e = png::Encoder::new(w, width, height);
+        e.set_color(if self.alpha {
+            png::ColorType::Rgba
+        } else {
+            png::ColorType::Rgb
+        });
+        e.set_depth(if self.sixteen {
+            png::BitDepth::Sixteen
+        } else {
+            png::BitDepth::Eight
+        });
+        e
+    }
+
     /// The bytes of `frame` as PNG rows: 8-bit, or 16-bit big-endian with `big_endian`
     /// (else native-endian, as `image`'s PNG encoder takes them).
     pub fn png_rows(self, frame: &Frame, big_endian: bool) -> Vec<u8> {
@@ -402,17 +422,7 @@ const PNG_BAND_ROWS: usize = 64;
 /// filter), so the pixels are those its encoder wrote.
 fn png_bands(w: impl Write, path: &Path, frame: &Frame, store: Store) -> Result<(), Error> {
     let err = |e| png_error(path, e);
-    let mut e = png::Encoder::new(w, frame.width, frame.height);
-    e.set_color(if store.alpha {
-        png::ColorType::Rgba
-    } else {
-        png::ColorType::Rgb
-    });
-    e.set_depth(if store.sixteen {
-        png::BitDepth::Sixteen
-    } else {
-        png::BitDepth::Eight
-    });
+    let mut e = store.png_encoder(w, (frame.width, frame.height));
     e.set_compression(png::Compression::Fast);
     e.set_filter(png::Filter::Adaptive);
     let mut writer = e.write_header().map_err(err)?;
