@@ -107,6 +107,7 @@ pub fn ray_distances_from_depth(
     let fwd = (camera.target - camera.eye).normalize();
     let w = width as usize;
     let ortho = camera.projection.is_orthographic();
+    let rays = CameraRays::new(camera, width, height);
     depth_window
         .iter()
         .enumerate()
@@ -121,13 +122,7 @@ pub fn ray_distances_from_depth(
             } else {
                 2.0 * n * f / (f + n - zn * (f - n))
             };
-            let (_, d) = camera_ray(
-                camera,
-                width,
-                height,
-                (i % w) as f32 + 0.5,
-                (i / w) as f32 + 0.5,
-            );
+            let (_, d) = rays.ray((i % w) as f32 + 0.5, (i / w) as f32 + 0.5);
             view_z / d.dot(fwd)
         })
         .collect()
