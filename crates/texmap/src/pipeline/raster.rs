@@ -130,9 +130,11 @@ pub fn rasterize_tile(
     match buf.samples {
         1 => {
             // The depth pre-pass, when two primitives or more could hide each other.
+            // Primitives that only share the tile's box (the fan of a clipped plane) cannot
+            // hide each other: only those that reach the tile count.
             let pre = prims
                 .iter()
-                .filter(|&&pi| prepassed(ctx, pi))
+                .filter(|&&pi| prepassed(ctx, pi) && reaches(ctx, rect, pi))
                 .nth(1)
                 .is_some();
             if pre {
@@ -188,6 +190,43 @@ pub fn sample_count(target: &Target) -> usize {
 fn prepassed(ctx: &RasterContext, pi: u32) -> bool {
     let state = ctx.calls[ctx.prims[pi as usize].call as usize].state;
     state.keeps_all && state.depth_test && state.depth_write && !state.blend
+}
+
+/// The quads' extent of `prim` in tile `rect`, `(x0, y0, x1, y1)` (`x0`, `y0` even, ends
+/// inclusive): its bounding box clipped to the tile; `None` when they do not meet.
+#[inline]
+fn quad_extent(prim: &Prim, rect: TileRect) -> Option<(i32, i32, i32, i32)> {
+    let x0 = prim.bbox[0].max(rect.x0 as i32) & !1;
+    let y0 = prim.bbox[1].max(rect.y0 as i32) & !1;
+    let x1 = prim.bbox[2].min(rect.x1 as i32 - 1);
+    let y1 = prim.bbox[3].min(rect.y1 as i32 - 1);
+    (x0 <= x1 && y0 <= y1).then_some((x0, y0, x1, y1))
+}
+
+/// The least and greatest value of edge `k` over the rectangle of pixel centres `ext_x` ×
+/// `ext_y` pixels from the edges' reference pixel (edges are linear: at its corners).
+#[inline]
+fn edge_range(edges: &Edges, k: usize, ext_x: i64, ext_y: i64) -> (i64, i64) {
+    let (ax, ay) = (edges.dx[k] * ext_x, edges.dy[k] * ext_y);
+    (
+        edges.e[k] + ax.min(0) + ay.min(0),
+        edges.e[k] + ax.max(0) + ay.max(0),
+    )
+}
+
+/// Whether primitive `pi` may cover a pixel centre of tile `rect`: false when its box misses
+/// the tile or one edge is negative at every pixel centre of its quads there (the walk's own
+/// skip at one sample a pixel).
+fn reaches(ctx: &RasterContext, rect: TileRect, pi: u32) -> bool {
+    let prim = &ctx.prims[pi as usize];
+    let Some((x0, y0, x1, y1)) = quad_extent(prim, rect) else {
+        return false;
+    };
+    let call = &ctx.calls[prim.call as usize];
+    let v = prim.v.map(|r| ctx.vertex(call, r));
+    let edges = Edges::new(v, x0, y0);
+    let (ext_x, ext_y) = ((x1 - x0) as i64 | 1, (y1 - y0) as i64 | 1);
+    (0..3).all(|k| edge_range(&edges, k, ext_x, ext_y).1 >= 0)
 }
 
 /// The nearest depth per pixel of the pre-passed primitives (one sample a pixel, the depth
@@ -264,13 +303,9 @@ fn raster_prims<const S: usize, const PRE: bool>(
                 continue;
             }
         }
-        let x0 = prim.bbox[0].max(rect.x0 as i32) & !1;
-        let y0 = prim.bbox[1].max(rect.y0 as i32) & !1;
-        let x1 = prim.bbox[2].min(rect.x1 as i32 - 1);
-        let y1 = prim.bbox[3].min(rect.y1 as i32 - 1);
-        if x0 > x1 || y0 > y1 {
+        let Some((x0, y0, x1, y1)) = quad_extent(prim, rect) else {
             continue;
-        }
+        };
         let edges = Edges::new(v, x0, y0);
         // Per-sample edge offsets (none with one sample, at the pixel centre).
         let mut soff = [[0i64; 3]; S];
@@ -298,9 +333,7 @@ fn raster_prims<const S: usize, const PRE: bool>(
         let mut full = true;
         let mut outside = false;
         for k in 0..3 {
-            let (ax, ay) = (edges.dx[k] * ext_x, edges.dy[k] * ext_y);
-            let lo = edges.e[k] + ax.min(0) + ay.min(0);
-            let hi = edges.e[k] + ax.max(0) + ay.max(0);
+            let (lo, hi) = edge_range(&edges, k, ext_x, ext_y);
             let s_lo = soff.iter().map(|o| o[k]).min().unwrap_or(0);
             let s_hi = soff.iter().map(|o| o[k]).max().unwrap_or(0);
             full &= lo + s_lo >= 0;

@@ -386,21 +386,33 @@ mod sse2 {
         let (data, tiles_x) = lv.tiled_texels(bpp(texels));
         let offsets = nearest_offsets(&lv, tiles_x, s, u, v);
         let base = data.as_ptr();
-        std::array::from_fn(|j| {
-            if mask & (1 << j) == 0 {
-                return Vec4::ZERO;
-            }
-            if let Texels::Rgba8(_) = texels {
+        if let Texels::Rgba8(_) = texels {
+            return std::array::from_fn(|j| {
+                if mask & (1 << j) == 0 {
+                    return Vec4::ZERO;
+                }
                 // The float path's decode of the texel (the codec's, through the level's
                 // table): the same values.
-                return lv.texel_at::<CodecRgba8>(offsets[j] as usize);
-            }
-            // SAFETY: as above; the load reads the texel's 8 bytes. The decode is the
-            // codec's (`decode_rgba16`): zero-extend, convert, scale.
+                lv.texel_at::<CodecRgba8>(offsets[j] as usize)
+            });
+        }
+        // Every lane's texel is loaded (the indices are in range for helper pixels too), with
+        // no branch per pixel; the decode is the codec's (`decode_rgba16`): zero-extend,
+        // convert, scale.
+        let load = |j: usize| {
+            // SAFETY: as above; the load reads the texel's 8 bytes.
             unsafe {
                 let q = _mm_loadl_epi64(base.add(offsets[j] as usize * 8).cast());
                 let f = _mm_cvtepi32_ps(_mm_unpacklo_epi16(q, _mm_setzero_si128()));
                 Vec4::from(f) * (1.0 / 65535.0)
+            }
+        };
+        let texel = [load(0), load(1), load(2), load(3)];
+        std::array::from_fn(|j| {
+            if mask & (1 << j) == 0 {
+                Vec4::ZERO
+            } else {
+                texel[j]
             }
         })
     }
