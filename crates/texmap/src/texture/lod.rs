@@ -53,6 +53,37 @@ pub struct MipChoice {
 }
 
 impl MipChoice {
+    /// Level 0, nearest texels.
+    pub const LEVEL0: MipChoice = MipChoice {
+        level: 0,
+        blend: None,
+        texels: TexelFilter::Nearest,
+    };
+
+    /// [`MipChoice::gl`]'s choice for every λ, when λ cannot change it: the magnification
+    /// and minification filters read texels alike and minification reads level 0 only
+    /// (`NEAREST` or `LINEAR`, or a chain of one level). `None` otherwise.
+    #[inline(always)]
+    #[must_use]
+    pub fn fixed(level_count: usize, mag: MagFilter, min: MinFilter) -> Option<MipChoice> {
+        let min_texels = match min {
+            MinFilter::Nearest
+            | MinFilter::NearestMipmapNearest
+            | MinFilter::NearestMipmapLinear => TexelFilter::Nearest,
+            _ => TexelFilter::Linear,
+        };
+        let mag_texels = match mag {
+            MagFilter::Nearest => TexelFilter::Nearest,
+            MagFilter::Linear => TexelFilter::Linear,
+        };
+        let level0 = level_count <= 1 || matches!(min, MinFilter::Nearest | MinFilter::Linear);
+        (level0 && min_texels == mag_texels).then_some(MipChoice {
+            level: 0,
+            blend: None,
+            texels: min_texels,
+        })
+    }
+
     /// OpenGL's choice at level of detail `lod` (bias and clamps applied) on a chain of
     /// `level_count` levels (at least one) for the filter pair `mag`/`min`.
     #[inline(always)]

@@ -66,44 +66,8 @@ fn texels_of(tex: &Texture2D, s: &Sampler) -> Option<Texels> {
     }
 }
 
-/// A quad's reads at `(u, v)` (one pixel per lane, pixels whose `mask` bit is clear left
-/// zero) on the levels `choice` names: bilinear in fixed point for [`TexelFilter::Linear`],
-/// else nearest — the same texels and values as the float path's `nearest` (its wrap of an
-/// index that rounds up to the size, its index 0 for NaN), with the index arithmetic in
-/// lanes. `None` when this texture or sampler is not one this path handles.
-#[inline]
-pub(super) fn read_quad(
-    tex: &Texture2D,
-    s: &Sampler,
-    choice: MipChoice,
-    u: Vec4,
-    v: Vec4,
-    mask: u8,
-) -> Option<[Vec4; 4]> {
-    let texels = texels_of(tex, s)?;
-    #[cfg(target_arch = "x86_64")]
-    {
-        if choice.texels == TexelFilter::Linear {
-            return Some(sse2::linear_quad(tex, texels, s, choice, u, v, mask));
-        }
-        let a = sse2::nearest_level(tex.level(choice.level), texels, s, u, v, mask);
-        Some(match choice.blend {
-            Some(b) => {
-                let (f, b) = (
-                    b.weight,
-                    sse2::nearest_level(tex.level(b.level), texels, s, u, v, mask),
-                );
-                std::array::from_fn(|j| a[j].lerp(b[j], f))
-            }
-            None => a,
-        })
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        let _ = (texels, choice, u, v, mask);
-        None
-    }
-}
+mod quads;
+pub(super) use quads::{read_quad, read_quads};
 
 mod prefetch;
 pub(super) use prefetch::prefetch_quads;

@@ -309,8 +309,12 @@ pub fn sample_quads_lanes(
         if far != 0 && matches!(min, MinFilter::Nearest | MinFilter::Linear) {
             fixed16::prefetch_quads(texture, sampler, coords, &choices, masks, far);
         }
-        for (((c, &m), o), &choice) in coords.iter().zip(masks).zip(out.iter_mut()).zip(&choices) {
-            *o = gl_read(texture, sampler, (c.u, c.v), choice, m);
+        if !fixed16::read_quads(texture, sampler, coords, &choices, masks, out) {
+            for (((c, &m), o), &choice) in
+                coords.iter().zip(masks).zip(out.iter_mut()).zip(&choices)
+            {
+                *o = gl_read(texture, sampler, (c.u, c.v), choice, m);
+            }
         }
     }
 }
@@ -336,11 +340,13 @@ fn gl_choices(
 ) -> ([MipChoice; CHUNK], u32) {
     let size = Vec2::new(texture.width() as f32, texture.height() as f32);
     let level_count = texture.levels().len();
-    let mut choices = [MipChoice {
-        level: 0,
-        blend: None,
-        texels: TexelFilter::Nearest,
-    }; CHUNK];
+    // A filter pair whose choice λ cannot change: λ only for the prefetch's mask, and only
+    // where it prefetches.
+    let fixed = MipChoice::fixed(level_count, mag, min);
+    if fixed.is_some() && !matches!(min, MinFilter::Nearest | MinFilter::Linear) {
+        return ([fixed.unwrap_or(MipChoice::LEVEL0); CHUNK], 0);
+    }
+    let mut choices = [MipChoice::LEVEL0; CHUNK];
     let mut far = 0;
     for (k, (choices, coords)) in choices.chunks_mut(4).zip(coords.chunks(4)).enumerate() {
         let lane = |f: &dyn Fn(&QuadCoords) -> f32| {
@@ -354,7 +360,7 @@ fn gl_choices(
         );
         for (i, choice) in choices.iter_mut().enumerate().take(coords.len()) {
             let lod = sampler.adjust_lod(lod[i]);
-            *choice = MipChoice::gl(lod, level_count, mag, min);
+            *choice = fixed.unwrap_or_else(|| MipChoice::gl(lod, level_count, mag, min));
             far |= u32::from(lod > FAR_LOD) << (4 * k + i);
         }
     }

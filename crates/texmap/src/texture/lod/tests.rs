@@ -135,6 +135,45 @@ fn gl_choice_on_a_single_level_reads_level_zero() {
     }
 }
 
+#[test]
+fn the_fixed_choice_is_the_rules_at_every_lod() {
+    let lods = [
+        f32::NAN,
+        f32::NEG_INFINITY,
+        -3.0,
+        0.0,
+        0.25,
+        0.5,
+        0.75,
+        1.0,
+        2.5,
+        7.0,
+        f32::INFINITY,
+    ];
+    let mut fixed_pairs = 0;
+    for count in 1..=4 {
+        for (&min, &min_texels) in MINS.iter().zip(&MIN_TEXELS) {
+            for mag in MAGS {
+                let mag_texels = match mag {
+                    MagFilter::Nearest => TexelFilter::Nearest,
+                    MagFilter::Linear => TexelFilter::Linear,
+                };
+                let level0 = count == 1 || matches!(min, MinFilter::Nearest | MinFilter::Linear);
+                let fixed = MipChoice::fixed(count, mag, min);
+                assert_eq!(fixed.is_some(), level0 && mag_texels == min_texels);
+                if let Some(fixed) = fixed {
+                    fixed_pairs += 1;
+                    for lod in lods {
+                        assert_eq!(MipChoice::gl(lod, count, mag, min), fixed, "{min:?} {lod}");
+                    }
+                }
+            }
+        }
+    }
+    // Level 0 only: two pairs on every chain; one level: all six min filters' matching pairs.
+    assert_eq!(fixed_pairs, 2 * 3 + 6);
+}
+
 /// Level `level`'s texel `(x, y)` (and any z): red = the level (times `scale`), green a
 /// checkerboard in x and y, so a read's red tells its levels and weights and its green tells
 /// nearest (0 at the centre) from linear (½ at the centre, on levels of two texels or more).
