@@ -252,6 +252,7 @@ impl Depths<'static> {
 /// their covered quads to `z.covered`. After it (`z.covered` given, not `PRE`), those
 /// primitives' kept quads are shaded where they reach `z.zmin` (module docs), the others
 /// walked as without a pre-pass.
+#[inline(never)]
 fn raster_prims<const S: usize, const PRE: bool>(
     ctx: &RasterContext,
     rect: TileRect,
@@ -513,6 +514,7 @@ struct Kept<'a> {
 /// pass the depth test and reach the nearest depth: what walking the primitive again would
 /// shade, quad for quad, in the same order and batches.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 fn shade_kept(
     ctx: &RasterContext,
     rect: TileRect,

@@ -47,11 +47,17 @@ impl FragmentShader for SceneShader<'_> {
                     .zip(out.chunks_mut(BATCH))
                     .zip(kept.chunks_mut(BATCH))
                 {
+                    // Texels far apart are asked for first (minified on level 0): the
+                    // lighting runs while they come.
+                    let staged = t.prefetches().then(|| t.begin(quads));
                     let mut factors = [QuadFactors::ZERO; BATCH];
                     for (f, quad) in factors.iter_mut().zip(quads) {
                         *f = self.plain_factors(d, quad);
                     }
-                    t.quads(quads, out);
+                    match &staged {
+                        Some(staged) => t.end(staged, out),
+                        None => t.quads(quads, out),
+                    }
                     for (((quad, o), k), f) in quads
                         .iter()
                         .zip(out.iter_mut())

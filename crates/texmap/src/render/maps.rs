@@ -11,8 +11,20 @@ use crate::pipeline::{Quad, BATCH};
 use crate::shading::TextureSlot;
 use crate::texture::{
     quad_mip_choice, sample_quad_lanes, sample_quad_lanes_at, sample_quads_lanes,
-    sample_quads_lanes_shared, Filter, MipChoice, QuadCoords, Sampler, Texture2D, VirtualTexture,
+    sample_quads_lanes_shared, Filter, MinFilter, MipChoice, QuadCoords, Sampler, StagedQuads,
+    Texture2D, VirtualTexture, QUADS_STAGED,
 };
+
+/// A batch of quads' reads between [`MapRead::begin`] and [`MapRead::end`].
+pub(super) struct MapStaged {
+    coords: [QuadCoords; BATCH],
+    masks: [u8; BATCH],
+    n: usize,
+    staged: Option<StagedQuads>,
+}
+
+// A batch of the rasterizer fits one staged read.
+const _: () = assert!(BATCH <= QUADS_STAGED);
 
 /// A texture the fragment stage reads: image, sampler (command-line overrides applied), the
 /// slot's uv transform and scales folded into one affine map (computed once per draw, not per
@@ -92,6 +104,60 @@ impl<'a> MapRead<'a> {
                 Some(vt) => vt.sample_quads_lanes(&self.sampler, &coords[..n], &masks[..n], out),
                 None => sample_quads_lanes(self.tex, &self.sampler, &coords[..n], &masks[..n], out),
             }
+        }
+    }
+
+    /// Whether [`MapRead::begin`] can request texels ahead of the reads: an image (not a
+    /// virtual texture) minified on level 0 only (the OpenGL filters `nearest` and `linear`),
+    /// where neighbouring pixels' texels lie far apart. Other reads stay in cache and gain
+    /// nothing from the two stages.
+    #[inline]
+    pub fn prefetches(&self) -> bool {
+        self.virt.is_none()
+            && matches!(
+                self.sampler.filter,
+                Filter::Gl {
+                    min: MinFilter::Nearest | MinFilter::Linear,
+                    ..
+                }
+            )
+    }
+
+    /// The first stage of [`MapRead::quads`] of at most [`BATCH`] quads: their coordinates,
+    /// levels, and the far texels requested from memory ([`StagedQuads`]); the caller can do
+    /// other work (the lighting) before [`MapRead::end`] reads.
+    ///
+    /// # Panics
+    /// If `quads` is longer than [`BATCH`].
+    #[inline]
+    pub fn begin(&self, quads: &[Quad]) -> MapStaged {
+        let mut coords = [QuadCoords::default(); BATCH];
+        let mut masks = [0u8; BATCH];
+        for ((c, m), q) in coords.iter_mut().zip(masks.iter_mut()).zip(quads) {
+            *c = self.coords(q);
+            *m = q.mask;
+        }
+        let n = quads.len();
+        let staged = self
+            .virt
+            .is_none()
+            .then(|| StagedQuads::begin(self.tex, &self.sampler, &coords[..n], &masks[..n]));
+        MapStaged {
+            coords,
+            masks,
+            n,
+            staged,
+        }
+    }
+
+    /// The reads [`MapRead::begin`] staged: `out[i]` for its `quads[i]`.
+    #[inline]
+    pub fn end(&self, st: &MapStaged, out: &mut [[Vec4; 4]]) {
+        let (coords, masks) = (&st.coords[..st.n], &st.masks[..st.n]);
+        match (self.virt, &st.staged) {
+            (Some(vt), _) => vt.sample_quads_lanes(&self.sampler, coords, masks, out),
+            (None, Some(staged)) => staged.end(self.tex, &self.sampler, coords, masks, out),
+            (None, None) => sample_quads_lanes(self.tex, &self.sampler, coords, masks, out),
         }
     }
 

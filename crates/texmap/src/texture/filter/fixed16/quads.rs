@@ -46,7 +46,7 @@ pub(in super::super) fn read_quad(
 ///
 /// # Panics
 /// If `choices`, `masks` or `out` is shorter than `coords`.
-#[inline]
+#[inline(always)]
 pub(in super::super) fn read_quads(
     tex: &Texture2D,
     s: &Sampler,

@@ -1,0 +1,243 @@
+//! Batches of quads read together: [`sample_quads_lanes`] (one texture), its two stages
+//! ([`StagedQuads`]: levels and far texels requested first, reads after other work), and
+//! [`sample_quads_lanes_shared`] (a material's maps at one set of coordinates). The quads'
+//! levels are chosen first, then read, so independent chains of dependent operations overlap.
+
+use glam::{Vec2, Vec4};
+
+use super::super::{Filter, MagFilter, MinFilter, MipChoice, Sampler, Texture2D};
+use super::{fixed16, gl_read, sample_quad_lanes};
+
+/// One quad's coordinates for [`sample_quads_lanes`]: pixel `j`'s `(u, v)` in lane `j`, and the
+/// derivatives the quad shares.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct QuadCoords {
+    pub u: Vec4,
+    pub v: Vec4,
+    pub duv_dx: Vec2,
+    pub duv_dy: Vec2,
+}
+
+/// [`sample_quad_lanes`] for several quads (`out[i]` for `coords[i]` and `masks[i]`), in
+/// stages: every quad's level of detail first, then the reads, so the quads' independent
+/// chains of dependent operations overlap instead of running one after another.
+///
+/// # Panics
+/// If `masks` or `out` is shorter than `coords`.
+pub fn sample_quads_lanes(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    coords: &[QuadCoords],
+    masks: &[u8],
+    out: &mut [[Vec4; 4]],
+) {
+    assert!(masks.len() >= coords.len() && out.len() >= coords.len());
+    let Filter::Gl { mag, min } = sampler.filter else {
+        for ((c, &m), o) in coords.iter().zip(masks).zip(out.iter_mut()) {
+            *o = sample_quad_lanes(texture, sampler, (c.u, c.v), c.duv_dx, c.duv_dy, m);
+        }
+        return;
+    };
+    for ((coords, masks), out) in coords
+        .chunks(CHUNK)
+        .zip(masks.chunks(CHUNK))
+        .zip(out.chunks_mut(CHUNK))
+    {
+        let choices = gl_begin(texture, sampler, coords, masks, mag, min);
+        gl_end(texture, sampler, coords, masks, &choices, out);
+    }
+}
+
+/// The first stage of an OpenGL-filtered batch (at most [`CHUNK`] quads): the level
+/// choices, and, minified on level 0, the far quads' texels requested from memory
+/// (fixed16/prefetch.rs).
+#[inline(always)]
+fn gl_begin(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    coords: &[QuadCoords],
+    masks: &[u8],
+    mag: MagFilter,
+    min: MinFilter,
+) -> [MipChoice; CHUNK] {
+    let (choices, far) = gl_choices(texture, sampler, coords, mag, min);
+    if far != 0 && matches!(min, MinFilter::Nearest | MinFilter::Linear) {
+        fixed16::prefetch_quads(texture, sampler, coords, &choices, masks, far);
+    }
+    choices
+}
+
+/// The second stage: the reads on the levels [`gl_begin`] chose.
+#[inline(always)]
+fn gl_end(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    coords: &[QuadCoords],
+    masks: &[u8],
+    choices: &[MipChoice; CHUNK],
+    out: &mut [[Vec4; 4]],
+) {
+    if !fixed16::read_quads(texture, sampler, coords, choices, masks, out) {
+        for (((c, &m), o), &choice) in coords.iter().zip(masks).zip(out.iter_mut()).zip(choices) {
+            *o = gl_read(texture, sampler, (c.u, c.v), choice, m);
+        }
+    }
+}
+
+/// [`sample_quads_lanes`] of a batch of at most [`QUADS_STAGED`] quads in two calls, so that
+/// other work can run between them while the texels come from memory: [`StagedQuads::begin`]
+/// chooses the levels and requests the far texels, [`StagedQuads::end`] reads (the same
+/// values).
+#[derive(Clone, Copy)]
+pub struct StagedQuads {
+    /// The level choices, for OpenGL filters.
+    choices: Option<[MipChoice; CHUNK]>,
+}
+
+/// The most quads one [`StagedQuads`] holds.
+pub const QUADS_STAGED: usize = CHUNK;
+
+impl StagedQuads {
+    /// The first stage for `coords` and `masks` (at most [`QUADS_STAGED`] quads).
+    ///
+    /// # Panics
+    /// If `masks` is shorter than `coords`, or `coords` longer than [`QUADS_STAGED`].
+    #[inline]
+    #[must_use]
+    pub fn begin(
+        texture: &Texture2D,
+        sampler: &Sampler,
+        coords: &[QuadCoords],
+        masks: &[u8],
+    ) -> Self {
+        assert!(masks.len() >= coords.len() && coords.len() <= CHUNK);
+        let choices = match sampler.filter {
+            Filter::Gl { mag, min } => Some(gl_begin(texture, sampler, coords, masks, mag, min)),
+            _ => None,
+        };
+        StagedQuads { choices }
+    }
+
+    /// The reads: [`sample_quads_lanes`] of the same arguments [`StagedQuads::begin`] had.
+    ///
+    /// # Panics
+    /// If `masks` or `out` is shorter than `coords`.
+    #[inline]
+    pub fn end(
+        &self,
+        texture: &Texture2D,
+        sampler: &Sampler,
+        coords: &[QuadCoords],
+        masks: &[u8],
+        out: &mut [[Vec4; 4]],
+    ) {
+        assert!(masks.len() >= coords.len() && out.len() >= coords.len());
+        match &self.choices {
+            Some(choices) => gl_end(texture, sampler, coords, masks, choices, out),
+            None => sample_quads_lanes(texture, sampler, coords, masks, out),
+        }
+    }
+}
+
+/// The quads [`sample_quads_lanes`] and [`sample_quads_lanes_shared`] choose levels for at a
+/// time.
+const CHUNK: usize = 16;
+
+/// λ above which a quad's neighbouring pixels read texels more than two apart, so that on
+/// level 0 their texels leave the cache lines already read (fixed16/prefetch.rs).
+const FAR_LOD: f32 = 1.0;
+
+/// The OpenGL level choices of up to [`CHUNK`] quads: λ four quads at a time (one per lane),
+/// then each quad's levels; and a mask of the quads whose λ is over [`FAR_LOD`] (bit `i` for
+/// quad `i`). (Inlined: as a call it cost the one-map read 2% more.)
+#[inline(always)]
+fn gl_choices(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    coords: &[QuadCoords],
+    mag: MagFilter,
+    min: MinFilter,
+) -> ([MipChoice; CHUNK], u32) {
+    let size = Vec2::new(texture.width() as f32, texture.height() as f32);
+    let level_count = texture.levels().len();
+    // A filter pair whose choice λ cannot change: λ only for the prefetch's mask, and only
+    // where it prefetches.
+    let fixed = MipChoice::fixed(level_count, mag, min);
+    if fixed.is_some() && !matches!(min, MinFilter::Nearest | MinFilter::Linear) {
+        return ([fixed.unwrap_or(MipChoice::LEVEL0); CHUNK], 0);
+    }
+    let mut choices = [MipChoice::LEVEL0; CHUNK];
+    let mut far = 0;
+    for (k, (choices, coords)) in choices.chunks_mut(4).zip(coords.chunks(4)).enumerate() {
+        let lane = |f: &dyn Fn(&QuadCoords) -> f32| {
+            Vec4::from_array(std::array::from_fn(|i| coords.get(i).map_or(0.0, f)))
+        };
+        let lod = sampler.lod_rule.lod4(
+            lane(&|c| c.duv_dx.x * size.x),
+            lane(&|c| c.duv_dx.y * size.y),
+            lane(&|c| c.duv_dy.x * size.x),
+            lane(&|c| c.duv_dy.y * size.y),
+        );
+        for (i, choice) in choices.iter_mut().enumerate().take(coords.len()) {
+            let lod = sampler.adjust_lod(lod[i]);
+            *choice = fixed.unwrap_or_else(|| MipChoice::gl(lod, level_count, mag, min));
+            far |= u32::from(lod > FAR_LOD) << (4 * k + i);
+        }
+    }
+    (choices, far)
+}
+
+/// [`sample_quads_lanes`] of several textures read at the same coordinates through one
+/// sampler (a material's maps on one uv set): `put(t, i, texels)` gets texture `t`'s read of
+/// quad `i`, the same values as `sample_quads_lanes` of each texture. On textures of one size
+/// under an OpenGL filter, each quad's levels are chosen once and the default storage's
+/// bilinear taps (addresses and weights) computed once for all of them
+/// (`fixed16::read_quad_shared`).
+///
+/// # Panics
+/// If `masks` is shorter than `coords`.
+pub fn sample_quads_lanes_shared(
+    textures: &[&Texture2D],
+    sampler: &Sampler,
+    coords: &[QuadCoords],
+    masks: &[u8],
+    mut put: impl FnMut(usize, usize, [Vec4; 4]),
+) {
+    assert!(masks.len() >= coords.len());
+    let one_size = textures.windows(2).all(|w| {
+        (w[0].width(), w[0].height(), w[0].levels().len())
+            == (w[1].width(), w[1].height(), w[1].levels().len())
+    });
+    let (Filter::Gl { mag, min }, Some(first), true) = (sampler.filter, textures.first(), one_size)
+    else {
+        let mut out = [[Vec4::ZERO; 4]; CHUNK];
+        for (t, texture) in textures.iter().enumerate() {
+            let chunks = coords.chunks(CHUNK).zip(masks.chunks(CHUNK));
+            for (start, (coords, masks)) in chunks.enumerate() {
+                sample_quads_lanes(texture, sampler, coords, masks, &mut out);
+                for (k, o) in out.iter().take(coords.len()).enumerate() {
+                    put(t, start * CHUNK + k, *o);
+                }
+            }
+        }
+        return;
+    };
+    let mut quad = [[Vec4::ZERO; 4]; fixed16::MAX_SHARED];
+    for (start, (coords, masks)) in coords.chunks(CHUNK).zip(masks.chunks(CHUNK)).enumerate() {
+        let (choices, _) = gl_choices(first, sampler, coords, mag, min);
+        for (k, ((c, &m), &choice)) in coords.iter().zip(masks).zip(&choices).enumerate() {
+            let i = start * CHUNK + k;
+            for (group, textures) in textures.chunks(fixed16::MAX_SHARED).enumerate() {
+                let quad = &mut quad[..textures.len()];
+                if !fixed16::read_quad_shared(textures, sampler, choice, c.u, c.v, m, quad) {
+                    for (q, texture) in quad.iter_mut().zip(textures) {
+                        *q = gl_read(texture, sampler, (c.u, c.v), choice, m);
+                    }
+                }
+                for (t, q) in quad.iter().enumerate() {
+                    put(group * fixed16::MAX_SHARED + t, i, *q);
+                }
+            }
+        }
+    }
+}
