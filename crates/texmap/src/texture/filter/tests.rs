@@ -390,6 +390,11 @@ proptest! {
             let want = crate::texture::sample_quad_lanes(&tex, &s, (c.u, c.v), c.duv_dx, c.duv_dy, m);
             prop_assert_eq!(got, &want, "{:?}", s.filter);
         }
+        // In two stages (levels and far texels first, the reads later): the same values.
+        let staged = crate::texture::StagedQuads::begin(&tex, &s, &coords, &masks);
+        let mut two = vec![[Vec4::splat(-1.0); 4]; coords.len()];
+        staged.end(&tex, &s, &coords, &masks, &mut two);
+        prop_assert_eq!(&two, &out, "{:?} staged", s.filter);
     }
 
     #[test]
