@@ -2,8 +2,9 @@
 //! scan (with `--mesh` files inside it).
 //!
 //! The flags are `args.rs`; which flags apply to which scene, `checks.rs`; the bounds of a
-//! render (memory, frames, threads), `limits.rs`; the loads' freed memory handed back,
-//! `heap.rs`; the image written (format, `--alpha`, the background), `image_out.rs`.
+//! render (memory, frames, threads), `limits.rs`; the loads' freed memory handed back and
+//! the largest blocks unmapped when freed, `heap.rs`; the image written (format, `--alpha`,
+//! the background), `image_out.rs`.
 
 mod args;
 mod batch;
@@ -22,6 +23,7 @@ mod shard;
 use args::ColorSpaceArg;
 pub use args::{parse_size, RenderArgs};
 pub(crate) use args::{parse_storage, Switch};
+pub(crate) use heap::keep_large_blocks_unmapped;
 pub(crate) use prepare::{prepare, Prepared};
 
 use std::path::Path;

@@ -212,19 +212,19 @@ impl TextureCache {
         }
         // Largest first, each thread taking the next when it is done: the big textures'
         // decoding buffers are freed before the small ones are made (a lower peak of
-        // memory), and the last to finish is a short one. The size is guessed from the
-        // encoded bytes; sRGB colour is held in twice the bytes of linear data (`Storage`).
+        // memory), and the last to finish is a short one. The size is the image's texels
+        // (its header's width × height; the encoded bytes where the header cannot be read,
+        // as for DDS and KTX files), and sRGB colour is held in twice the bytes of linear
+        // data (`Storage`). Not the encoded bytes alone: DamagedHelmet's emissive map
+        // compresses ten times better than its base colour, came last and built its 16-bit
+        // chain beside the four finished textures (the load's peak of memory).
         let weight = |(key, source, _): &(CacheKey, ImageSource<'_>, String)| {
-            let encoded = match source {
-                ImageSource::File(p) => std::fs::metadata(p).map_or(0, |m| m.len()),
-                ImageSource::Bytes { bytes, .. } => bytes.len() as u64,
-            };
             let bytes_a_texel = if key.color_space == ColorSpace::Srgb {
                 2
             } else {
                 1
             };
-            encoded * bytes_a_texel
+            texel_count(source) * bytes_a_texel
         };
         todo.sort_by_key(|t| std::cmp::Reverse(weight(t)));
         let this = &*self;
@@ -317,6 +317,29 @@ impl TextureCache {
             }
         };
         container::texture_from_file_with(&file, color_space, options, alpha == AlphaChannel::Drop)
+    }
+}
+
+/// The texels `source` holds by its header (width × height), or its encoded bytes when no
+/// image header can be read (a container file, a corrupt image): an ordering guess only.
+fn texel_count(source: &ImageSource<'_>) -> u64 {
+    use image::ImageReader;
+    let size = match source {
+        ImageSource::File(p) => ImageReader::open(p)
+            .and_then(ImageReader::with_guessed_format)
+            .ok()
+            .and_then(|r| r.into_dimensions().ok()),
+        ImageSource::Bytes { bytes, .. } => ImageReader::new(std::io::Cursor::new(*bytes))
+            .with_guessed_format()
+            .ok()
+            .and_then(|r| r.into_dimensions().ok()),
+    };
+    match size {
+        Some((w, h)) => u64::from(w) * u64::from(h),
+        None => match source {
+            ImageSource::File(p) => std::fs::metadata(p).map_or(0, |m| m.len()),
+            ImageSource::Bytes { bytes, .. } => bytes.len() as u64,
+        },
     }
 }
 
