@@ -337,3 +337,50 @@ fn obj_opacity_ambient_specular_and_exponent_maps_are_drawn() {
         bright(&white)
     );
 }
+
+/// A flat plane under a directional light, without specular, is lit once per draw (one
+/// normal at every vertex): its colours, front and back (double-sided), are those of the
+/// per-pixel lighting that a normal one bit off forces, within float rounding.
+#[test]
+fn a_flat_surface_lit_once_matches_the_per_pixel_lighting() {
+    let material = Material {
+        base_color_texture: Some(TextureSlot::new(
+            flat_texture(Vec4::new(0.5, 0.5, 0.5, 1.0)),
+            Sampler::default(),
+        )),
+        ambient: 0.2,
+        diffuse: 0.8,
+        specular: 0.0,
+        double_sided: true,
+        ..Default::default()
+    };
+    let mut lit = Vec::new();
+    for below in [false, true] {
+        let (scene, mut camera) = plane_scene(material.clone(), 1.0);
+        if below {
+            camera.eye = -camera.eye;
+        }
+        let normals = &scene.meshes[0].normals;
+        assert!(normals.len() > 3 && normals.iter().all(|n| *n == normals[0]));
+        let mut per_pixel = scene.clone();
+        let n = &mut per_pixel.meshes[0].normals[0];
+        n.x = f32::from_bits(n.x.to_bits() + 1);
+        let a = frame(&scene, &camera, ShadingMode::Phong);
+        let b = frame(&per_pixel, &camera, ShadingMode::Phong);
+        let worst = a
+            .color
+            .iter()
+            .zip(&b.color)
+            .map(|(x, y)| (*x - *y).abs().max_element())
+            .fold(0.0f32, f32::max);
+        assert!(worst <= 1e-6, "below {below}: {worst}");
+        lit.push(pixel(&a, SIZE / 2, SIZE / 2));
+    }
+    // The top is lit by the light (0.2 + 0.8·N·L), the underside by the ambient term alone.
+    let ratio = lit[0].x / lit[1].x;
+    let expected = (0.2 + 0.8 * light().y) / 0.2;
+    assert!(
+        (ratio - expected).abs() < 1e-3 * expected,
+        "{ratio} vs {expected}"
+    );
+}

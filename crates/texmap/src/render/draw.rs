@@ -17,9 +17,10 @@ use super::varyings::VaryingLayout;
 use crate::geometry::Projection;
 use crate::pipeline::{CullMode, DrawState};
 use crate::scene::Mesh;
+use crate::shading::lanes::{phong_quad, splat3, QuadFactors};
 use crate::shading::{
     AlphaMode, Lighting, MapChannel, Material, Procedural, ShadingModel, SolidMap, Surface,
-    TextureSlot,
+    TextureSlot, Viewer,
 };
 use crate::texture::Sampler;
 
@@ -167,6 +168,31 @@ pub(super) struct DrawInfo<'a> {
     /// The frame's projectors light this draw (`projectors.rs`): its position (and, in
     /// Gouraud shading, its normal) are interpolated for them.
     pub projectors: bool,
+    /// A plain per-pixel draw lit the same at every pixel (one normal at every vertex, no
+    /// specular, only directional lights, no shadows): its factors D and S for front and
+    /// back faces, lit once here instead of per quad (`None`: lit per pixel).
+    pub uniform_factors: Option<[QuadFactors; 2]>,
+}
+
+/// The factors of `surface` (front, back) when every vertex of `mesh` has the same normal,
+/// lit by `lighting` (directional lights only, no shadows, no specular: the caller checks),
+/// computed as [`phong_quad`] lights a quad whose interpolated normals are that normal.
+fn uniform_factors(
+    mesh: &Mesh,
+    surface: &Surface,
+    lighting: &Lighting,
+) -> Option<[QuadFactors; 2]> {
+    let first = *mesh.normals.first()?;
+    let same = |n: &Vec3| n.to_array().map(f32::to_bits) == first.to_array().map(f32::to_bits);
+    if !mesh.normals.iter().all(same) {
+        return None;
+    }
+    // The vertex stage's world normal (`vertex.rs`).
+    let n = (normal_matrix(mesh.world_from_object) * first).normalize_or_zero();
+    // Without specular the viewer is not read.
+    let viewer = Viewer::Direction(Vec3::Z);
+    let lit = |n: Vec3| phong_quad(surface, splat3(n), None, lighting, viewer);
+    Some([lit(n), lit(-n)])
 }
 
 /// The normal matrix (inverse transpose) of `m`'s upper 3×3; `m`'s own for a singular one.
@@ -448,7 +474,11 @@ impl<'a> DrawInfo<'a> {
             layers,
             light_map,
             projectors: false,
+            uniform_factors: None,
         };
+        if draw.plain && per_pixel && !needs_position {
+            draw.uniform_factors = uniform_factors(mesh, &draw.surface, lighting);
+        }
         draw.shared_maps = shared_group(&draw.shared_candidates());
         draw
     }

@@ -217,7 +217,11 @@ impl SceneShader<'_> {
     fn plain_factors(&self, d: &DrawInfo, quad: &Quad) -> QuadFactors {
         match d.path {
             LightingPath::Unlit => QuadFactors::UNLIT,
-            LightingPath::PerPixel => self.phong_lanes(d, quad),
+            LightingPath::PerPixel => match &d.uniform_factors {
+                // Double-sided back faces are lit from their side, as `phong_lanes` does.
+                Some(f) => f[usize::from(d.material.double_sided && !quad.front_facing)],
+                None => self.phong_lanes(d, quad),
+            },
             LightingPath::Interpolated => match interpolated_factors(d, quad) {
                 Some(f) => QuadFactors::from_lanes(f.d.lanes(quad), f.s.lanes(quad)),
                 None => QuadFactors::UNLIT,

@@ -244,7 +244,7 @@ pub(super) fn lane_mask(bits: u32) -> glam::BVec4A {
 }
 
 #[inline(always)]
-pub(super) fn splat3(v: Vec3) -> Lanes3 {
+pub(crate) fn splat3(v: Vec3) -> Lanes3 {
     [Vec4::splat(v.x), Vec4::splat(v.y), Vec4::splat(v.z)]
 }
 
