@@ -159,6 +159,19 @@ mod tests {
     }
 
     #[test]
+    fn a_lattice_spaced_per_axis_reads_linearly_and_sizes_by_axis() {
+        let density = Vec3::new(8.0, 3.5, 8.0);
+        let cache = NoiseCache::new(Vec3::splat(-0.5), Vec3::splat(0.5), density).expect("small");
+        // ceil(extent · density) + 2 points along each axis.
+        assert_eq!(cache.dims, [10, 6, 10]);
+        let f = |p: Vec3| 0.25 + 0.5 * p.x - 0.125 * p.y + 0.0625 * p.z;
+        for p in [Vec3::new(0.125, -0.3, 0.375), Vec3::new(-0.41, 0.29, 0.03)] {
+            let v = cache.read(p, f).expect("inside");
+            assert!((v - f(p)).abs() < 1e-5, "{p}: {v} vs {}", f(p));
+        }
+    }
+
+    #[test]
     fn an_oversized_lattice_is_not_made() {
         assert!(NoiseCache::new(Vec3::ZERO, Vec3::ONE, Vec3::splat(1000.0)).is_none());
         assert!(NoiseCache::new(Vec3::ZERO, Vec3::ONE, Vec3::splat(f32::NAN)).is_none());
