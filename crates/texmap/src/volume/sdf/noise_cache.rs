@@ -7,7 +7,9 @@
 //! - The lattice is in texture space (the box centred, its largest side 1), `POINTS_PER_CELL`
 //!   points per cell of the finest octave's noise lattice along each axis, so the trilinear
 //!   read follows the finest octave closely (measured: ≥ 40 dB against the direct noise on
-//!   the presets' images, README's hypertexture section).
+//!   the presets' images, README's hypertexture section). The points per unit may differ by
+//!   axis: the noise squeezed along the screen's up (fire's flames) changes more slowly
+//!   along it, and needs fewer points there.
 //! - Filled lazily, in parallel: a value is a function of its lattice index alone, so which
 //!   thread stores it first (both compute the same bits) does not change the image; the
 //!   image is the same whatever the number of threads.
@@ -31,8 +33,8 @@ const EMPTY: u32 = u32::MAX;
 pub(super) struct NoiseCache {
     /// The lattice's first point, texture space.
     origin: Vec3,
-    /// Lattice points per texture unit.
-    density: f32,
+    /// Lattice points per texture unit, along each axis.
+    density: Vec3,
     /// Points per axis.
     dims: [usize; 3],
     /// The last point's index along each axis (`dims − 1`), as floats.
@@ -42,10 +44,10 @@ pub(super) struct NoiseCache {
 }
 
 impl NoiseCache {
-    /// A lattice over the texture-space box `[lo, hi]` with `density` points per unit, or
-    /// `None` when it would exceed [`MAX_POINTS`].
-    pub(super) fn new(lo: Vec3, hi: Vec3, density: f32) -> Option<NoiseCache> {
-        if !(density.is_finite() && density > 0.0) {
+    /// A lattice over the texture-space box `[lo, hi]` with `density` points per unit along
+    /// each axis, or `None` when it would exceed [`MAX_POINTS`].
+    pub(super) fn new(lo: Vec3, hi: Vec3, density: Vec3) -> Option<NoiseCache> {
+        if !(density.is_finite() && density.cmpgt(Vec3::ZERO).all()) {
             return None;
         }
         let ext = (hi - lo).max(Vec3::ZERO) * density;
@@ -88,7 +90,7 @@ impl NoiseCache {
         let mut bits = offsets.map(load);
         // One test for the eight (all stored, after the lattice's first reads).
         if bits.contains(&EMPTY) {
-            bits = self.fill_missing(base, bits, &noise);
+            bits = self.fill_missing([cx, cy, cz], bits, &noise);
         }
         // The pairs straight from the loaded values (an array built in memory and read
         // back in lanes stalls on the store forwarding).
@@ -98,35 +100,38 @@ impl NoiseCache {
         Some(XPairs::from_ends(lo, hi).blend(f))
     }
 
-    /// `bits` (the corners of the cell at `base`) with the missing ones evaluated and stored.
+    /// `bits` (the corners of the cell whose first corner is lattice point `cell`) with the
+    /// missing ones evaluated and stored.
     #[cold]
     #[inline(never)]
     fn fill_missing(
         &self,
-        base: usize,
+        cell: [usize; 3],
         mut bits: [u32; 8],
         noise: &impl Fn(Vec3) -> f32,
     ) -> [u32; 8] {
-        let [nx, ny, _] = self.dims;
-        let (sy, sz) = (nx, nx * ny);
-        let offsets = [0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1];
-        for (b, &o) in bits.iter_mut().zip(&offsets) {
+        for (k, b) in bits.iter_mut().enumerate() {
             if *b == EMPTY {
-                *b = self.fill(base + o, noise).to_bits();
+                let corner = [
+                    cell[0] + (k & 1),
+                    cell[1] + ((k >> 1) & 1),
+                    cell[2] + (k >> 2),
+                ];
+                *b = self.fill(corner, noise).to_bits();
             }
         }
         bits
     }
 
-    /// Evaluates and stores the noise at lattice point `idx` (a miss).
+    /// Evaluates and stores the noise at lattice point `[a, b, c]` (a miss; its index from
+    /// its coordinates, not the other way: no integer division).
     #[cold]
     #[inline(never)]
-    fn fill(&self, idx: usize, noise: &impl Fn(Vec3) -> f32) -> f32 {
+    fn fill(&self, [a, b, c]: [usize; 3], noise: &impl Fn(Vec3) -> f32) -> f32 {
         let [nx, ny, _] = self.dims;
-        let (a, b, c) = (idx % nx, (idx / nx) % ny, idx / (nx * ny));
         let p = self.origin + Vec3::new(a as f32, b as f32, c as f32) / self.density;
         let v = noise(p);
-        self.values[idx].store(v.to_bits(), Ordering::Relaxed);
+        self.values[a + nx * (b + ny * c)].store(v.to_bits(), Ordering::Relaxed);
         v
     }
 }
@@ -137,7 +142,8 @@ mod tests {
 
     #[test]
     fn lattice_points_read_back_exactly_and_between_them_linearly() {
-        let cache = NoiseCache::new(Vec3::splat(-0.5), Vec3::splat(0.5), 8.0).expect("small");
+        let cache =
+            NoiseCache::new(Vec3::splat(-0.5), Vec3::splat(0.5), Vec3::splat(8.0)).expect("small");
         let f = |p: Vec3| 0.25 + 0.5 * p.x - 0.125 * p.y + 0.0625 * p.z;
         for p in [
             Vec3::new(-0.5, -0.5, -0.5),
@@ -153,8 +159,21 @@ mod tests {
     }
 
     #[test]
+    fn a_lattice_spaced_per_axis_reads_linearly_and_sizes_by_axis() {
+        let density = Vec3::new(8.0, 3.5, 8.0);
+        let cache = NoiseCache::new(Vec3::splat(-0.5), Vec3::splat(0.5), density).expect("small");
+        // ceil(extent · density) + 2 points along each axis.
+        assert_eq!(cache.dims, [10, 6, 10]);
+        let f = |p: Vec3| 0.25 + 0.5 * p.x - 0.125 * p.y + 0.0625 * p.z;
+        for p in [Vec3::new(0.125, -0.3, 0.375), Vec3::new(-0.41, 0.29, 0.03)] {
+            let v = cache.read(p, f).expect("inside");
+            assert!((v - f(p)).abs() < 1e-5, "{p}: {v} vs {}", f(p));
+        }
+    }
+
+    #[test]
     fn an_oversized_lattice_is_not_made() {
-        assert!(NoiseCache::new(Vec3::ZERO, Vec3::ONE, 1000.0).is_none());
-        assert!(NoiseCache::new(Vec3::ZERO, Vec3::ONE, f32::NAN).is_none());
+        assert!(NoiseCache::new(Vec3::ZERO, Vec3::ONE, Vec3::splat(1000.0)).is_none());
+        assert!(NoiseCache::new(Vec3::ZERO, Vec3::ONE, Vec3::splat(f32::NAN)).is_none());
     }
 }

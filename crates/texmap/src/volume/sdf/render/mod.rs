@@ -10,6 +10,9 @@
 //! - Inside the reach the ray takes fixed steps of `step` shells (jittered per pixel like
 //!   the volume rays), compositing the hypertexture's density front to back, until the
 //!   opacity reaches the early stop or the core surface is crossed.
+//! - From an opacity of [`TAIL_FROM`] (0.95) the rest of the material is extrapolated: the
+//!   last sample repeated until the early stop, when that takes at most [`TAIL_STEPS`] steps
+//!   (measured: 52 dB on smoke against marching on, 10 % fewer samples; README).
 //! - A crossing (distance from > 0 to ≤ 0) is placed by bisecting the last step to 1/100
 //!   voxel (at most 16 times; a sphere-traced step is short, a shell step longer), and
 //!   shaded with the normal from central differences (±½ voxel) of the trilinear field.
@@ -51,6 +54,10 @@ const BISECTIONS: u32 = 16;
 const WARPED_STEP: f32 = 0.25;
 /// Entries of the density shaping table (bias and gain of `u ∈ [0, 1]`).
 const SHAPE_LUT: usize = 1024;
+/// The material's opacity from which the rest of a ray is extrapolated ([`Tracer::tail`]).
+const TAIL_FROM: f32 = 0.95;
+/// Most steps [`Tracer::tail`] stands for (beyond them the ray marches on).
+const TAIL_STEPS: f32 = 12.0;
 
 /// Everything the rays of one frame share.
 pub(super) struct Tracer<'a> {
@@ -89,6 +96,9 @@ pub(super) struct Tracer<'a> {
     /// Pixel footprint: texture units per unit of distance (perspective) and constant.
     footprint: (f32, f32),
     early: f32,
+    /// The opacity from which the material's rest is extrapolated ([`Self::tail`]); at
+    /// `early` or above: never.
+    tail_from: f32,
     jitter: bool,
     /// The frame's noise on a lattice, read by the shell's samples (material without
     /// strands; `None`: evaluated directly).
@@ -222,9 +232,12 @@ impl<'a> Tracer<'a> {
         let noise_cache = hyper
             .filter(|h| h.amplitude > 0.0 && h.opacity > 0.0 && !h.strands)
             .and_then(|h| {
-                // The finest octave's lattice cell, squeezed along the up by `stretch`.
+                // The finest octave's lattice cell, squeezed along the up by `stretch`: along
+                // texture axis `i` (world's, scaled) the stretched noise changes at
+                // `|e_i + (stretch − 1)·u_i·u| = √(1 + (stretch² − 1)·u_i²)` times its rate.
                 let finest = 2f32.powi(h.octaves.clamp(1.0, 32.0).ceil() as i32 - 1);
-                let density = POINTS_PER_CELL * h.frequency * finest * h.stretch.max(1.0);
+                let rate = (Vec3::ONE + (h.stretch * h.stretch - 1.0) * up * up).max(Vec3::ZERO);
+                let density = POINTS_PER_CELL * h.frequency * finest * rate.map(f32::sqrt);
                 NoiseCache::new(
                     texture_from_world.transform_point3(lo),
                     texture_from_world.transform_point3(hi),
@@ -261,6 +274,10 @@ impl<'a> Tracer<'a> {
             alpha,
             footprint,
             early: params.early_termination,
+            tail_from: match hyper {
+                Some(_) => TAIL_FROM.min(params.early_termination),
+                None => params.early_termination,
+            },
             jitter: params.jitter,
             noise_cache,
             warp,
@@ -422,6 +439,12 @@ impl Tracer<'_> {
                     if acc.w >= self.early {
                         break;
                     }
+                    if acc.w >= self.tail_from {
+                        if let Some(done) = self.tail(acc, c, a) {
+                            acc = done;
+                            break;
+                        }
+                    }
                 }
                 t_prev = Some(t);
                 t += self.step;
@@ -432,6 +455,29 @@ impl Tracer<'_> {
             }
         }
         (acc, reads, hit_t)
+    }
+
+    /// The rest of a ray whose material has reached opacity `acc.w` (below the early stop)
+    /// at a sample of colour `c` and step opacity `a`, extrapolated: that sample repeated
+    /// until the opacity reaches the early stop, as the march would end there if the material
+    /// stayed as it is. `None` when that takes more than [`TAIL_STEPS`] steps (the ray
+    /// marches on).
+    #[inline(never)]
+    fn tail(&self, acc: Vec4, c: Vec3, a: f32) -> Option<Vec4> {
+        let left = 1.0 - acc.w;
+        // The least k with left·(1 − a)^k ≤ 1 − early.
+        let k = if a >= 1.0 {
+            1.0
+        } else {
+            (((1.0 - self.early) / left).ln() / (1.0 - a).ln())
+                .ceil()
+                .max(1.0)
+        };
+        if !(k <= TAIL_STEPS) {
+            return None;
+        }
+        let rest = left * (1.0 - a).max(0.0).powi(k as i32);
+        Some((acc.truncate() + c * (left - rest)).extend(1.0 - rest))
     }
 
     /// The core's crossing between the last step (`t_prev`, with its core distance `e_prev`
