@@ -179,6 +179,7 @@ pub(super) struct DrawInfo<'a> {
 /// computed as [`phong_quad`] lights a quad whose interpolated normals are that normal.
 fn uniform_factors(
     mesh: &Mesh,
+    normal_from_object: Mat3,
     surface: &Surface,
     lighting: &Lighting,
 ) -> Option<[QuadFactors; 2]> {
@@ -187,12 +188,17 @@ fn uniform_factors(
     if !mesh.normals.iter().all(same) {
         return None;
     }
-    // The vertex stage's world normal (`vertex.rs`).
-    let n = (normal_matrix(mesh.world_from_object) * first).normalize_or_zero();
+    let n = world_normal(normal_from_object, first);
     // Without specular the viewer is not read.
     let viewer = Viewer::Direction(Vec3::Z);
     let lit = |n: Vec3| phong_quad(surface, splat3(n), None, lighting, viewer);
     Some([lit(n), lit(-n)])
+}
+
+/// Object-space normal `n` in world space, unit (zero stays zero): what the vertex stage
+/// interpolates.
+pub(super) fn world_normal(normal_from_object: Mat3, n: Vec3) -> Vec3 {
+    (normal_from_object * n).normalize_or_zero()
 }
 
 /// The normal matrix (inverse transpose) of `m`'s upper 3×3; `m`'s own for a singular one.
@@ -477,7 +483,8 @@ impl<'a> DrawInfo<'a> {
             uniform_factors: None,
         };
         if draw.plain && per_pixel && !needs_position {
-            draw.uniform_factors = uniform_factors(mesh, &draw.surface, lighting);
+            draw.uniform_factors =
+                uniform_factors(mesh, draw.normal_from_object, &draw.surface, lighting);
         }
         draw.shared_maps = shared_group(&draw.shared_candidates());
         draw

@@ -11,7 +11,7 @@
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use rayon::prelude::*;
 
-use super::draw::{normal_matrix, DrawInfo, LightingPath};
+use super::draw::{normal_matrix, world_normal, DrawInfo, LightingPath};
 use crate::pipeline::{ClipVertex, VertexShader, MAX_VARYINGS};
 use crate::scene::Mesh;
 use crate::shading::{Lighting, Surface, Viewer};
@@ -69,7 +69,7 @@ impl<'a> SceneVertices<'a> {
     }
 
     fn world_normal(&self, i: usize) -> Vec3 {
-        (self.normal_from_object * self.mesh.normals[i]).normalize_or_zero()
+        world_normal(self.normal_from_object, self.mesh.normals[i])
     }
 
     /// Triangle `t`'s corners, when all three index a position.
