@@ -31,6 +31,7 @@
 
 pub mod camera;
 pub mod color;
+pub mod cpu;
 mod error;
 pub mod files;
 pub mod frame;

@@ -251,9 +251,9 @@ impl Depths<'static> {
 /// pre-passed primitives ([`prepassed`]) are walked: their nearest depths go to `z.zmin`,
 /// their covered quads to `z.covered`. After it (`z.covered` given, not `PRE`), those
 /// primitives' kept quads are shaded where they reach `z.zmin` (module docs), the others
-/// walked as without a pre-pass.
-#[inline(never)]
-fn raster_prims<const S: usize, const PRE: bool>(
+/// walked as without a pre-pass. Compiled twice, for the CPU's level ([`crate::cpu`]).
+#[inline(always)]
+fn raster_prims_in<const S: usize, const PRE: bool>(
     ctx: &RasterContext,
     rect: TileRect,
     prims: &[u32],
@@ -504,6 +504,20 @@ fn raster_prims<const S: usize, const PRE: bool>(
     }
 }
 
+crate::cpu::dispatch! {
+    /// [`raster_prims_in`] at the CPU's level.
+    #[inline(never)]
+    fn raster_prims<const S: usize, const PRE: bool>(
+        ctx: &RasterContext,
+        rect: TileRect,
+        prims: &[u32],
+        color: &mut [Vec4],
+        depth: &mut [f32],
+        z: Depths,
+        stats: &mut TileStats,
+    ) => raster_prims_in, raster_prims_v3
+}
+
 /// A pre-passed primitive's covered quads and the tile's nearest depths.
 struct Kept<'a> {
     zmin: &'a [f32],
@@ -672,6 +686,18 @@ impl Batch {
             stats.pixels_shaded += shaded;
             stats.texture_samples += shaded * u64::from(state.texture_reads);
             let kept = kept & quad.mask;
+            if S == 1 && kept == 0b1111 && !state.blend {
+                // The common quad: all four pixels written, one sample each (`pass` is the
+                // quad's mask then), without a test per pixel.
+                let i = p.ly * tile + p.lx;
+                color[i..i + 2].copy_from_slice(&colors[..2]);
+                color[i + tile..i + tile + 2].copy_from_slice(&colors[2..]);
+                if state.depth_write {
+                    depth[i..i + 2].copy_from_slice(&p.zp[..2]);
+                    depth[i + tile..i + tile + 2].copy_from_slice(&p.zp[2..]);
+                }
+                continue;
+            }
             for j in 0..4 {
                 if kept & (1 << j) == 0 {
                     continue;

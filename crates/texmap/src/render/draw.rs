@@ -247,17 +247,14 @@ impl<'a> DrawInfo<'a> {
                 || lighting.shadows.is_some()
                 || material.toon.is_some());
 
-        // The varyings, in this order: uv 0, the lighting path's values, vertex colour, back
-        // factors, object point, uv 1, tangent.
+        // The varyings, in this order: uv 0, the lighting path's values (the per-pixel
+        // normal aside), vertex colour, back factors, object point, uv 1, tangent, and last
+        // the per-pixel normal (so a draw lit once can drop it: `with_uniform_lighting`).
         let mut layout = VaryingLayout::default();
         match path {
             LightingPath::Unlit => {}
-            LightingPath::PerPixel => {
-                layout.normal = Some(layout.add());
-                if needs_position {
-                    layout.position = Some(layout.add());
-                }
-            }
+            LightingPath::PerPixel if needs_position => layout.position = Some(layout.add()),
+            LightingPath::PerPixel => {}
             LightingPath::Interpolated => layout.factors = Some(layout.add_factors()),
         }
         if !mesh.colors.is_empty() && mesh.colors.len() == mesh.positions.len() {
@@ -288,6 +285,9 @@ impl<'a> DrawInfo<'a> {
                 || (pbr && material.map(MapChannel::ClearcoatNormal).is_some()))
         {
             layout.tangent = Some(layout.add());
+        }
+        if per_pixel {
+            layout.normal = Some(layout.add());
         }
 
         let overrides = &settings.textures;
@@ -482,12 +482,26 @@ impl<'a> DrawInfo<'a> {
             projectors: false,
             uniform_factors: None,
         };
-        if draw.plain && per_pixel && !needs_position {
-            draw.uniform_factors =
-                uniform_factors(mesh, draw.normal_from_object, &draw.surface, lighting);
-        }
         draw.shared_maps = shared_group(&draw.shared_candidates());
         draw
+    }
+
+    /// The draw lit once (`uniform_factors`) when it is plain, lit per pixel without the
+    /// position, and every vertex of `mesh` has the same normal: its normal varyings, laid
+    /// out last, are dropped (nothing reads them). Called after the decorations that may
+    /// take a draw off the plain path (`with_environment`, `with_projectors`).
+    #[must_use]
+    pub fn with_uniform_lighting(mut self, mesh: &Mesh, lighting: &Lighting) -> Self {
+        let per_pixel = self.path == LightingPath::PerPixel;
+        if !(self.plain && per_pixel && self.layout.position.is_none()) {
+            return self;
+        }
+        self.uniform_factors =
+            uniform_factors(mesh, self.normal_from_object, &self.surface, lighting);
+        if self.uniform_factors.is_some() {
+            self.layout.drop_last_normal();
+        }
+        self
     }
 
     /// The maps a draw may read together (`shared_maps`): the base colour texture, the

@@ -37,6 +37,51 @@ pub(super) struct SceneShader<'a> {
 
 impl FragmentShader for SceneShader<'_> {
     fn shade_batch(&self, draw: u32, quads: &[Quad], out: &mut [[Vec4; 4]], kept: &mut [u8]) {
+        shade_batch(self, draw, quads, out, kept);
+    }
+
+    fn shade(&self, draw: u32, quad: &Quad, out: &mut [Vec4; 4]) -> u8 {
+        let d = &self.draws[draw as usize];
+        if self.is_plain(d) {
+            let texels = d.texture.as_ref().map(|t| t.quad(quad));
+            plain_colors(d, &self.plain_factors(d, quad), texels.as_ref(), out);
+            return quad.mask;
+        }
+        let mut reads = [QuadReads::default()];
+        let moved = &d.parallax_quad(quad, self.viewer);
+        read_batch(d, std::slice::from_ref(moved), &mut reads);
+        let ss = self.self_shadow(d, quad, moved);
+        self.shade_read(d, moved, &reads[0], out, ss.as_ref())
+    }
+}
+
+crate::cpu::dispatch! {
+    /// [`SceneShader::shade_batch_in`] at the CPU's level.
+    fn shade_batch(
+        shader: &SceneShader,
+        draw: u32,
+        quads: &[Quad],
+        out: &mut [[Vec4; 4]],
+        kept: &mut [u8],
+    ) => shade_batch_in, shade_batch_v3
+}
+
+/// The batch's colours (`FragmentShader::shade_batch`), compiled twice, for the CPU's level
+/// ([`crate::cpu`]).
+#[inline(always)]
+fn shade_batch_in(
+    shader: &SceneShader,
+    draw: u32,
+    quads: &[Quad],
+    out: &mut [[Vec4; 4]],
+    kept: &mut [u8],
+) {
+    shader.shade_batch_at(draw, quads, out, kept);
+}
+
+impl SceneShader<'_> {
+    #[inline(always)]
+    fn shade_batch_at(&self, draw: u32, quads: &[Quad], out: &mut [[Vec4; 4]], kept: &mut [u8]) {
         let d = &self.draws[draw as usize];
         match d.texture.as_ref().filter(|_| self.is_plain(d)) {
             // Plain textured quads: the lighting of every quad, then every texture read
@@ -47,6 +92,18 @@ impl FragmentShader for SceneShader<'_> {
                     .zip(out.chunks_mut(BATCH))
                     .zip(kept.chunks_mut(BATCH))
                 {
+                    // Factors the same for every quad of a side need no array of them, and
+                    // no lighting waits for staged reads.
+                    if let Some(sides) = constant_factors(d) {
+                        t.quads(quads, out);
+                        for ((quad, o), k) in quads.iter().zip(out.iter_mut()).zip(kept.iter_mut())
+                        {
+                            let texels = *o;
+                            plain_colors(d, side(d, sides, quad), Some(&texels), o);
+                            *k = quad.mask;
+                        }
+                        continue;
+                    }
                     // Texels far apart are asked for first (minified on level 0): the
                     // lighting runs while they come.
                     let staged = t.prefetches().then(|| t.begin(quads));
@@ -104,20 +161,6 @@ impl FragmentShader for SceneShader<'_> {
                 }
             }
         }
-    }
-
-    fn shade(&self, draw: u32, quad: &Quad, out: &mut [Vec4; 4]) -> u8 {
-        let d = &self.draws[draw as usize];
-        if self.is_plain(d) {
-            let texels = d.texture.as_ref().map(|t| t.quad(quad));
-            plain_colors(d, &self.plain_factors(d, quad), texels.as_ref(), out);
-            return quad.mask;
-        }
-        let mut reads = [QuadReads::default()];
-        let moved = &d.parallax_quad(quad, self.viewer);
-        read_batch(d, std::slice::from_ref(moved), &mut reads);
-        let ss = self.self_shadow(d, quad, moved);
-        self.shade_read(d, moved, &reads[0], out, ss.as_ref())
     }
 }
 
@@ -218,8 +261,7 @@ impl SceneShader<'_> {
         match d.path {
             LightingPath::Unlit => QuadFactors::UNLIT,
             LightingPath::PerPixel => match &d.uniform_factors {
-                // Double-sided back faces are lit from their side, as `phong_lanes` does.
-                Some(f) => f[usize::from(d.material.double_sided && !quad.front_facing)],
+                Some(sides) => *side(d, sides, quad),
                 None => self.phong_lanes(d, quad),
             },
             LightingPath::Interpolated => match interpolated_factors(d, quad) {
@@ -388,6 +430,27 @@ pub(super) fn pixel_color(
         c *= d.procedural_color(proc, quad, j);
     }
     c
+}
+
+/// Unlit factors for the front and the back.
+const UNLIT_SIDES: [QuadFactors; 2] = [QuadFactors::UNLIT; 2];
+
+/// A plain draw's factors for front and back faces when they do not vary over a side: unlit,
+/// or lit once (`DrawInfo::uniform_factors`); `None` when they are lit per quad.
+#[inline(always)]
+fn constant_factors<'a>(d: &'a DrawInfo) -> Option<&'a [QuadFactors; 2]> {
+    match d.path {
+        LightingPath::Unlit => Some(&UNLIT_SIDES),
+        LightingPath::PerPixel => d.uniform_factors.as_ref(),
+        LightingPath::Interpolated => None,
+    }
+}
+
+/// The factors of `quad`'s side: double-sided back faces are lit from their side, as
+/// `phong_lanes` does.
+#[inline(always)]
+fn side<'a>(d: &DrawInfo, sides: &'a [QuadFactors; 2], quad: &Quad) -> &'a QuadFactors {
+    &sides[usize::from(d.material.double_sided && !quad.front_facing)]
 }
 
 /// The factors a Gouraud or flat quad reads: those lit with −N on the back faces of

@@ -241,6 +241,7 @@ fn draw_frame(
             DrawInfo::new(mesh, material, settings, &lighting, scene.uv_scale)
                 .with_environment(env_light.as_ref(), settings, scene.uv_scale)
                 .with_projectors(has_projectors)
+                .with_uniform_lighting(mesh, &lighting)
         })
         .collect();
     let vertices: Vec<SceneVertices> = meshes

@@ -165,6 +165,18 @@ impl VaryingLayout {
         }
     }
 
+    /// Drops the normal's varyings when they are the last laid out (true then).
+    pub fn drop_last_normal(&mut self) -> bool {
+        match self.normal {
+            Some(n) if n.at + 3 == self.count => {
+                self.normal = None;
+                self.count = n.at;
+                true
+            }
+            _ => false,
+        }
+    }
+
     /// The uv set a texture on `tex_coord` reads: set 1 when the draw carries it, else set 0
     /// (a texture on set 1 of a mesh without it reads set 0; the peers read (0, 0)).
     pub fn uv_set(&self, tex_coord: u32) -> Slot<2> {

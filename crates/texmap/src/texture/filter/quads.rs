@@ -24,7 +24,31 @@ pub struct QuadCoords {
 ///
 /// # Panics
 /// If `masks` or `out` is shorter than `coords`.
+#[inline]
 pub fn sample_quads_lanes(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    coords: &[QuadCoords],
+    masks: &[u8],
+    out: &mut [[Vec4; 4]],
+) {
+    sample_quads_at(texture, sampler, coords, masks, out);
+}
+
+crate::cpu::dispatch! {
+    /// [`sample_quads_lanes`] at the CPU's level ([`crate::cpu`]).
+    fn sample_quads_at(
+        texture: &Texture2D,
+        sampler: &Sampler,
+        coords: &[QuadCoords],
+        masks: &[u8],
+        out: &mut [[Vec4; 4]],
+    ) => sample_quads_in, sample_quads_v3
+}
+
+/// [`sample_quads_lanes`]'s body, compiled twice.
+#[inline(always)]
+fn sample_quads_in(
     texture: &Texture2D,
     sampler: &Sampler,
     coords: &[QuadCoords],
@@ -43,24 +67,30 @@ pub fn sample_quads_lanes(
         .zip(masks.chunks(CHUNK))
         .zip(out.chunks_mut(CHUNK))
     {
-        let choices = gl_begin(texture, sampler, coords, masks, mag, min);
-        gl_end(texture, sampler, coords, masks, &choices, out);
+        // A rasterizer's batch (most calls) chooses into a smaller array.
+        if coords.len() <= QUADS_STAGED {
+            let choices = gl_begin::<QUADS_STAGED>(texture, sampler, coords, masks, mag, min);
+            gl_end(texture, sampler, coords, masks, &choices, out);
+        } else {
+            let choices = gl_begin::<CHUNK>(texture, sampler, coords, masks, mag, min);
+            gl_end(texture, sampler, coords, masks, &choices, out);
+        }
     }
 }
 
-/// The first stage of an OpenGL-filtered batch (at most [`CHUNK`] quads): the level
+/// The first stage of an OpenGL-filtered batch (at most `N` quads): the level
 /// choices, and, minified on level 0, the far quads' texels requested from memory
 /// (fixed16/prefetch.rs).
 #[inline(always)]
-fn gl_begin(
+fn gl_begin<const N: usize>(
     texture: &Texture2D,
     sampler: &Sampler,
     coords: &[QuadCoords],
     masks: &[u8],
     mag: MagFilter,
     min: MinFilter,
-) -> [MipChoice; CHUNK] {
-    let (choices, far) = gl_choices(texture, sampler, coords, mag, min);
+) -> [MipChoice; N] {
+    let (choices, far) = gl_choices::<N>(texture, sampler, coords, mag, min);
     if far != 0 && matches!(min, MinFilter::Nearest | MinFilter::Linear) {
         fixed16::prefetch_quads(texture, sampler, coords, &choices, masks, far);
     }
@@ -69,12 +99,12 @@ fn gl_begin(
 
 /// The second stage: the reads on the levels [`gl_begin`] chose.
 #[inline(always)]
-fn gl_end(
+fn gl_end<const N: usize>(
     texture: &Texture2D,
     sampler: &Sampler,
     coords: &[QuadCoords],
     masks: &[u8],
-    choices: &[MipChoice; CHUNK],
+    choices: &[MipChoice; N],
     out: &mut [[Vec4; 4]],
 ) {
     if !fixed16::read_quads(texture, sampler, coords, choices, masks, out) {
@@ -91,11 +121,12 @@ fn gl_end(
 #[derive(Clone, Copy)]
 pub struct StagedQuads {
     /// The level choices, for OpenGL filters.
-    choices: Option<[MipChoice; CHUNK]>,
+    choices: Option<[MipChoice; QUADS_STAGED]>,
 }
 
-/// The most quads one [`StagedQuads`] holds.
-pub const QUADS_STAGED: usize = CHUNK;
+/// The most quads one [`StagedQuads`] holds: the rasterizer's batch (a smaller value to copy
+/// than [`CHUNK`]'s choices).
+pub const QUADS_STAGED: usize = 8;
 
 impl StagedQuads {
     /// The first stage for `coords` and `masks` (at most [`QUADS_STAGED`] quads).
@@ -110,7 +141,7 @@ impl StagedQuads {
         coords: &[QuadCoords],
         masks: &[u8],
     ) -> Self {
-        assert!(masks.len() >= coords.len() && coords.len() <= CHUNK);
+        assert!(masks.len() >= coords.len() && coords.len() <= QUADS_STAGED);
         let choices = match sampler.filter {
             Filter::Gl { mag, min } => Some(gl_begin(texture, sampler, coords, masks, mag, min)),
             _ => None,
@@ -131,11 +162,36 @@ impl StagedQuads {
         masks: &[u8],
         out: &mut [[Vec4; 4]],
     ) {
-        assert!(masks.len() >= coords.len() && out.len() >= coords.len());
-        match &self.choices {
-            Some(choices) => gl_end(texture, sampler, coords, masks, choices, out),
-            None => sample_quads_lanes(texture, sampler, coords, masks, out),
-        }
+        staged_end(self, texture, sampler, coords, masks, out);
+    }
+}
+
+crate::cpu::dispatch! {
+    /// [`StagedQuads::end`] at the CPU's level ([`crate::cpu`]).
+    fn staged_end(
+        staged: &StagedQuads,
+        texture: &Texture2D,
+        sampler: &Sampler,
+        coords: &[QuadCoords],
+        masks: &[u8],
+        out: &mut [[Vec4; 4]],
+    ) => staged_end_in, staged_end_v3
+}
+
+/// [`StagedQuads::end`]'s body, compiled twice.
+#[inline(always)]
+fn staged_end_in(
+    staged: &StagedQuads,
+    texture: &Texture2D,
+    sampler: &Sampler,
+    coords: &[QuadCoords],
+    masks: &[u8],
+    out: &mut [[Vec4; 4]],
+) {
+    assert!(masks.len() >= coords.len() && out.len() >= coords.len());
+    match &staged.choices {
+        Some(choices) => gl_end(texture, sampler, coords, masks, choices, out),
+        None => sample_quads_in(texture, sampler, coords, masks, out),
     }
 }
 
@@ -147,26 +203,26 @@ const CHUNK: usize = 16;
 /// level 0 their texels leave the cache lines already read (fixed16/prefetch.rs).
 const FAR_LOD: f32 = 1.0;
 
-/// The OpenGL level choices of up to [`CHUNK`] quads: λ four quads at a time (one per lane),
-/// then each quad's levels; and a mask of the quads whose λ is over [`FAR_LOD`] (bit `i` for
-/// quad `i`). (Inlined: as a call it cost the one-map read 2% more.)
+/// The OpenGL level choices of up to `N` (≤ 32) quads: λ four quads at a time (one per
+/// lane), then each quad's levels; and a mask of the quads whose λ is over [`FAR_LOD`] (bit
+/// `i` for quad `i`). (Inlined: as a call it cost the one-map read 2% more.)
 #[inline(always)]
-fn gl_choices(
+fn gl_choices<const N: usize>(
     texture: &Texture2D,
     sampler: &Sampler,
     coords: &[QuadCoords],
     mag: MagFilter,
     min: MinFilter,
-) -> ([MipChoice; CHUNK], u32) {
+) -> ([MipChoice; N], u32) {
     let size = Vec2::new(texture.width() as f32, texture.height() as f32);
     let level_count = texture.levels().len();
     // A filter pair whose choice λ cannot change: λ only for the prefetch's mask, and only
     // where it prefetches.
     let fixed = MipChoice::fixed(level_count, mag, min);
     if fixed.is_some() && !matches!(min, MinFilter::Nearest | MinFilter::Linear) {
-        return ([fixed.unwrap_or(MipChoice::LEVEL0); CHUNK], 0);
+        return ([fixed.unwrap_or(MipChoice::LEVEL0); N], 0);
     }
-    let mut choices = [MipChoice::LEVEL0; CHUNK];
+    let mut choices = [MipChoice::LEVEL0; N];
     let mut far = 0;
     for (k, (choices, coords)) in choices.chunks_mut(4).zip(coords.chunks(4)).enumerate() {
         let lane = |f: &dyn Fn(&QuadCoords) -> f32| {
@@ -224,7 +280,7 @@ pub fn sample_quads_lanes_shared(
     };
     let mut quad = [[Vec4::ZERO; 4]; fixed16::MAX_SHARED];
     for (start, (coords, masks)) in coords.chunks(CHUNK).zip(masks.chunks(CHUNK)).enumerate() {
-        let (choices, _) = gl_choices(first, sampler, coords, mag, min);
+        let (choices, _) = gl_choices::<CHUNK>(first, sampler, coords, mag, min);
         for (k, ((c, &m), &choice)) in coords.iter().zip(masks).zip(&choices).enumerate() {
             let i = start * CHUNK + k;
             for (group, textures) in textures.chunks(fixed16::MAX_SHARED).enumerate() {

@@ -1,0 +1,77 @@
+//! The hot loops' two copies (`texmap::cpu`): the baseline build and the x86-64-v3 one give
+//! the same frames, float for float, over the pipeline's modes (the demo scene: textures under
+//! every filter kind, normal maps, highlights, blending; MSAA, Gouraud, flat, unlit) and the
+//! plane under the OpenGL filters. On a CPU without x86-64-v3 there is one copy and the test
+//! says so. (Its own test binary: the level is the process's.)
+
+use texmap::cpu::{self, Level};
+use texmap::render::{render, Settings, ShadingMode, TextureOverrides};
+use texmap::scene::builtin;
+use texmap::texture::{Filter, MagFilter, MinFilter, Sampler, Wrap};
+
+const W: u32 = 160;
+const H: u32 = 96;
+
+/// Every frame's colours as bits, one render per case.
+fn frames() -> Vec<Vec<u32>> {
+    let base = Settings::new(W, H);
+    let gl = |mag, min| {
+        base.with_textures(TextureOverrides::default().with_filter(Filter::Gl { mag, min }))
+    };
+    let demo = builtin::demo();
+    let demo_camera = demo.camera.expect("the demo has a camera");
+    let mut out = Vec::new();
+    let demo_modes = [
+        base,
+        base.with_shading(ShadingMode::Gouraud),
+        base.with_shading(ShadingMode::Flat),
+        base.with_unlit(true),
+        base.with_msaa(4),
+        gl(MagFilter::Nearest, MinFilter::Nearest),
+        gl(MagFilter::Linear, MinFilter::LinearMipmapLinear),
+    ];
+    for s in &demo_modes {
+        out.push(render(&demo, &demo_camera, s).unwrap());
+    }
+    let plane = builtin::plane(None, 8.0, Sampler::new(Filter::BILINEAR, Wrap::Repeat));
+    let plane_camera = plane.camera.expect("the plane has a camera");
+    for (mag, min) in [
+        (MagFilter::Nearest, MinFilter::Nearest),
+        (MagFilter::Linear, MinFilter::Linear),
+        (MagFilter::Linear, MinFilter::LinearMipmapLinear),
+    ] {
+        out.push(render(&plane, &plane_camera, &gl(mag, min)).unwrap());
+    }
+    out.iter()
+        .map(|f| {
+            f.color
+                .iter()
+                .flat_map(|c| c.to_array().map(f32::to_bits))
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn both_copies_of_the_hot_loops_render_the_same_frames() {
+    if !cpu::available(Level::V3) {
+        eprintln!("skipped: this CPU has no x86-64-v3, so the hot loops have one copy");
+        return;
+    }
+    assert_eq!(cpu::force(Some(Level::Baseline)), Level::Baseline);
+    let baseline = frames();
+    assert_eq!(cpu::force(Some(Level::V3)), Level::V3);
+    let v3 = frames();
+    assert_eq!(baseline.len(), v3.len());
+    for (i, (a, b)) in baseline.iter().zip(&v3).enumerate() {
+        let differ = a.iter().zip(b).filter(|(x, y)| x != y).count();
+        assert_eq!(
+            differ, 0,
+            "case {i}: {differ} floats differ between the two copies"
+        );
+    }
+    // The frames are not empty: something was drawn in every case.
+    for (i, f) in v3.iter().enumerate() {
+        assert!(f.iter().any(|&x| x != 0), "case {i} drew nothing");
+    }
+}
