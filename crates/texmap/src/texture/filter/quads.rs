@@ -125,7 +125,7 @@ pub struct StagedQuads {
 }
 
 /// The most quads one [`StagedQuads`] holds: the rasterizer's batch (a smaller value to copy
-/// than [`CHUNK`]'s choices).
+/// than the 16 a longer batch chooses at a time).
 pub const QUADS_STAGED: usize = 8;
 
 impl StagedQuads {
