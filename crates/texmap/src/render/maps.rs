@@ -91,6 +91,7 @@ impl<'a> MapRead<'a> {
 
     /// [`MapRead::quad`] for several quads (`out[i]` for `quads[i]`), the reads staged by
     /// [`sample_quads_lanes`].
+    #[inline]
     pub fn quads(&self, quads: &[Quad], out: &mut [[Vec4; 4]]) {
         for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
             let mut coords = [QuadCoords::default(); BATCH];

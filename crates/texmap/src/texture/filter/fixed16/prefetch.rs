@@ -15,8 +15,9 @@ use super::super::QuadCoords;
 /// Asks the cache for the texels [`super::read_quad`] will read for each quad `i` of a batch
 /// whose bit is set in `far` (`coords[i]`, `choices[i]`, `masks[i]`): on the level chosen,
 /// each covered pixel's nearest texel, or the first and last of its bilinear taps. Nothing is
-/// read or changed.
-#[inline]
+/// read or changed. (Inlined into the batch reads: as a call it kept the baseline's code in
+/// their x86-64-v3 copy, `crate::cpu`.)
+#[inline(always)]
 pub(in super::super) fn prefetch_quads(
     tex: &Texture2D,
     s: &Sampler,
