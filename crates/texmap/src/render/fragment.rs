@@ -56,7 +56,7 @@ impl FragmentShader for SceneShader<'_> {
 }
 
 crate::cpu::dispatch! {
-    /// [`SceneShader::shade_batch_in`] at the CPU's level.
+    /// [`shade_batch_in`] at the CPU's level.
     fn shade_batch(
         shader: &SceneShader,
         draw: u32,
@@ -96,12 +96,7 @@ impl SceneShader<'_> {
                     // no lighting waits for staged reads.
                     if let Some(sides) = constant_factors(d) {
                         t.quads(quads, out);
-                        for ((quad, o), k) in quads.iter().zip(out.iter_mut()).zip(kept.iter_mut())
-                        {
-                            let texels = *o;
-                            plain_colors(d, side(d, sides, quad), Some(&texels), o);
-                            *k = quad.mask;
-                        }
+                        texels_colors(d, quads, out, kept, |_, quad| side(d, sides, quad));
                         continue;
                     }
                     // Texels far apart are asked for first (minified on level 0): the
@@ -115,16 +110,7 @@ impl SceneShader<'_> {
                         Some(staged) => t.end(staged, out),
                         None => t.quads(quads, out),
                     }
-                    for (((quad, o), k), f) in quads
-                        .iter()
-                        .zip(out.iter_mut())
-                        .zip(kept.iter_mut())
-                        .zip(&factors)
-                    {
-                        let texels = *o;
-                        plain_colors(d, f, Some(&texels), o);
-                        *k = quad.mask;
-                    }
+                    texels_colors(d, quads, out, kept, |i, _| &factors[i]);
                 }
             }
             None if self.is_plain(d) => {
@@ -430,6 +416,28 @@ pub(super) fn pixel_color(
         c *= d.procedural_color(proc, quad, j);
     }
     c
+}
+
+/// A plain textured batch's colours: quad `i`'s texels (in `out[i]`, replaced by its colours)
+/// under `factors(i, quad)`; every shaded pixel kept.
+#[inline(always)]
+fn texels_colors<'f>(
+    d: &DrawInfo,
+    quads: &[Quad],
+    out: &mut [[Vec4; 4]],
+    kept: &mut [u8],
+    factors: impl Fn(usize, &Quad) -> &'f QuadFactors,
+) {
+    for (i, ((quad, o), k)) in quads
+        .iter()
+        .zip(out.iter_mut())
+        .zip(kept.iter_mut())
+        .enumerate()
+    {
+        let texels = *o;
+        plain_colors(d, factors(i, quad), Some(&texels), o);
+        *k = quad.mask;
+    }
 }
 
 /// Unlit factors for the front and the back.
