@@ -43,7 +43,8 @@ pub struct FieldArgs {
     pub hypertexture: Option<String>,
     /// A hypertexture parameter, KEY=VALUE (repeatable): thickness, amplitude, frequency,
     /// octaves, noise, strands, softness, bias, gain, opacity, inner, outer, emission,
-    /// shadows, rise, stretch, melt, core_displacement, core, step, time.
+    /// shadows, rise, stretch, melt, core_displacement, core, step, tail, time (`tail=off`:
+    /// no extrapolation of a ray's last 5 % of opacity, a reference render).
     #[arg(long = "ht", value_name = "KEY=VALUE")]
     pub ht: Vec<String>,
     /// Voxels along the largest side of a mesh's distance field [default: 128].
@@ -251,7 +252,7 @@ pub fn describe(v: &SceneVolume) -> String {
         out += &format!(
             "; hypertexture {} (thickness {}, amplitude {}, frequency {}, octaves {}, {:?}{}, \
              softness {}, bias {}, gain {}, opacity {}, emission {}, shadows {}, rise {}, \
-             melt {}, time {})",
+             melt {}, time {}, tail {})",
             h.preset,
             h.thickness,
             h.amplitude,
@@ -267,7 +268,8 @@ pub fn describe(v: &SceneVolume) -> String {
             h.shadows,
             h.rise,
             h.melt,
-            h.time
+            h.time,
+            h.tail
         );
     }
     out

@@ -97,6 +97,17 @@ fn every_field_flag_changes_the_image() {
         ("fur", vec!["--hypertexture", "fur", "--sdf-res", "32"]),
         ("fire", vec!["--hypertexture", "fire", "--sdf-res", "32"]),
         (
+            "smoke_no_tail",
+            vec![
+                "--hypertexture",
+                "smoke",
+                "--ht",
+                "tail=off",
+                "--sdf-res",
+                "32",
+            ],
+        ),
+        (
             "fire_thick",
             vec![
                 "--hypertexture",
@@ -240,6 +251,10 @@ fn bad_input_is_one_line_and_no_output() {
         (
             vec![s(&obj), "--hypertexture", "fur", "--ht", "bias=2"],
             "bias",
+        ),
+        (
+            vec![s(&obj), "--hypertexture", "smoke", "--ht", "tail=2"],
+            "tail",
         ),
         (
             vec![s(&obj), "--ht", "amplitude=1", "--solid", "wood"],

@@ -75,6 +75,10 @@ pub struct Hypertexture {
     pub core: bool,
     /// Sample distance inside the shell, in shells.
     pub step: f32,
+    /// The opacity from which the rest of a ray's material is extrapolated (the last sample
+    /// repeated to the early stop, when that is at most 12 steps); 1 (`off`): never, every
+    /// sample marched, for reference renders.
+    pub tail: f32,
     /// Animation time, usually 0 to 1 over the frames.
     pub time: f32,
 }
@@ -83,7 +87,7 @@ pub struct Hypertexture {
 pub const PRESETS: [&str; 4] = ["fur", "fire", "smoke", "melt"];
 
 /// The keys [`Hypertexture::set`] takes.
-pub const KEYS: [&str; 21] = [
+pub const KEYS: [&str; 22] = [
     "thickness",
     "amplitude",
     "frequency",
@@ -104,6 +108,7 @@ pub const KEYS: [&str; 21] = [
     "core_displacement",
     "core",
     "step",
+    "tail",
     "time",
 ];
 
@@ -133,6 +138,7 @@ impl Hypertexture {
             core_displacement: 0.0,
             core: true,
             step: 0.08,
+            tail: 0.95,
             time: 0.0,
         };
         Some(match name {
@@ -207,7 +213,7 @@ impl Hypertexture {
     }
 
     /// Sets one parameter from text (`--ht key=value`, a TOML key): numbers, `true`/`false`,
-    /// `fbm`/`turbulence`, colours `r,g,b`.
+    /// `fbm`/`turbulence`, colours `r,g,b`; `tail` also takes `off` (1: no extrapolation).
     ///
     /// # Errors
     /// [`Error::Parameter`] naming the key for an unknown key or a bad value.
@@ -276,6 +282,12 @@ impl Hypertexture {
             "core_displacement" => self.core_displacement = num()?,
             "core" => self.core = flag()?,
             "step" => self.step = num()?,
+            "tail" => {
+                self.tail = match value.trim() {
+                    "off" | "false" => 1.0,
+                    _ => num()?,
+                }
+            }
             "time" => self.time = num()?,
             _ => {
                 return Err(Error::parameter(format!(
@@ -327,6 +339,12 @@ impl Hypertexture {
                     "hypertexture {k} = {v} must be between 0 and 1"
                 )));
             }
+        }
+        if !(self.tail > 0.0 && self.tail <= 1.0) {
+            return Err(Error::parameter(format!(
+                "hypertexture tail = {} must be in (0, 1] (1 or off: no extrapolation)",
+                self.tail
+            )));
         }
         if self.octaves > 8.0 {
             return Err(Error::parameter("hypertexture octaves must be at most 8"));

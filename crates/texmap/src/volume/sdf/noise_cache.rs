@@ -18,7 +18,7 @@
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
-use glam::{Vec3, Vec4};
+use glam::{Vec3, Vec3A, Vec4};
 
 use super::super::cell::XPairs;
 
@@ -71,7 +71,9 @@ impl NoiseCache {
     pub(super) fn read(&self, x: Vec3, noise: impl Fn(Vec3) -> f32) -> Option<f32> {
         let q = (x - self.origin) * self.density;
         let [nx, ny, _] = self.dims;
-        if !(q.cmpge(Vec3::ZERO).all() && q.cmplt(self.last).all()) {
+        // The six bounds in lanes (one mask test; NaN fails as before).
+        let qa = Vec3A::from(q);
+        if !(qa.cmpge(Vec3A::ZERO) & qa.cmplt(Vec3A::from(self.last))).all() {
             return None;
         }
         let c = q.floor();

@@ -44,7 +44,13 @@ impl<'a> FieldReader<'a> {
         let voxel_from_world = vol.world_from_voxel().inverse();
         let dims = vol.dims();
         let [nx, ny, nz] = dims;
-        let whole = nx > 0 && ny > 0 && nz > 0 && vol.quantized().len() >= voxel_count(dims);
+        // (An axis of more than 2^24 voxels is read as short of data: `cell` truncates its
+        // coordinates, exact floats up to there, to `i32`.)
+        let whole = nx > 0
+            && ny > 0
+            && nz > 0
+            && dims.iter().all(|&d| d <= 1 << 24)
+            && vol.quantized().len() >= voxel_count(dims);
         FieldReader {
             vol,
             levels: if whole { vol.quantized() } else { &[] },
@@ -79,9 +85,10 @@ impl<'a> FieldReader<'a> {
         let y = q.y.max(0.0).min(self.top.y);
         let z = q.z.max(0.0).min(self.top.z);
         let [lx, ly, lz] = self.last_cell;
-        // SAFETY: finite and in [0, top] (above), which `u32` holds: the truncation needs
-        // none of `as`'s saturation.
-        let whole = |v: f32| unsafe { v.to_int_unchecked::<u32>() };
+        // SAFETY: finite and in [0, top] (above), `top` at most 2^24 (checked in `new`), which
+        // `i32` holds: the truncation needs none of `as`'s saturation, and the signed one is
+        // a single instruction in lanes (the same value as the unsigned).
+        let whole = |v: f32| unsafe { v.to_int_unchecked::<i32>() } as u32;
         let (ix, iy, iz) = (whole(x).min(lx), whole(y).min(ly), whole(z).min(lz));
         let i = iz as usize * self.nxy + iy as usize * self.nx + ix as usize;
         let f = Vec3::new(x - ix as f32, y - iy as f32, z - iz as f32);

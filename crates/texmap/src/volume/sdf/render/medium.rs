@@ -11,6 +11,7 @@
 use glam::Vec3;
 
 use super::super::hyper::{Hypertexture, NoiseKind};
+use super::kind::{self, flag};
 use super::{Tracer, SHAPE_LUT};
 use crate::texture::procedural::perlin::{noise3f, NOISE_BOUND};
 
@@ -74,17 +75,19 @@ impl Tracer<'_> {
     /// The density at world point `p` with field distance `d` and gradient `g`, in `[0, 1]`,
     /// its ramp value `u` and its entry in the tables (`shape`, `alpha`).
     #[inline(always)]
-    fn density(
+    fn density<const K: u8>(
         &self,
         h: &Hypertexture,
         p: Vec3,
         d: f32,
         g: impl Fn() -> Vec3,
     ) -> (f32, f32, usize) {
-        if h.amplitude == 0.0 || h.opacity == 0.0 {
+        // A plain march ([`kind::PLAIN`]) has material and no melt.
+        let plain = K & kind::PLAIN != 0;
+        if !plain && (h.amplitude == 0.0 || h.opacity == 0.0) {
             return (0.0, 0.0, 0);
         }
-        let d = if h.melt != 0.0 {
+        let d = if !plain && h.melt != 0.0 {
             let pm = p + self.sag(h, p);
             self.field
                 .distance(self.field.voxel_from_world.transform_point3(pm))
@@ -95,14 +98,19 @@ impl Tracer<'_> {
         if height >= h.amplitude {
             return (0.0, 0.0, 0);
         }
-        let at = if h.strands {
+        let at = if flag::<K>(kind::STRANDS, h.strands) {
             p - g().try_normalize().unwrap_or(Vec3::ZERO) * d
         } else {
             p
         };
         // The frame's lattice of the noise where there is one; otherwise the noise itself,
         // and no material where it cannot reach this height (its finer octaves skipped).
-        let cached = self.noise_cache.as_ref().and_then(|c| {
+        let lattice = if flag::<K>(kind::LATTICE, true) {
+            self.noise_cache.as_ref()
+        } else {
+            None
+        };
+        let cached = lattice.and_then(|c| {
             c.read(self.texture_from_world.transform_point3(at), |t| {
                 self.noise_above_texture(h, t, f32::NEG_INFINITY)
                     .unwrap_or(0.0)
@@ -131,7 +139,7 @@ impl Tracer<'_> {
     }
 
     /// The material at one sample: its colour, opacity over the step, and the reads taken.
-    pub(super) fn material(
+    pub(super) fn material<const K: u8>(
         &self,
         h: &Hypertexture,
         p: Vec3,
@@ -149,17 +157,17 @@ impl Tracer<'_> {
                 v
             }
         };
-        let (dens, u, i) = self.density(h, p, d, g);
+        let (dens, u, i) = self.density::<K>(h, p, d, g);
         if dens <= 0.0 {
             return (Vec3::ZERO, 0.0, 0);
         }
         let a = self.alpha[i];
         let ramp = h.outer.lerp(h.inner, u);
-        if h.emission > 0.0 {
+        if flag::<K>(kind::GLOW, h.emission > 0.0) {
             return (ramp * h.emission, a, 0);
         }
         let lit = self.lit(ramp, g(), dir, p);
-        if !(h.shadows && self.has_lights) {
+        if K & kind::PLAIN != 0 || !(h.shadows && self.has_lights) {
             return (lit, a, 0);
         }
         // Self-shadowing: the material between the sample and the first light.
@@ -181,7 +189,7 @@ impl Tracer<'_> {
                 tau = f32::INFINITY;
                 break;
             }
-            tau += h.opacity * self.density(h, ps, dd, || gg).0 * ds / self.shell;
+            tau += h.opacity * self.density::<K>(h, ps, dd, || gg).0 * ds / self.shell;
         }
         let ambient = ramp * 0.2;
         (

@@ -10,9 +10,10 @@
 //! - Inside the reach the ray takes fixed steps of `step` shells (jittered per pixel like
 //!   the volume rays), compositing the hypertexture's density front to back, until the
 //!   opacity reaches the early stop or the core surface is crossed.
-//! - From an opacity of [`TAIL_FROM`] (0.95) the rest of the material is extrapolated: the
-//!   last sample repeated until the early stop, when that takes at most [`TAIL_STEPS`] steps
-//!   (measured: 52 dB on smoke against marching on, 10 % fewer samples; README).
+//! - From the hypertexture's `tail` opacity (0.95 by default) the rest of the material is
+//!   extrapolated: the last sample repeated until the early stop, when that takes at most
+//!   [`TAIL_STEPS`] steps (measured: 52 dB on smoke against marching on, 10 % fewer
+//!   samples; README). `tail` 1 (`off`) marches every sample: a reference render.
 //! - A crossing (distance from > 0 to ≤ 0) is placed by bisecting the last step to 1/100
 //!   voxel (at most 16 times; a sphere-traced step is short, a shell step longer), and
 //!   shaded with the normal from central differences (±½ voxel) of the trilinear field.
@@ -26,6 +27,8 @@
 
 mod medium;
 mod melted;
+#[cfg(test)]
+mod tests;
 mod warp;
 
 use glam::{Vec3, Vec4};
@@ -54,8 +57,34 @@ const BISECTIONS: u32 = 16;
 const WARPED_STEP: f32 = 0.25;
 /// Entries of the density shaping table (bias and gain of `u ∈ [0, 1]`).
 const SHAPE_LUT: usize = 1024;
-/// The material's opacity from which the rest of a ray is extrapolated ([`Tracer::tail`]).
-const TAIL_FROM: f32 = 0.95;
+/// The march's specialisations, [`Tracer::march`]'s `K`: [`kind::GENERIC`] reads every
+/// flag at run time; [`kind::PLAIN`] marks a material without melt, core displacement or
+/// self-shadowing, with skipping on and not a depth-only trace, and then [`kind::STRANDS`],
+/// [`kind::GLOW`] and [`kind::LATTICE`] say which of those it has. Each preset of the
+/// command line gets a loop of its own without the others' branches (the same operations
+/// in the same order, so the same bits).
+pub(super) mod kind {
+    pub const GENERIC: u8 = 0;
+    pub const PLAIN: u8 = 1;
+    pub const STRANDS: u8 = 2;
+    pub const GLOW: u8 = 4;
+    pub const LATTICE: u8 = 8;
+    /// The presets' kinds.
+    pub const FUR: u8 = PLAIN | STRANDS;
+    pub const FIRE: u8 = PLAIN | GLOW | LATTICE;
+    pub const SMOKE: u8 = PLAIN | LATTICE;
+
+    /// `runtime` for the generic march, else what `K`'s `bit` says.
+    #[inline(always)]
+    pub fn flag<const K: u8>(bit: u8, runtime: bool) -> bool {
+        if K & PLAIN == 0 {
+            runtime
+        } else {
+            K & bit != 0
+        }
+    }
+}
+
 /// Most steps [`Tracer::tail`] stands for (beyond them the ray marches on).
 const TAIL_STEPS: f32 = 12.0;
 
@@ -107,6 +136,8 @@ pub(super) struct Tracer<'a> {
     warp: Option<Warp>,
     /// The core surface is melted or displaced (not the field's zero set).
     warped: bool,
+    /// The march's specialisation ([`kind`]) when the trace is not depth-only.
+    kind: u8,
 }
 
 /// Renders the distance field `vol` (world distances, negative inside) as a surface with
@@ -247,6 +278,23 @@ impl<'a> Tracer<'a> {
         let warp = hyper
             .filter(|h| h.melt != 0.0 || h.core_displacement != 0.0)
             .and_then(|_| Warp::new(field.hi, &vol.world_from_voxel()));
+        let kind = match hyper {
+            Some(h)
+                if params.empty_space_skipping
+                    && h.amplitude > 0.0
+                    && h.opacity > 0.0
+                    && h.melt == 0.0
+                    && h.core_displacement == 0.0
+                    && (!h.shadows || params.lights.is_empty()) =>
+            {
+                let on = |bit: u8, set: bool| if set { bit } else { 0 };
+                kind::PLAIN
+                    | on(kind::STRANDS, h.strands)
+                    | on(kind::GLOW, h.emission > 0.0)
+                    | on(kind::LATTICE, noise_cache.is_some())
+            }
+            _ => kind::GENERIC,
+        };
         Tracer {
             shadows: None,
             depth_only: false,
@@ -274,14 +322,14 @@ impl<'a> Tracer<'a> {
             alpha,
             footprint,
             early: params.early_termination,
-            tail_from: match hyper {
-                Some(_) => TAIL_FROM.min(params.early_termination),
-                None => params.early_termination,
-            },
+            tail_from: hyper.map_or(params.early_termination, |h| {
+                h.tail.min(params.early_termination)
+            }),
             jitter: params.jitter,
             noise_cache,
             warp,
             warped: hyper.is_some_and(|h| h.melt != 0.0 || h.core_displacement != 0.0),
+            kind,
         }
     }
 }
@@ -290,7 +338,31 @@ impl Tracer<'_> {
     /// One ray: its colour (linear, premultiplied), the field reads it took and the ray
     /// distance of the core surface where it met it (+∞ where it did not). With
     /// `depth_only` the material is left out and nothing is shaded.
+    #[inline(never)]
     pub(super) fn trace(&self, eye: Vec3, dir: Vec3, t_max: f32, jitter: f32) -> (Vec4, u64, f32) {
+        match if self.depth_only {
+            kind::GENERIC
+        } else {
+            self.kind
+        } {
+            kind::FUR => self.march::<{ kind::FUR }>(eye, dir, t_max, jitter),
+            kind::FIRE => self.march::<{ kind::FIRE }>(eye, dir, t_max, jitter),
+            kind::SMOKE => self.march::<{ kind::SMOKE }>(eye, dir, t_max, jitter),
+            _ => self.march::<{ kind::GENERIC }>(eye, dir, t_max, jitter),
+        }
+    }
+
+    /// [`Self::trace`] specialised as `K` says ([`kind`]; the tracer's flags agree with it),
+    /// a function of its own so each loop gets its own registers.
+    #[inline(never)]
+    fn march<const K: u8>(
+        &self,
+        eye: Vec3,
+        dir: Vec3,
+        t_max: f32,
+        jitter: f32,
+    ) -> (Vec4, u64, f32) {
+        let plain = K & kind::PLAIN != 0;
         let ray = VoxelRay::new(&self.field.voxel_from_world, eye, dir);
         let core = self.hyper.is_none_or(|h| h.core);
         let Some(span) = clip_to_box(&ray, t_max, Vec3::ZERO, self.field.hi)
@@ -309,10 +381,14 @@ impl Tracer<'_> {
         let warped_step = self.field.voxel * WARPED_STEP;
         let mut at_end = false;
         // Only the material reads the gradient; sphere-traced steps read the distance alone.
-        let medium = !self.depth_only
-            && self
-                .hyper
-                .is_some_and(|h| h.amplitude > 0.0 && h.opacity > 0.0);
+        let medium = plain
+            || !self.depth_only
+                && self
+                    .hyper
+                    .is_some_and(|h| h.amplitude > 0.0 && h.opacity > 0.0);
+        // The melted core's lattice and flag (none for a plain march).
+        let warp = if plain { None } else { self.warp.as_ref() };
+        let warped_core = !plain && self.warped();
         let mut in_reach = false;
         let mut hit_t = f32::INFINITY;
         for _ in 0..MAX_STEPS {
@@ -327,11 +403,7 @@ impl Tracer<'_> {
             }
             let q = ray.at(t);
             let p = eye + dir * t;
-            if let Some(w) = self
-                .warp
-                .as_ref()
-                .filter(|_| !medium && self.reach.is_finite())
-            {
+            if let Some(w) = warp.filter(|_| !medium && self.reach.is_finite()) {
                 // Through the melted core's empty balls, without reading the field.
                 if let Some(b) = w.ball_step(p, q, dir, warped_step, self.lipschitz, |c| {
                     self.core_distance(c)
@@ -342,7 +414,7 @@ impl Tracer<'_> {
                     continue;
                 }
             }
-            if self.warp.is_some() && !medium && self.reach.is_finite() {
+            if warp.is_some() && !medium && self.reach.is_finite() {
                 // Near the melted core: its own distance (the plain field's says nothing).
                 let e = self.core_step_distance(p);
                 reads += 1;
@@ -383,7 +455,7 @@ impl Tracer<'_> {
             }
             if !medium && self.reach.is_finite() {
                 // No material: sphere tracing of the (melted, displaced) core itself.
-                let warped = self.warped();
+                let warped = warped_core;
                 let e = if warped {
                     self.core_step_distance(p)
                 } else {
@@ -412,7 +484,7 @@ impl Tracer<'_> {
                     continue;
                 }
             }
-            let e = if self.warped() {
+            let e = if warped_core {
                 self.core_distance(p)
             } else {
                 d
@@ -432,7 +504,7 @@ impl Tracer<'_> {
                 break;
             }
             if let Some(h) = self.hyper {
-                let (c, a, n) = self.material(h, p, d, || g.gradient(), dir);
+                let (c, a, n) = self.material::<K>(h, p, d, || g.gradient(), dir);
                 reads += n;
                 if a > 0.0 {
                     acc += (c * a).extend(a) * (1.0 - acc.w);

@@ -1,0 +1,67 @@
+//! The tracer's settings against the march they stand for.
+
+use glam::{DVec3, Vec3};
+
+use super::super::{shape_field, FieldGrid, Hypertexture, Shape, SurfaceLook};
+use super::{render_distance_field, CameraRays, Tracer};
+use crate::camera::{Camera, CameraProjection};
+use crate::volume::params::MarchParams;
+
+/// A 40³ field of a ball of radius 0.6 at the origin.
+fn ball() -> crate::volume::Volume {
+    let n = 40;
+    let h = 2.0 / f64::from(n);
+    let grid = FieldGrid::axis_aligned([n; 3], DVec3::splat(-1.0 + 0.5 * h), DVec3::splat(h));
+    let shape = Shape::Sphere {
+        center: DVec3::ZERO,
+        radius: 0.6,
+    };
+    shape_field(&shape, &grid)
+        .to_volume()
+        .expect("a small field")
+}
+
+#[test]
+fn without_the_tail_the_image_is_the_march_without_extrapolation() {
+    let vol = ball();
+    let cam = Camera {
+        eye: Vec3::new(0.4, 0.8, 2.4),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        projection: CameraProjection::Perspective { fov_y_deg: 40.0 },
+        near: 0.1,
+        far: 100.0,
+    };
+    let (w, h) = (48, 48);
+    let params = MarchParams {
+        jitter: false,
+        ..MarchParams::default()
+    };
+    let look = SurfaceLook::default();
+    for preset in ["smoke", "fur"] {
+        let on = Hypertexture::preset(preset).expect("a preset");
+        let mut off = on.clone();
+        off.set("tail", "off").expect("a value");
+        let marched = render_distance_field(&vol, &cam, w, h, &params, &look, Some(&off), None)
+            .expect("a frame");
+        // The reference: the default's tracer with its extrapolation switched off by hand.
+        let mut tr = Tracer::new(&vol, &cam, h, &params, &look, Some(&on));
+        tr.tail_from = f32::INFINITY;
+        let rays = CameraRays::new(&cam, w, h);
+        for y in 0..h {
+            for x in 0..w {
+                let (o, d) = rays.ray(x as f32 + 0.5, y as f32 + 0.5);
+                let (c, _, _) = tr.trace(o, d, f32::INFINITY, 0.0);
+                assert_eq!(
+                    c,
+                    marched.color[(y * w + x) as usize],
+                    "{preset} at {x}, {y}"
+                );
+            }
+        }
+        // The default extrapolates here (the test can fail).
+        let tailed = render_distance_field(&vol, &cam, w, h, &params, &look, Some(&on), None)
+            .expect("a frame");
+        assert_ne!(tailed.color, marched.color, "{preset}: no ray extrapolated");
+    }
+}
