@@ -1,18 +1,13 @@
 //! The hot loops' two copies (`texmap::cpu`): the baseline build and the x86-64-v3 one give
 //! the same frames, float for float, over the pipeline's modes (the demo scene: textures under
-//! every filter kind, normal maps, highlights, blending; MSAA, Gouraud, flat, unlit), the
-//! plane under the OpenGL filters, and a distance field's four hypertexture presets (the
-//! march). On a CPU without x86-64-v3 there is one copy and the test says so. (Its own test
-//! binary: the level is the process's.)
+//! every filter kind, normal maps, highlights, blending; MSAA, Gouraud, flat, unlit) and the
+//! plane under the OpenGL filters. On a CPU without x86-64-v3 there is one copy and the test
+//! says so. (Its own test binary: the level is the process's.)
 
-use glam::{DVec3, Vec3};
-use texmap::camera::{Camera, CameraProjection};
 use texmap::cpu::{self, Level};
 use texmap::render::{render, Settings, ShadingMode, TextureOverrides};
 use texmap::scene::builtin;
 use texmap::texture::{Filter, MagFilter, MinFilter, Sampler, Wrap};
-use texmap::volume::sdf::{render_distance_field, shape_field, FieldGrid, Hypertexture, Shape};
-use texmap::volume::MarchParams;
 
 const W: u32 = 160;
 const H: u32 = 96;
@@ -46,29 +41,6 @@ fn frames() -> Vec<Vec<u32>> {
         (MagFilter::Linear, MinFilter::LinearMipmapLinear),
     ] {
         out.push(render(&plane, &plane_camera, &gl(mag, min)).unwrap());
-    }
-    // A ball's field, 32³, under each hypertexture preset.
-    let h = 2.0 / 32.0;
-    let grid = FieldGrid::axis_aligned([32; 3], DVec3::splat(-1.0 + 0.5 * h), DVec3::splat(h));
-    let ball = Shape::Sphere {
-        center: DVec3::ZERO,
-        radius: 0.6,
-    };
-    let field = shape_field(&ball, &grid).to_volume().unwrap();
-    let camera = Camera {
-        eye: Vec3::new(0.9, 1.3, 2.6),
-        target: Vec3::ZERO,
-        up: Vec3::Y,
-        projection: CameraProjection::Perspective { fov_y_deg: 40.0 },
-        near: 0.1,
-        far: 100.0,
-    };
-    let march = MarchParams::default();
-    for preset in ["fur", "fire", "smoke", "melt"] {
-        let hyper = Hypertexture::preset(preset).unwrap();
-        let look = Default::default();
-        let f = render_distance_field(&field, &camera, 64, 64, &march, &look, Some(&hyper), None);
-        out.push(f.unwrap());
     }
     out.iter()
         .map(|f| {

@@ -334,30 +334,6 @@ impl<'a> Tracer<'a> {
     }
 }
 
-crate::cpu::dispatch! {
-    /// [`Tracer::march_in`] at the CPU's level.
-    #[inline(never)]
-    fn march<const K: u8>(
-        tracer: &Tracer,
-        eye: Vec3,
-        dir: Vec3,
-        t_max: f32,
-        jitter: f32,
-    ) -> (Vec4, u64, f32) => march_body, march_v3
-}
-
-/// [`Tracer::march_in`] as a free function, the body [`march`] compiles twice.
-#[inline(always)]
-fn march_body<const K: u8>(
-    tracer: &Tracer,
-    eye: Vec3,
-    dir: Vec3,
-    t_max: f32,
-    jitter: f32,
-) -> (Vec4, u64, f32) {
-    tracer.march_in::<K>(eye, dir, t_max, jitter)
-}
-
 impl Tracer<'_> {
     /// One ray: its colour (linear, premultiplied), the field reads it took and the ray
     /// distance of the core surface where it met it (+∞ where it did not). With
@@ -369,18 +345,17 @@ impl Tracer<'_> {
         } else {
             self.kind
         } {
-            kind::FUR => march::<{ kind::FUR }>(self, eye, dir, t_max, jitter),
-            kind::FIRE => march::<{ kind::FIRE }>(self, eye, dir, t_max, jitter),
-            kind::SMOKE => march::<{ kind::SMOKE }>(self, eye, dir, t_max, jitter),
-            _ => march::<{ kind::GENERIC }>(self, eye, dir, t_max, jitter),
+            kind::FUR => self.march::<{ kind::FUR }>(eye, dir, t_max, jitter),
+            kind::FIRE => self.march::<{ kind::FIRE }>(eye, dir, t_max, jitter),
+            kind::SMOKE => self.march::<{ kind::SMOKE }>(eye, dir, t_max, jitter),
+            _ => self.march::<{ kind::GENERIC }>(eye, dir, t_max, jitter),
         }
     }
 
     /// [`Self::trace`] specialised as `K` says ([`kind`]; the tracer's flags agree with it),
-    /// a function of its own (`march`, compiled twice for the CPU's level: [`crate::cpu`]) so
-    /// each loop gets its own registers.
-    #[inline(always)]
-    fn march_in<const K: u8>(
+    /// a function of its own so each loop gets its own registers.
+    #[inline(never)]
+    fn march<const K: u8>(
         &self,
         eye: Vec3,
         dir: Vec3,
