@@ -80,6 +80,7 @@ fn shade_batch_in(
 }
 
 impl SceneShader<'_> {
+    /// [`shade_batch_in`]'s work, as a method of the shader whose draws it reads.
     #[inline(always)]
     fn shade_batch_at(&self, draw: u32, quads: &[Quad], out: &mut [[Vec4; 4]], kept: &mut [u8]) {
         let d = &self.draws[draw as usize];
@@ -244,12 +245,12 @@ impl SceneShader<'_> {
     /// The factors D and S of a plain draw's quad, one vector per pixel (fourth lanes 0).
     #[inline(always)]
     fn plain_factors(&self, d: &DrawInfo, quad: &Quad) -> QuadFactors {
+        if let Some(sides) = constant_factors(d) {
+            return *side(d, sides, quad);
+        }
         match d.path {
             LightingPath::Unlit => QuadFactors::UNLIT,
-            LightingPath::PerPixel => match &d.uniform_factors {
-                Some(sides) => *side(d, sides, quad),
-                None => self.phong_lanes(d, quad),
-            },
+            LightingPath::PerPixel => self.phong_lanes(d, quad),
             LightingPath::Interpolated => match interpolated_factors(d, quad) {
                 Some(f) => QuadFactors::from_lanes(f.d.lanes(quad), f.s.lanes(quad)),
                 None => QuadFactors::UNLIT,

@@ -275,16 +275,17 @@ impl<'a> Tracer<'a> {
                     density,
                 )
             });
-        let warp = hyper
-            .filter(|h| h.melt != 0.0 || h.core_displacement != 0.0)
-            .and_then(|_| Warp::new(field.hi, &vol.world_from_voxel()));
+        // The core surface is melted or displaced (not the field's zero set).
+        let warped = hyper.is_some_and(|h| h.melt != 0.0 || h.core_displacement != 0.0);
+        let warp = warped
+            .then(|| Warp::new(field.hi, &vol.world_from_voxel()))
+            .flatten();
         let kind = match hyper {
             Some(h)
                 if params.empty_space_skipping
                     && h.amplitude > 0.0
                     && h.opacity > 0.0
-                    && h.melt == 0.0
-                    && h.core_displacement == 0.0
+                    && !warped
                     && (!h.shadows || params.lights.is_empty()) =>
             {
                 let on = |bit: u8, set: bool| if set { bit } else { 0 };
@@ -328,7 +329,7 @@ impl<'a> Tracer<'a> {
             jitter: params.jitter,
             noise_cache,
             warp,
-            warped: hyper.is_some_and(|h| h.melt != 0.0 || h.core_displacement != 0.0),
+            warped,
             kind,
         }
     }
