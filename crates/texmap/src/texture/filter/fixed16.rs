@@ -67,7 +67,7 @@ fn texels_of(tex: &Texture2D, s: &Sampler) -> Option<Texels> {
 }
 
 mod quads;
-pub(super) use quads::{read_quad, read_quads};
+pub(super) use quads::{read_level_quads, read_quad, read_quads, LEVEL_QUADS};
 
 mod prefetch;
 pub(super) use prefetch::prefetch_quads;
@@ -205,7 +205,7 @@ mod sse2 {
 
     /// The reads from a quad's 32-bit sums (pixels outside `mask` zero).
     #[inline(always)]
-    fn finish(acc: &[__m128i; 4], mask: u8) -> [Vec4; 4] {
+    pub(super) fn finish(acc: &[__m128i; 4], mask: u8) -> [Vec4; 4] {
         let scale = 1.0 / (ONE as f32 * ONE as f32);
         std::array::from_fn(|j| {
             if mask & (1 << j) == 0 {
@@ -349,6 +349,23 @@ mod sse2 {
     ) -> [Vec4; 4] {
         let (data, tiles_x) = lv.tiled_texels(bpp(texels));
         let offsets = nearest_offsets(&lv, tiles_x, s, u, v);
+        // SAFETY: `nearest_offsets` gives indices in range for the level `data` holds.
+        unsafe { nearest_texels(&lv, data, texels, offsets, mask) }
+    }
+
+    /// The texels at tiled indices `offsets` of level `lv`, whose tiled texels (held as
+    /// `texels` says) are `data` (its `tiled_texels`), decoded (pixels outside `mask` zero).
+    ///
+    /// # Safety
+    /// Every index must be in range for the level, as [`nearest_offsets`] gives them.
+    #[inline(always)]
+    pub(super) unsafe fn nearest_texels(
+        lv: &LevelRef,
+        data: &[u8],
+        texels: Texels,
+        offsets: [i32; 4],
+        mask: u8,
+    ) -> [Vec4; 4] {
         let base = data.as_ptr();
         if let Texels::Rgba8(_) = texels {
             return std::array::from_fn(|j| {
@@ -364,7 +381,8 @@ mod sse2 {
         // no branch per pixel; the decode is the codec's (`decode_rgba16`): zero-extend,
         // convert, scale.
         let load = |j: usize| {
-            // SAFETY: as above; the load reads the texel's 8 bytes.
+            // SAFETY: SSE2 is part of x86_64; the index is in range (the caller's), and the
+            // load reads the texel's 8 bytes.
             unsafe {
                 let q = _mm_loadl_epi64(base.add(offsets[j] as usize * 8).cast());
                 let f = _mm_cvtepi32_ps(_mm_unpacklo_epi16(q, _mm_setzero_si128()));
@@ -372,6 +390,9 @@ mod sse2 {
             }
         };
         let texel = [load(0), load(1), load(2), load(3)];
+        if mask == 0b1111 {
+            return texel;
+        }
         std::array::from_fn(|j| {
             if mask & (1 << j) == 0 {
                 Vec4::ZERO
@@ -525,6 +546,7 @@ mod sse2 {
 
     /// A quad's bilinear taps on one level: each pixel's four texel indices and its
     /// 15-bit weights, packed in pairs (top row, bottom row).
+    #[derive(Clone, Copy, Default)]
     pub(super) struct Taps {
         pub(super) offsets: [[i32; 4]; 4],
         top: [i32; 4],
@@ -599,7 +621,7 @@ mod sse2 {
     /// into `acc`; `data` must be a level of the size the taps were computed for (its
     /// `tiled_texels`).
     #[inline(always)]
-    fn gather(data: &[u8], texels: Texels, t: &Taps, mask: u8, acc: &mut [__m128i; 4]) {
+    pub(super) fn gather(data: &[u8], texels: Texels, t: &Taps, mask: u8, acc: &mut [__m128i; 4]) {
         let base = data.as_ptr();
         // SAFETY (every loader): SSE2 is part of x86_64; each load reads one texel at an
         // index below `data.len() / bpp` (the offsets' level has this size, see `taps`).

@@ -32,6 +32,13 @@ pub fn sample_quads_lanes(
     masks: &[u8],
     out: &mut [[Vec4; 4]],
 ) {
+    if let Filter::Gl { mag, min } = sampler.filter {
+        if let Some(choice) = MipChoice::fixed(texture.levels().len(), mag, min) {
+            if level_quads_at(texture, sampler, choice, min, coords, masks, out) {
+                return;
+            }
+        }
+    }
     sample_quads_at(texture, sampler, coords, masks, out);
 }
 
@@ -76,6 +83,52 @@ fn sample_quads_in(
             gl_end(texture, sampler, coords, masks, &choices, out);
         }
     }
+}
+
+crate::cpu::dispatch! {
+    /// [`level_quads`] at the CPU's level ([`crate::cpu`]): its own function, so that the
+    /// general batch's code stays as it was compiled without it.
+    fn level_quads_at(
+        texture: &Texture2D,
+        sampler: &Sampler,
+        choice: MipChoice,
+        min: MinFilter,
+        coords: &[QuadCoords],
+        masks: &[u8],
+        out: &mut [[Vec4; 4]],
+    ) -> bool => level_quads, level_quads_v3
+}
+
+/// [`sample_quads_lanes`] when every quad reads one level (`choice`, fixed by the filter
+/// pair `min` and its magnification): each quad's texel indices computed once, for its
+/// prefetch (as [`gl_begin`] asks for it) and its read. `false`, and nothing read, when the
+/// fixed-point path does not serve this texture or sampler.
+#[inline(always)]
+fn level_quads(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    choice: MipChoice,
+    min: MinFilter,
+    coords: &[QuadCoords],
+    masks: &[u8],
+    out: &mut [[Vec4; 4]],
+) -> bool {
+    for ((coords, masks), out) in coords
+        .chunks(CHUNK)
+        .zip(masks.chunks(CHUNK))
+        .zip(out.chunks_mut(CHUNK))
+    {
+        let far = if matches!(min, MinFilter::Nearest | MinFilter::Linear) {
+            far_quads(texture, sampler, coords)
+        } else {
+            0
+        };
+        // The first chunk answers for all: the texture and sampler decide.
+        if !fixed16::read_level_quads(texture, sampler, choice, coords, masks, far, out) {
+            return false;
+        }
+    }
+    true
 }
 
 /// The first stage of an OpenGL-filtered batch (at most `N` quads): the level
@@ -198,6 +251,7 @@ fn staged_end_in(
 /// The quads [`sample_quads_lanes`] and [`sample_quads_lanes_shared`] choose levels for at a
 /// time.
 const CHUNK: usize = 16;
+const _: () = assert!(CHUNK <= fixed16::LEVEL_QUADS);
 
 /// λ above which a quad's neighbouring pixels read texels more than two apart, so that on
 /// level 0 their texels leave the cache lines already read (fixed16/prefetch.rs).
@@ -225,15 +279,7 @@ fn gl_choices<const N: usize>(
     let mut choices = [MipChoice::LEVEL0; N];
     let mut far = 0;
     for (k, (choices, coords)) in choices.chunks_mut(4).zip(coords.chunks(4)).enumerate() {
-        let lane = |f: &dyn Fn(&QuadCoords) -> f32| {
-            Vec4::from_array(std::array::from_fn(|i| coords.get(i).map_or(0.0, f)))
-        };
-        let lod = sampler.lod_rule.lod4(
-            lane(&|c| c.duv_dx.x * size.x),
-            lane(&|c| c.duv_dx.y * size.y),
-            lane(&|c| c.duv_dy.x * size.x),
-            lane(&|c| c.duv_dy.y * size.y),
-        );
+        let lod = lod4(size, sampler, coords);
         for (i, choice) in choices.iter_mut().enumerate().take(coords.len()) {
             let lod = sampler.adjust_lod(lod[i]);
             *choice = fixed.unwrap_or_else(|| MipChoice::gl(lod, level_count, mag, min));
@@ -241,6 +287,36 @@ fn gl_choices<const N: usize>(
         }
     }
     (choices, far)
+}
+
+/// λ of up to four quads on a texture of `size`, one per lane (before the sampler's bias and
+/// clamps; lanes past `coords` read zero derivatives).
+#[inline(always)]
+fn lod4(size: Vec2, sampler: &Sampler, coords: &[QuadCoords]) -> Vec4 {
+    let lane = |f: &dyn Fn(&QuadCoords) -> f32| {
+        Vec4::from_array(std::array::from_fn(|i| coords.get(i).map_or(0.0, f)))
+    };
+    sampler.lod_rule.lod4(
+        lane(&|c| c.duv_dx.x * size.x),
+        lane(&|c| c.duv_dx.y * size.y),
+        lane(&|c| c.duv_dy.x * size.x),
+        lane(&|c| c.duv_dy.y * size.y),
+    )
+}
+
+/// The mask of `coords`' quads (at most 32; bit `i` for quad `i`) whose λ is over
+/// [`FAR_LOD`]: [`gl_choices`]' second value.
+#[inline(always)]
+fn far_quads(texture: &Texture2D, sampler: &Sampler, coords: &[QuadCoords]) -> u32 {
+    let size = Vec2::new(texture.width() as f32, texture.height() as f32);
+    let mut far = 0;
+    for (k, coords) in coords.chunks(4).enumerate() {
+        let lod = lod4(size, sampler, coords);
+        for i in 0..coords.len() {
+            far |= u32::from(sampler.adjust_lod(lod[i]) > FAR_LOD) << (4 * k + i);
+        }
+    }
+    far
 }
 
 /// [`sample_quads_lanes`] of several textures read at the same coordinates through one

@@ -88,6 +88,92 @@ pub(in super::super) fn read_quads(
     }
 }
 
+/// The most quads [`read_level_quads`] takes at a time.
+pub(in super::super) const LEVEL_QUADS: usize = 16;
+
+/// [`read_quads`] of a batch (at most [`LEVEL_QUADS`] quads) whose quads all read level
+/// `choice.level` with no blend (a filter pair whose choice λ cannot change,
+/// [`MipChoice::fixed`]), with the prefetch of the quads whose bit is set in `far`
+/// ([`super::prefetch_quads`]): the level's view and storage are checked once, and each
+/// quad's texel indices (and bilinear weights) computed once, for its prefetch and its read.
+/// The same values as [`read_quads`]; `false`, and nothing read, when this texture or sampler
+/// is not one this path handles.
+///
+/// # Panics
+/// If `masks` or `out` is shorter than `coords`, `coords` is longer than [`LEVEL_QUADS`],
+/// or `choice` blends two levels.
+#[inline(always)]
+pub(in super::super) fn read_level_quads(
+    tex: &Texture2D,
+    s: &Sampler,
+    choice: MipChoice,
+    coords: &[QuadCoords],
+    masks: &[u8],
+    far: u32,
+    out: &mut [[Vec4; 4]],
+) -> bool {
+    let Some(texels) = texels_of(tex, s) else {
+        return false;
+    };
+    let n = coords.len();
+    assert!(masks.len() >= n && out.len() >= n && n <= LEVEL_QUADS && choice.blend.is_none());
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_prefetch, _mm_setzero_si128, _MM_HINT_T0};
+        let lv = tex.level(choice.level);
+        let size = sse2::bpp(texels);
+        let (data, tiles_x) = lv.tiled_texels(size);
+        let base = data.as_ptr();
+        // Quad i's texels at `offsets` (lanes of its pixels) asked for when it is far.
+        let prefetch = |i: usize, offsets: &[&[i32; 4]]| {
+            if far & (1 << i) == 0 {
+                return;
+            }
+            for j in (0..4).filter(|j| masks[i] & (1 << j) != 0) {
+                for o in offsets {
+                    // SAFETY: SSE is part of x86_64; a prefetch reads nothing (the offsets
+                    // are in range anyway, as for the reads).
+                    unsafe {
+                        _mm_prefetch::<_MM_HINT_T0>(
+                            base.wrapping_add(o[j] as usize * size).cast::<i8>(),
+                        );
+                    }
+                }
+            }
+        };
+        if choice.texels == TexelFilter::Nearest {
+            let mut offsets = [[0; 4]; LEVEL_QUADS];
+            for (i, (c, o)) in coords.iter().zip(&mut offsets).enumerate() {
+                *o = sse2::nearest_offsets(&lv, tiles_x, s, c.u, c.v);
+                prefetch(i, &[o]);
+            }
+            for ((o, &mask), out) in offsets.iter().zip(masks).zip(out).take(n) {
+                // SAFETY: `nearest_offsets` gave indices in range for the level `data` holds.
+                *out = unsafe { sse2::nearest_texels(&lv, data, texels, *o, mask) };
+            }
+        } else {
+            // `linear_quad` on one level: its taps weighted ONE in all, summed, finished.
+            let mut taps = [sse2::Taps::default(); LEVEL_QUADS];
+            for (i, (c, t)) in coords.iter().zip(&mut taps).enumerate() {
+                *t = sse2::taps(&lv, tiles_x, s, c.u, c.v, super::ONE);
+                prefetch(i, &[&t.offsets[0], &t.offsets[3]]);
+            }
+            for ((t, &mask), out) in taps.iter().zip(masks).zip(out).take(n) {
+                // SAFETY: SSE2 is part of x86_64.
+                let mut acc = [unsafe { _mm_setzero_si128() }; 4];
+                sse2::gather(data, texels, t, mask, &mut acc);
+                *out = sse2::finish(&acc, mask);
+            }
+        }
+        true
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let _ = (texels, coords, choice, masks, far, out);
+        false
+    }
+}
+
 /// [`read_quad`] once the texture's texels are known to be served (`texels`).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
