@@ -175,6 +175,8 @@ fn gl_end<const N: usize>(
 pub struct StagedQuads {
     /// The level choices, for OpenGL filters.
     choices: Option<[MipChoice; QUADS_STAGED]>,
+    /// The one level every quad reads, when the filter pair fixes it ([`MipChoice::fixed`]).
+    fixed: Option<MipChoice>,
 }
 
 /// The most quads one [`StagedQuads`] holds: the rasterizer's batch (a smaller value to copy
@@ -195,11 +197,14 @@ impl StagedQuads {
         masks: &[u8],
     ) -> Self {
         assert!(masks.len() >= coords.len() && coords.len() <= QUADS_STAGED);
-        let choices = match sampler.filter {
-            Filter::Gl { mag, min } => Some(gl_begin(texture, sampler, coords, masks, mag, min)),
-            _ => None,
+        let (choices, fixed) = match sampler.filter {
+            Filter::Gl { mag, min } => (
+                Some(gl_begin(texture, sampler, coords, masks, mag, min)),
+                MipChoice::fixed(texture.levels().len(), mag, min),
+            ),
+            _ => (None, None),
         };
-        StagedQuads { choices }
+        StagedQuads { choices, fixed }
     }
 
     /// The reads: [`sample_quads_lanes`] of the same arguments [`StagedQuads::begin`] had.
@@ -242,6 +247,13 @@ fn staged_end_in(
     out: &mut [[Vec4; 4]],
 ) {
     assert!(masks.len() >= coords.len() && out.len() >= coords.len());
+    // One level for every quad: read as `level_quads` reads (the far texels were asked for
+    // in the first stage).
+    if let Some(choice) = staged.fixed {
+        if fixed16::read_level_quads(texture, sampler, choice, coords, masks, 0, out) {
+            return;
+        }
+    }
     match &staged.choices {
         Some(choices) => gl_end(texture, sampler, coords, masks, choices, out),
         None => sample_quads_in(texture, sampler, coords, masks, out),

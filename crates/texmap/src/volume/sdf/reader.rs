@@ -15,6 +15,29 @@ use glam::{Mat3, Mat4, Vec3, Vec4};
 use super::super::cell::{voxel_count, XPairs};
 use super::super::grid::Volume;
 
+/// The most voxels along an axis a field's reads take: `cell` truncates voxel coordinates,
+/// exact floats up to 2^24, to `i32`.
+pub(crate) const MAX_AXIS: u32 = 1 << 24;
+
+/// Refuses a field with an axis over [`MAX_AXIS`] voxels, which [`FieldReader`] would read as
+/// empty (a frame with nothing drawn).
+///
+/// # Errors
+/// [`crate::Error::Parameter`] naming the axis.
+pub(crate) fn check_axes(vol: &Volume) -> crate::Result<()> {
+    match vol
+        .dims()
+        .iter()
+        .zip(["x", "y", "z"])
+        .find(|(&d, _)| d > MAX_AXIS)
+    {
+        Some((d, axis)) => Err(crate::Error::parameter(format!(
+            "distance field: {d} voxels along {axis}, over the {MAX_AXIS} a field's reads take"
+        ))),
+        None => Ok(()),
+    }
+}
+
 /// A distance field's reads, with the transforms of its grid.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct FieldReader<'a> {
@@ -44,12 +67,12 @@ impl<'a> FieldReader<'a> {
         let voxel_from_world = vol.world_from_voxel().inverse();
         let dims = vol.dims();
         let [nx, ny, nz] = dims;
-        // (An axis of more than 2^24 voxels is read as short of data: `cell` truncates its
-        // coordinates, exact floats up to there, to `i32`.)
+        // (An axis of more than MAX_AXIS voxels is read as short of data; the renders refuse
+        // such a field first, `check_axes`.)
         let whole = nx > 0
             && ny > 0
             && nz > 0
-            && dims.iter().all(|&d| d <= 1 << 24)
+            && dims.iter().all(|&d| d <= MAX_AXIS)
             && vol.quantized().len() >= voxel_count(dims);
         FieldReader {
             vol,

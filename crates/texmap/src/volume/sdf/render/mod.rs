@@ -148,7 +148,8 @@ pub(super) struct Tracer<'a> {
 /// early stop.
 ///
 /// # Errors
-/// [`crate::Error::Parameter`] for a bad camera, size, depth buffer, look or hypertexture.
+/// [`crate::Error::Parameter`] for a bad camera, size, depth buffer, look or hypertexture,
+/// or a field with an axis over 2^24 voxels (more than its reads take).
 #[allow(clippy::too_many_arguments)]
 pub fn render_distance_field(
     vol: &Volume,
@@ -182,6 +183,7 @@ pub fn render_distance_field_shadowed(
     shadows: Option<&ShadowMaps>,
 ) -> Result<Frame> {
     check_request(camera, width, height, params, depth)?;
+    super::reader::check_axes(vol)?;
     look.validate()?;
     if let Some(h) = hyper {
         h.validate()?;

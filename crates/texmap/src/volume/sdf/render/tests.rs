@@ -65,3 +65,32 @@ fn without_the_tail_the_image_is_the_march_without_extrapolation() {
         assert_ne!(tailed.color, marched.color, "{preset}: no ray extrapolated");
     }
 }
+
+#[test]
+fn a_field_longer_than_its_reads_take_is_refused() {
+    // 2^24 + 1 voxels along x: read as empty, it would draw nothing; the render refuses it.
+    let n = super::super::reader::MAX_AXIS + 1;
+    let vol =
+        crate::volume::Volume::from_scalars([n, 1, 1], glam::Mat4::IDENTITY, vec![1.0; n as usize])
+            .expect("a long, thin field");
+    let cam = Camera {
+        eye: Vec3::new(0.0, 0.0, 5.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        projection: CameraProjection::Perspective { fov_y_deg: 40.0 },
+        near: 0.1,
+        far: 100.0,
+    };
+    let err = render_distance_field(
+        &vol,
+        &cam,
+        4,
+        4,
+        &MarchParams::default(),
+        &SurfaceLook::default(),
+        None,
+        None,
+    )
+    .expect_err("refused");
+    assert!(err.to_string().contains("16777217 voxels along x"), "{err}");
+}
