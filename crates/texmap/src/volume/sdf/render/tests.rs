@@ -21,17 +21,22 @@ fn ball() -> crate::volume::Volume {
         .expect("a small field")
 }
 
-#[test]
-fn without_the_tail_the_image_is_the_march_without_extrapolation() {
-    let vol = ball();
-    let cam = Camera {
-        eye: Vec3::new(0.4, 0.8, 2.4),
+/// A 40° perspective camera at `eye` looking at the origin.
+fn camera(eye: Vec3) -> Camera {
+    Camera {
+        eye,
         target: Vec3::ZERO,
         up: Vec3::Y,
         projection: CameraProjection::Perspective { fov_y_deg: 40.0 },
         near: 0.1,
         far: 100.0,
-    };
+    }
+}
+
+#[test]
+fn without_the_tail_the_image_is_the_march_without_extrapolation() {
+    let vol = ball();
+    let cam = camera(Vec3::new(0.4, 0.8, 2.4));
     let (w, h) = (48, 48);
     let params = MarchParams {
         jitter: false,
@@ -73,14 +78,7 @@ fn a_field_longer_than_its_reads_take_is_refused() {
     let vol =
         crate::volume::Volume::from_scalars([n, 1, 1], glam::Mat4::IDENTITY, vec![1.0; n as usize])
             .expect("a long, thin field");
-    let cam = Camera {
-        eye: Vec3::new(0.0, 0.0, 5.0),
-        target: Vec3::ZERO,
-        up: Vec3::Y,
-        projection: CameraProjection::Perspective { fov_y_deg: 40.0 },
-        near: 0.1,
-        far: 100.0,
-    };
+    let cam = camera(Vec3::new(0.0, 0.0, 5.0));
     let err = render_distance_field(
         &vol,
         &cam,
