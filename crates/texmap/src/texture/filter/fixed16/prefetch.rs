@@ -52,7 +52,6 @@ fn prefetch_quad(
     mask: u8,
 ) {
     use super::sse2::{bpp, nearest_offsets, taps};
-    use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
     let lv = tex.level(choice.level);
     let size = bpp(texels);
     let (data, tiles_x) = lv.tiled_texels(size);
@@ -63,15 +62,22 @@ fn prefetch_quad(
         let o = nearest_offsets(&lv, tiles_x, s, u, v);
         (o, o)
     };
+    prefetch_lanes(data, size, &[&first, &last], mask);
+}
+
+/// Asks the cache for the texels of `data` (`size` bytes each) at each of `offsets`' lanes
+/// whose bit is set in `mask` (a quad's pixels). Nothing is read or changed.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub(super) fn prefetch_lanes(data: &[u8], size: usize, offsets: &[&[i32; 4]], mask: u8) {
+    use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
     let base = data.as_ptr();
-    for j in 0..4 {
-        if mask & (1 << j) != 0 {
-            for o in [first[j], last[j]] {
-                // SAFETY: SSE is part of x86_64; a prefetch reads nothing (the offsets are in
-                // range anyway, as for the reads).
-                unsafe {
-                    _mm_prefetch::<_MM_HINT_T0>(base.wrapping_add(o as usize * size).cast::<i8>());
-                }
+    for j in (0..4).filter(|j| mask & (1 << j) != 0) {
+        for o in offsets {
+            // SAFETY: SSE is part of x86_64; a prefetch reads nothing (the offsets are in
+            // range anyway, as for the reads).
+            unsafe {
+                _mm_prefetch::<_MM_HINT_T0>(base.wrapping_add(o[j] as usize * size).cast::<i8>());
             }
         }
     }

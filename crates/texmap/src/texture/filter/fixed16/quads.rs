@@ -119,26 +119,14 @@ pub(in super::super) fn read_level_quads(
     assert!(masks.len() >= n && out.len() >= n && n <= LEVEL_QUADS && choice.blend.is_none());
     #[cfg(target_arch = "x86_64")]
     {
-        use std::arch::x86_64::{_mm_prefetch, _mm_setzero_si128, _MM_HINT_T0};
+        use std::arch::x86_64::_mm_setzero_si128;
         let lv = tex.level(choice.level);
         let size = sse2::bpp(texels);
         let (data, tiles_x) = lv.tiled_texels(size);
-        let base = data.as_ptr();
         // Quad i's texels at `offsets` (lanes of its pixels) asked for when it is far.
         let prefetch = |i: usize, offsets: &[&[i32; 4]]| {
-            if far & (1 << i) == 0 {
-                return;
-            }
-            for j in (0..4).filter(|j| masks[i] & (1 << j) != 0) {
-                for o in offsets {
-                    // SAFETY: SSE is part of x86_64; a prefetch reads nothing (the offsets
-                    // are in range anyway, as for the reads).
-                    unsafe {
-                        _mm_prefetch::<_MM_HINT_T0>(
-                            base.wrapping_add(o[j] as usize * size).cast::<i8>(),
-                        );
-                    }
-                }
+            if far & (1 << i) != 0 {
+                super::prefetch::prefetch_lanes(data, size, offsets, masks[i]);
             }
         };
         if choice.texels == TexelFilter::Nearest {
