@@ -189,16 +189,48 @@ mod sse2 {
         // SAFETY: SSE2 is part of x86_64.
         let mut acc = [unsafe { _mm_setzero_si128() }; 4];
         let a = choice.level;
-        let (second, f) = choice
-            .blend
-            .map_or((None, 0.0), |b| (Some(b.level), b.weight));
-        // The level weights in 15 bits, summing to ONE ((1 − f)·ONE rounds; NaN gives 0).
-        let wa = ((1.0 - f.clamp(0.0, 1.0)) * ONE as f32).round() as i32;
+        let second = choice.blend.map(|b| b.level);
+        let wa = first_weight(choice);
         if wa > 0 {
             accumulate(&tex.level(a), texels, s, u, v, wa, mask, &mut acc);
         }
         if let Some(b) = second.filter(|_| wa < ONE) {
             accumulate(&tex.level(b), texels, s, u, v, ONE - wa, mask, &mut acc);
+        }
+        finish(&acc, mask)
+    }
+
+    /// The weight of `choice`'s first level in 15 bits (the second level's is `ONE` minus
+    /// it): `(1 − f)·ONE` rounded, `f` the blend's weight (0 without a blend; NaN gives 0).
+    #[inline(always)]
+    pub(super) fn first_weight(choice: MipChoice) -> i32 {
+        let f = choice.blend.map_or(0.0, |b| b.weight);
+        ((1.0 - f.clamp(0.0, 1.0)) * ONE as f32).round() as i32
+    }
+
+    /// [`linear_quad`] on levels whose views, tiled texels and tiles per row are given (as
+    /// `tiled_texels` gives them): `first` for `choice.level`, `second` for its blend's level
+    /// (read only when `choice` blends). The same values.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn linear_quad_on(
+        first: (&LevelRef, &[u8], u32),
+        second: (&LevelRef, &[u8], u32),
+        texels: Texels,
+        s: &Sampler,
+        choice: MipChoice,
+        u: Vec4,
+        v: Vec4,
+        mask: u8,
+    ) -> [Vec4; 4] {
+        // SAFETY: SSE2 is part of x86_64.
+        let mut acc = [unsafe { _mm_setzero_si128() }; 4];
+        let wa = first_weight(choice);
+        if wa > 0 {
+            accumulate_on(first, texels, s, u, v, wa, mask, &mut acc);
+        }
+        if choice.blend.is_some() && wa < ONE {
+            accumulate_on(second, texels, s, u, v, ONE - wa, mask, &mut acc);
         }
         finish(&acc, mask)
     }
@@ -531,6 +563,31 @@ mod sse2 {
         acc: &mut [__m128i; 4],
     ) {
         let (data, tiles_x) = lv.tiled_texels(bpp(texels));
+        accumulate_on(
+            (lv, data, tiles_x),
+            texels,
+            s,
+            u,
+            v,
+            level_weight,
+            mask,
+            acc,
+        );
+    }
+
+    /// [`accumulate`] on a level whose tiled texels and tiles per row are given.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn accumulate_on(
+        (lv, data, tiles_x): (&LevelRef, &[u8], u32),
+        texels: Texels,
+        s: &Sampler,
+        u: Vec4,
+        v: Vec4,
+        level_weight: i32,
+        mask: u8,
+        acc: &mut [__m128i; 4],
+    ) {
         let t = taps(lv, tiles_x, s, u, v, level_weight);
         gather(data, texels, &t, mask, acc);
     }

@@ -62,6 +62,9 @@ pub(in super::super) fn read_quads(
     assert!(out.len() >= coords.len());
     #[cfg(target_arch = "x86_64")]
     {
+        if linear_on_one_pair(tex, texels, s, coords, choices, masks, out) {
+            return true;
+        }
         // The level the last nearest read took, and its view.
         let mut view = None;
         for (((c, &choice), &mask), o) in coords.iter().zip(choices).zip(masks).zip(out) {
@@ -86,6 +89,51 @@ pub(in super::super) fn read_quads(
         let _ = (texels, coords, choices, masks, out);
         false
     }
+}
+
+/// [`read_quads`] of a batch whose quads all read bilinear texels on the same level, or the
+/// same pair of levels (a trilinear batch at one level of detail's integer part, most
+/// are): the two levels' views and storage checks once for the batch, not per quad. The
+/// same values; `false`, and nothing read, for any other batch.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn linear_on_one_pair(
+    tex: &Texture2D,
+    texels: Texels,
+    s: &Sampler,
+    coords: &[QuadCoords],
+    choices: &[MipChoice],
+    masks: &[u8],
+    out: &mut [[Vec4; 4]],
+) -> bool {
+    let pair = |c: &MipChoice| (c.texels, c.level, c.blend.map(|b| b.level));
+    let Some(first) = choices.first() else {
+        return true;
+    };
+    let (texel_filter, a, b) = pair(first);
+    let n = coords.len();
+    if texel_filter != TexelFilter::Linear || choices[..n].iter().any(|c| pair(c) != pair(first)) {
+        return false;
+    }
+    let size = sse2::bpp(texels);
+    let la = tex.level(a);
+    let (da, ta) = la.tiled_texels(size);
+    // Without a blend the second level is never read: the first stands in for it.
+    let lb = tex.level(b.unwrap_or(a));
+    let (db, tb) = lb.tiled_texels(size);
+    for (((c, &choice), &mask), o) in coords.iter().zip(choices).zip(masks).zip(out) {
+        *o = sse2::linear_quad_on(
+            (&la, da, ta),
+            (&lb, db, tb),
+            texels,
+            s,
+            choice,
+            c.u,
+            c.v,
+            mask,
+        );
+    }
+    true
 }
 
 /// The most quads [`read_level_quads`] takes at a time.
