@@ -9,9 +9,10 @@
 
 use glam::{Vec3, Vec4};
 
+use super::super::super::rays::{clip_to_box, VoxelRay};
 use super::super::hyper::{Hypertexture, NoiseKind};
-use super::warp;
-use super::{Tracer, BISECTIONS};
+use super::warp::{self, Warp};
+use super::{Tracer, BISECTIONS, MAX_STEPS, WARPED_STEP};
 use std::cell::RefCell;
 
 use crate::texture::procedural::perlin::{noise3f_x4, noise3f_x4_cached, CellsX4};
@@ -24,6 +25,68 @@ thread_local! {
 }
 
 impl Tracer<'_> {
+    /// [`Tracer::march`] for the melted core alone (no material, or a depth-only trace): far
+    /// from it through the empty balls of `warp`, near it by its own distance, its crossing
+    /// by false position. The generic march's operations on this path, in the same order
+    /// (the same bits), in a loop of its own without the material's branches.
+    #[inline(never)]
+    pub(super) fn march_melted(
+        &self,
+        warp: &Warp,
+        eye: Vec3,
+        dir: Vec3,
+        t_max: f32,
+    ) -> (Vec4, u64, f32) {
+        let ray = VoxelRay::new(&self.field.voxel_from_world, eye, dir);
+        let core = self.hyper.is_none_or(|h| h.core);
+        let Some(span) = clip_to_box(&ray, t_max, Vec3::ZERO, self.field.hi)
+            .filter(|_| core || !self.depth_only)
+        else {
+            return (Vec4::ZERO, 0, f32::INFINITY);
+        };
+        let mut acc = Vec4::ZERO;
+        let mut reads = 0u64;
+        let mut t = span.t0;
+        let mut t_prev: Option<f32> = None;
+        // The core distance at `t_prev` (a ball's lower bound after a far step).
+        let mut e_prev: Option<f32> = None;
+        let warped_step = self.field.voxel * WARPED_STEP;
+        let mut at_end = false;
+        let mut hit_t = f32::INFINITY;
+        for _ in 0..MAX_STEPS {
+            if t > span.t1 {
+                // The last sample sits on the span's end, as in the generic march.
+                if at_end || t_prev.is_none_or(|tp| tp >= span.t1) {
+                    break;
+                }
+                t = span.t1;
+                at_end = true;
+            }
+            let q = ray.at(t);
+            let p = eye + dir * t;
+            if let Some(b) = warp.ball_step(p, q, dir, warped_step, self.lipschitz, |c| {
+                self.core_distance(c)
+            }) {
+                t_prev = Some(t);
+                e_prev = Some(b.lower);
+                t += b.advance;
+                continue;
+            }
+            let e = self.core_step_distance(p);
+            reads += 1;
+            if e <= 0.0 {
+                let n;
+                (hit_t, acc, n) = self.core_crossing(eye, dir, (t_prev, e_prev), (t, e), true);
+                reads += n;
+                break;
+            }
+            t_prev = Some(t);
+            e_prev = Some(e);
+            t += (e * 0.9 / self.lipschitz).max(warped_step);
+        }
+        (acc, reads, hit_t)
+    }
+
     /// True when the core surface is not the field's zero set (melted or displaced).
     #[inline(always)]
     pub(super) fn warped(&self) -> bool {

@@ -20,7 +20,8 @@
 //! - The melted core (melt, core displacement) is sphere-traced with a Lipschitz bound:
 //!   far from it through the empty balls of a lattice of its exact distance ([`warp`]),
 //!   near it by the noises themselves, in steps of at least ¼ voxel; its crossing is placed
-//!   by false position ([`melted`]).
+//!   by false position ([`melted`]). Where the core is all there is to find (no material,
+//!   or a light's depth map) a loop of its own traces it ([`Tracer::march_melted`]).
 //! - Colours are linear and premultiplied, as meshes' are (not the display values of
 //!   transfer functions): the frame holds them as they are.
 //! - The image does not depend on the number of threads (per-pixel work, fixed tile order).
@@ -343,6 +344,13 @@ impl Tracer<'_> {
     /// `depth_only` the material is left out and nothing is shaded.
     #[inline(never)]
     pub(super) fn trace(&self, eye: Vec3, dir: Vec3, t_max: f32, jitter: f32) -> (Vec4, u64, f32) {
+        if let Some(w) = self
+            .warp
+            .as_ref()
+            .filter(|_| self.reach.is_finite() && (self.depth_only || !self.has_material()))
+        {
+            return self.march_melted(w, eye, dir, t_max);
+        }
         match if self.depth_only {
             kind::GENERIC
         } else {
@@ -384,11 +392,7 @@ impl Tracer<'_> {
         let warped_step = self.field.voxel * WARPED_STEP;
         let mut at_end = false;
         // Only the material reads the gradient; sphere-traced steps read the distance alone.
-        let medium = plain
-            || !self.depth_only
-                && self
-                    .hyper
-                    .is_some_and(|h| h.amplitude > 0.0 && h.opacity > 0.0);
+        let medium = plain || !self.depth_only && self.has_material();
         // The melted core's lattice and flag (none for a plain march).
         let warp = if plain { None } else { self.warp.as_ref() };
         let warped_core = !plain && self.warped();
@@ -530,6 +534,13 @@ impl Tracer<'_> {
             }
         }
         (acc, reads, hit_t)
+    }
+
+    /// True when the hypertexture has material (amplitude and opacity above 0).
+    #[inline(always)]
+    fn has_material(&self) -> bool {
+        self.hyper
+            .is_some_and(|h| h.amplitude > 0.0 && h.opacity > 0.0)
     }
 
     /// The rest of a ray whose material has reached opacity `acc.w` (below the early stop)

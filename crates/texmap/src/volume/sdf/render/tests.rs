@@ -72,6 +72,36 @@ fn without_the_tail_the_image_is_the_march_without_extrapolation() {
 }
 
 #[test]
+fn the_melted_cores_own_loop_is_the_generic_march() {
+    let vol = ball();
+    let cam = camera(Vec3::new(0.3, 0.5, 2.6));
+    let (w, h) = (40, 40);
+    let params = MarchParams::default();
+    let look = SurfaceLook::default();
+    let mut melt = Hypertexture::preset("melt").expect("a preset");
+    melt.set("time", "0.8").expect("a value");
+    for depth_only in [false, true] {
+        let mut tr = Tracer::new(&vol, &cam, h, &params, &look, Some(&melt));
+        tr.depth_only = depth_only;
+        let warp = tr.warp.as_ref().expect("a melted core's lattice");
+        let rays = CameraRays::new(&cam, w, h);
+        let mut hits = 0;
+        for y in 0..h {
+            for x in 0..w {
+                let (o, d) = rays.ray(x as f32 + 0.5, y as f32 + 0.5);
+                let own = tr.march_melted(warp, o, d, f32::INFINITY);
+                let generic = tr.march::<{ super::kind::GENERIC }>(o, d, f32::INFINITY, 0.0);
+                assert_eq!(own.0, generic.0, "colour at {x}, {y}");
+                assert_eq!(own.1, generic.1, "reads at {x}, {y}");
+                assert_eq!(own.2.to_bits(), generic.2.to_bits(), "hit at {x}, {y}");
+                hits += usize::from(own.2.is_finite());
+            }
+        }
+        assert!(hits > 100, "{hits} rays met the melted ball");
+    }
+}
+
+#[test]
 fn a_field_longer_than_its_reads_take_is_refused() {
     // 2^24 + 1 voxels along x: read as empty, it would draw nothing; the render refuses it.
     let n = super::super::reader::MAX_AXIS + 1;
