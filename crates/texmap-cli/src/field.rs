@@ -43,8 +43,9 @@ pub struct FieldArgs {
     pub hypertexture: Option<String>,
     /// A hypertexture parameter, KEY=VALUE (repeatable): thickness, amplitude, frequency,
     /// octaves, noise, strands, softness, bias, gain, opacity, inner, outer, emission,
-    /// shadows, rise, stretch, melt, core_displacement, core, step, tail, time (`tail=off`:
-    /// no extrapolation of a ray's last 5 % of opacity, a reference render).
+    /// shadows, rise, stretch, melt, core_displacement, core, step, tail, wide, time
+    /// (`tail=off wide=off`: no extrapolation of a ray's last 5 % of opacity and single
+    /// steps throughout, a reference render).
     #[arg(long = "ht", value_name = "KEY=VALUE")]
     pub ht: Vec<String>,
     /// Voxels along the largest side of a mesh's distance field [default: 128].
@@ -252,7 +253,7 @@ pub fn describe(v: &SceneVolume) -> String {
         out += &format!(
             "; hypertexture {} (thickness {}, amplitude {}, frequency {}, octaves {}, {:?}{}, \
              softness {}, bias {}, gain {}, opacity {}, emission {}, shadows {}, rise {}, \
-             melt {}, time {}, tail {})",
+             melt {}, time {}, step {}, tail {}, wide {})",
             h.preset,
             h.thickness,
             h.amplitude,
@@ -269,7 +270,9 @@ pub fn describe(v: &SceneVolume) -> String {
             h.rise,
             h.melt,
             h.time,
-            h.tail
+            h.step,
+            h.tail,
+            h.wide
         );
     }
     out

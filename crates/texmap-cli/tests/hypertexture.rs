@@ -257,6 +257,10 @@ fn bad_input_is_one_line_and_no_output() {
             "tail",
         ),
         (
+            vec![s(&obj), "--hypertexture", "smoke", "--ht", "wide=0"],
+            "wide",
+        ),
+        (
             vec![s(&obj), "--ht", "amplitude=1", "--solid", "wood"],
             "--hypertexture",
         ),

@@ -79,6 +79,9 @@ pub struct Hypertexture {
     /// repeated to the early stop, when that is at most 12 steps); 1 (`off`): never, every
     /// sample marched, for reference renders.
     pub tail: f32,
+    /// The opacity from which each sample stands for two steps (every second grid point
+    /// marched, its opacity `1 − (1 − a)²`); 1 (`off`): never, for reference renders.
+    pub wide: f32,
     /// Animation time, usually 0 to 1 over the frames.
     pub time: f32,
 }
@@ -87,7 +90,7 @@ pub struct Hypertexture {
 pub const PRESETS: [&str; 4] = ["fur", "fire", "smoke", "melt"];
 
 /// The keys [`Hypertexture::set`] takes.
-pub const KEYS: [&str; 22] = [
+pub const KEYS: [&str; 23] = [
     "thickness",
     "amplitude",
     "frequency",
@@ -109,6 +112,7 @@ pub const KEYS: [&str; 22] = [
     "core",
     "step",
     "tail",
+    "wide",
     "time",
 ];
 
@@ -139,6 +143,7 @@ impl Hypertexture {
             core: true,
             step: 0.08,
             tail: 0.95,
+            wide: 0.7,
             time: 0.0,
         };
         Some(match name {
@@ -213,7 +218,7 @@ impl Hypertexture {
     }
 
     /// Sets one parameter from text (`--ht key=value`, a TOML key): numbers, `true`/`false`,
-    /// `fbm`/`turbulence`, colours `r,g,b`; `tail` also takes `off` (1: no extrapolation).
+    /// `fbm`/`turbulence`, colours `r,g,b`; `tail` and `wide` also take `off` (1: never).
     ///
     /// # Errors
     /// [`Error::Parameter`] naming the key for an unknown key or a bad value.
@@ -288,6 +293,12 @@ impl Hypertexture {
                     _ => num()?,
                 }
             }
+            "wide" => {
+                self.wide = match value.trim() {
+                    "off" | "false" => 1.0,
+                    _ => num()?,
+                }
+            }
             "time" => self.time = num()?,
             _ => {
                 return Err(Error::parameter(format!(
@@ -346,6 +357,12 @@ impl Hypertexture {
                 self.tail
             )));
         }
+        if !(self.wide > 0.0 && self.wide <= 1.0) {
+            return Err(Error::parameter(format!(
+                "hypertexture wide = {} must be in (0, 1] (1 or off: single steps throughout)",
+                self.wide
+            )));
+        }
         if self.octaves > 8.0 {
             return Err(Error::parameter("hypertexture octaves must be at most 8"));
         }
@@ -373,8 +390,6 @@ impl Hypertexture {
         self.rise != 0.0 || self.melt != 0.0
     }
 
-    /// The density ramp `u` shaped by bias and gain: `D ∈ [0, 1]`.
-    #[inline(always)]
     /// The sum of the weights `octaves3f` gives its octaves (gain ½, the last fractional):
     /// the largest the fBm can be, over the noise's own bound.
     pub(crate) fn octave_weight(&self) -> f32 {
@@ -392,6 +407,7 @@ impl Hypertexture {
         sum
     }
 
+    /// The density ramp `u` shaped by bias and gain: `D ∈ [0, 1]`.
     pub(crate) fn shape(&self, u: f32) -> f32 {
         let u = u.clamp(0.0, 1.0);
         if u == 0.0 || u == 1.0 {
