@@ -7,7 +7,7 @@
 //! - A crossing of the plain field is bisected; the melted core's by false position
 //!   (Illinois), whose few reads matter because each reads the noises.
 
-use glam::{Vec3, Vec4};
+use glam::{Vec3, Vec3A, Vec4};
 
 use super::super::super::rays::{clip_to_box, VoxelRay};
 use super::super::hyper::{Hypertexture, NoiseKind};
@@ -53,6 +53,9 @@ impl Tracer<'_> {
         let warped_step = self.field.voxel * WARPED_STEP;
         let mut at_end = false;
         let mut hit_t = f32::INFINITY;
+        // The ray's points in lanes (per axis the same operations: the same bits).
+        let (eye_a, dir_a) = (Vec3A::from(eye), Vec3A::from(dir));
+        let (origin, step) = (Vec3A::from(ray.origin), Vec3A::from(ray.dir));
         for _ in 0..MAX_STEPS {
             if t > span.t1 {
                 // The last sample sits on the span's end, as in the generic march.
@@ -62,9 +65,9 @@ impl Tracer<'_> {
                 t = span.t1;
                 at_end = true;
             }
-            let q = ray.at(t);
-            let p = eye + dir * t;
-            if let Some(b) = warp.ball_step(p, q, dir, warped_step, self.lipschitz, |c| {
+            let q = origin + step * t;
+            let p = eye_a + dir_a * t;
+            if let Some(b) = warp.ball_step(p, q, dir_a, warped_step, self.lipschitz, |c| {
                 self.core_distance(c)
             }) {
                 t_prev = Some(t);
@@ -72,7 +75,7 @@ impl Tracer<'_> {
                 t += b.advance;
                 continue;
             }
-            let e = self.core_step_distance(p);
+            let e = self.core_step_distance(p.into());
             reads += 1;
             if e <= 0.0 {
                 let n;

@@ -426,9 +426,14 @@ impl Tracer<'_> {
             let p = eye + dir * t;
             if let Some(w) = warp.filter(|_| !medium && self.reach.is_finite()) {
                 // Through the melted core's empty balls, without reading the field.
-                if let Some(b) = w.ball_step(p, q, dir, warped_step, self.lipschitz, |c| {
-                    self.core_distance(c)
-                }) {
+                if let Some(b) = w.ball_step(
+                    p.into(),
+                    q.into(),
+                    dir.into(),
+                    warped_step,
+                    self.lipschitz,
+                    |c| self.core_distance(c),
+                ) {
                     t_prev = Some(t);
                     e_prev = Some(b.lower);
                     t += b.advance;

@@ -20,7 +20,7 @@
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec3, Vec3A};
 
 use super::super::hyper::Hypertexture;
 use crate::texture::procedural::perlin::noise3f;
@@ -39,12 +39,14 @@ const EMPTY: u32 = u32::MAX;
 pub(super) struct Warp {
     /// Voxel coordinate of lattice point `k` along an axis: `k · spacing`.
     spacing: f32,
+    /// The highest lattice index along each axis (`dims − 1`).
+    top: Vec3A,
     /// Points per axis.
     dims: [usize; 3],
     /// World position of lattice point (0, 0, 0) and the world steps to the next point
-    /// along each lattice axis.
-    origin: Vec3,
-    axes: [Vec3; 3],
+    /// along each lattice axis (in lanes: a step's arithmetic is per axis).
+    origin: Vec3A,
+    axes: [Vec3A; 3],
     /// `f32` bits of `e(c)`, [`EMPTY`] until read.
     values: Vec<AtomicU32>,
 }
@@ -74,42 +76,49 @@ impl Warp {
         let n = dims.iter().product();
         Some(Warp {
             spacing,
+            top: Vec3A::new(
+                (dims[0] - 1) as f32,
+                (dims[1] - 1) as f32,
+                (dims[2] - 1) as f32,
+            ),
             dims,
-            origin: world_from_voxel.transform_point3(Vec3::ZERO),
+            origin: world_from_voxel.transform_point3(Vec3::ZERO).into(),
             axes: [Vec3::X, Vec3::Y, Vec3::Z]
-                .map(|a| world_from_voxel.transform_vector3(a * spacing)),
+                .map(|a| world_from_voxel.transform_vector3(a * spacing).into()),
             values: (0..n).map(|_| AtomicU32::new(EMPTY)).collect(),
         })
     }
 
-    /// The step from world point `p` (voxel-space `q`) along the unit `dir`, when `p` lies
+    /// The step from world point `p` (voxel-space `q`) along the unit `dir` (all three in
+    /// lanes: the same bits as their `Vec3` arithmetic), when `p` lies
     /// inside the empty ball of its nearest lattice point by more than `least`: `core`
     /// evaluates the exact core distance at a world point, `lipschitz` bounds its rate.
     #[inline(always)]
     pub(super) fn ball_step(
         &self,
-        p: Vec3,
-        q: Vec3,
-        dir: Vec3,
+        p: Vec3A,
+        q: Vec3A,
+        dir: Vec3A,
         least: f32,
         lipschitz: f32,
         core: impl Fn(Vec3) -> f32,
     ) -> Option<BallStep> {
+        // In lanes (`Vec3A`): the same operations per axis, so the same bits as in `Vec3`.
         let k = (q / self.spacing).round();
-        let [nx, ny, nz] = self.dims;
-        let top = Vec3::new((nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32);
+        let [nx, ny, _] = self.dims;
         // Clamped to the lattice (a point on the box's side rounds inside it); NaN-free.
-        let k = k.max(Vec3::ZERO).min(top);
+        let k = k.max(Vec3A::ZERO).min(self.top);
         // SAFETY: in [0, top] (clamped above, NaN made 0), which `u32` holds: the truncation
         // needs none of `as`'s saturation.
         let whole = |v: f32| unsafe { v.to_int_unchecked::<u32>() } as usize;
         let (i, j, l) = (whole(k.x), whole(k.y), whole(k.z));
         let idx = i + nx * (j + ny * l);
         let c = self.origin + self.axes[0] * k.x + self.axes[1] * k.y + self.axes[2] * k.z;
-        let bits = self.values[idx].load(Ordering::Relaxed);
+        let slot = &self.values[idx];
+        let bits = slot.load(Ordering::Relaxed);
         let e = if bits == EMPTY {
-            let e = core(c);
-            self.values[idx].store(e.to_bits(), Ordering::Relaxed);
+            let e = core(c.into());
+            slot.store(e.to_bits(), Ordering::Relaxed);
             e
         } else {
             f32::from_bits(bits)
