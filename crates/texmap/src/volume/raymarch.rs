@@ -122,6 +122,24 @@ pub(crate) fn tiled_frame(
     height: u32,
     pixel: impl Fn(u32, u32) -> (Vec4, u64) + Sync,
 ) -> (Vec<Vec4>, u64) {
+    tiled_rows(width, height, |y, xs, color| {
+        let mut samples = 0;
+        for x in xs {
+            let (c, n) = pixel(x, y);
+            samples += n;
+            color.push(c);
+        }
+        samples
+    })
+}
+
+/// [`tiled_frame`] with each tile's row drawn by `row(y, xs, color)`: it pushes the colours
+/// of pixels `xs` of row `y`, in order, onto `color` and returns the samples they took.
+pub(crate) fn tiled_rows(
+    width: u32,
+    height: u32,
+    row: impl Fn(u32, std::ops::Range<u32>, &mut Vec<Vec4>) -> u64 + Sync,
+) -> (Vec<Vec4>, u64) {
     let (w, h) = (width as usize, height as usize);
     let (tx, ty) = (w.div_ceil(TILE), h.div_ceil(TILE));
     let tiles: Vec<TilePixels> = (0..tx * ty)
@@ -132,11 +150,7 @@ pub(crate) fn tiled_frame(
             let mut color = Vec::with_capacity((x1 - x0) * (y1 - y0));
             let mut samples = 0u64;
             for y in y0..y1 {
-                for x in x0..x1 {
-                    let (c, n) = pixel(x as u32, y as u32);
-                    samples += n;
-                    color.push(c);
-                }
+                samples += row(y as u32, x0 as u32..x1 as u32, &mut color);
             }
             TilePixels { color, samples }
         })

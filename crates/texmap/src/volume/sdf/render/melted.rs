@@ -24,6 +24,29 @@ thread_local! {
     static CELLS: RefCell<CellsX4> = const { RefCell::new(CellsX4::EMPTY) };
 }
 
+/// One ray of the melted core's march ([`Tracer::march_melted`]) between its steps.
+struct MeltedRay {
+    eye: Vec3,
+    dir: Vec3,
+    eye_a: Vec3A,
+    dir_a: Vec3A,
+    /// The ray in voxel space: `origin + voxel_dir·t`.
+    origin: Vec3A,
+    voxel_dir: Vec3A,
+    t: f32,
+    /// The span's end.
+    t1: f32,
+    t_prev: Option<f32>,
+    /// The core distance at `t_prev` (a ball's lower bound after a far step).
+    e_prev: Option<f32>,
+    at_end: bool,
+    steps: u32,
+    done: bool,
+    acc: Vec4,
+    reads: u64,
+    hit_t: f32,
+}
+
 impl Tracer<'_> {
     /// [`Tracer::march`] for the melted core alone (no material, or a depth-only trace): far
     /// from it through the empty balls of `warp`, near it by its own distance, its crossing
@@ -37,57 +60,108 @@ impl Tracer<'_> {
         dir: Vec3,
         t_max: f32,
     ) -> (Vec4, u64, f32) {
+        let mut r = self.melted_ray(eye, dir, t_max);
+        while !r.done {
+            self.melted_step(warp, &mut r);
+        }
+        (r.acc, r.reads, r.hit_t)
+    }
+
+    /// [`Self::march_melted`] of two rays, a step of each in turn: their chains of dependent
+    /// steps are independent, so the processor overlaps them. Each ray takes the same
+    /// operations as alone (the same bits).
+    #[inline(never)]
+    pub(super) fn march_melted_pair(
+        &self,
+        warp: &Warp,
+        rays: [(Vec3, Vec3, f32); 2],
+    ) -> [(Vec4, u64, f32); 2] {
+        let [(e0, d0, m0), (e1, d1, m1)] = rays;
+        let (mut a, mut b) = (self.melted_ray(e0, d0, m0), self.melted_ray(e1, d1, m1));
+        while !a.done && !b.done {
+            self.melted_step(warp, &mut a);
+            self.melted_step(warp, &mut b);
+        }
+        while !a.done {
+            self.melted_step(warp, &mut a);
+        }
+        while !b.done {
+            self.melted_step(warp, &mut b);
+        }
+        [(a.acc, a.reads, a.hit_t), (b.acc, b.reads, b.hit_t)]
+    }
+
+    /// A melted-core ray from `eye` along the unit `dir`, stopped at `t_max`, before its
+    /// first step (done when it misses the box).
+    #[inline(always)]
+    fn melted_ray(&self, eye: Vec3, dir: Vec3, t_max: f32) -> MeltedRay {
         let ray = VoxelRay::new(&self.field.voxel_from_world, eye, dir);
         let core = self.hyper.is_none_or(|h| h.core);
-        let Some(span) = clip_to_box(&ray, t_max, Vec3::ZERO, self.field.hi)
-            .filter(|_| core || !self.depth_only)
-        else {
-            return (Vec4::ZERO, 0, f32::INFINITY);
-        };
-        let mut acc = Vec4::ZERO;
-        let mut reads = 0u64;
-        let mut t = span.t0;
-        let mut t_prev: Option<f32> = None;
-        // The core distance at `t_prev` (a ball's lower bound after a far step).
-        let mut e_prev: Option<f32> = None;
-        let warped_step = self.field.voxel * WARPED_STEP;
-        let mut at_end = false;
-        let mut hit_t = f32::INFINITY;
-        // The ray's points in lanes (per axis the same operations: the same bits).
-        let (eye_a, dir_a) = (Vec3A::from(eye), Vec3A::from(dir));
-        let (origin, step) = (Vec3A::from(ray.origin), Vec3A::from(ray.dir));
-        for _ in 0..MAX_STEPS {
-            if t > span.t1 {
-                // The last sample sits on the span's end, as in the generic march.
-                if at_end || t_prev.is_none_or(|tp| tp >= span.t1) {
-                    break;
-                }
-                t = span.t1;
-                at_end = true;
-            }
-            let q = origin + step * t;
-            let p = eye_a + dir_a * t;
-            if let Some(b) = warp.ball_step(p, q, dir_a, warped_step, self.lipschitz, |c| {
-                self.core_distance(c)
-            }) {
-                t_prev = Some(t);
-                e_prev = Some(b.lower);
-                t += b.advance;
-                continue;
-            }
-            let e = self.core_step_distance(p.into());
-            reads += 1;
-            if e <= 0.0 {
-                let n;
-                (hit_t, acc, n) = self.core_crossing(eye, dir, (t_prev, e_prev), (t, e), true);
-                reads += n;
-                break;
-            }
-            t_prev = Some(t);
-            e_prev = Some(e);
-            t += (e * 0.9 / self.lipschitz).max(warped_step);
+        let span = clip_to_box(&ray, t_max, Vec3::ZERO, self.field.hi)
+            .filter(|_| core || !self.depth_only);
+        MeltedRay {
+            eye,
+            dir,
+            // The ray's points in lanes (per axis the same operations: the same bits).
+            eye_a: eye.into(),
+            dir_a: dir.into(),
+            origin: ray.origin.into(),
+            voxel_dir: ray.dir.into(),
+            t: span.map_or(0.0, |s| s.t0),
+            t1: span.map_or(0.0, |s| s.t1),
+            t_prev: None,
+            e_prev: None,
+            at_end: false,
+            steps: 0,
+            done: span.is_none(),
+            acc: Vec4::ZERO,
+            reads: 0,
+            hit_t: f32::INFINITY,
         }
-        (acc, reads, hit_t)
+    }
+
+    /// One step of a melted-core ray (the generic march's loop body on this path).
+    #[inline(always)]
+    fn melted_step(&self, warp: &Warp, r: &mut MeltedRay) {
+        if r.steps == MAX_STEPS {
+            r.done = true;
+            return;
+        }
+        r.steps += 1;
+        if r.t > r.t1 {
+            // The last sample sits on the span's end, as in the generic march.
+            if r.at_end || r.t_prev.is_none_or(|tp| tp >= r.t1) {
+                r.done = true;
+                return;
+            }
+            r.t = r.t1;
+            r.at_end = true;
+        }
+        let t = r.t;
+        let q = r.origin + r.voxel_dir * t;
+        let p = r.eye_a + r.dir_a * t;
+        let warped_step = self.field.voxel * WARPED_STEP;
+        if let Some(b) = warp.ball_step(p, q, r.dir_a, warped_step, self.lipschitz, |c| {
+            self.core_distance(c)
+        }) {
+            r.t_prev = Some(t);
+            r.e_prev = Some(b.lower);
+            r.t += b.advance;
+            return;
+        }
+        let e = self.core_step_distance(p.into());
+        r.reads += 1;
+        if e <= 0.0 {
+            let (hit, acc, n) =
+                self.core_crossing(r.eye, r.dir, (r.t_prev, r.e_prev), (t, e), true);
+            (r.hit_t, r.acc) = (hit, acc);
+            r.reads += n;
+            r.done = true;
+            return;
+        }
+        r.t_prev = Some(t);
+        r.e_prev = Some(e);
+        r.t += (e * 0.9 / self.lipschitz).max(warped_step);
     }
 
     /// True when the core surface is not the field's zero set (melted or displaced).

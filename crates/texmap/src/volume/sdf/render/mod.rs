@@ -42,7 +42,7 @@ use glam::{Vec3, Vec4};
 use super::super::grid::Volume;
 use super::super::output::check_request;
 use super::super::params::MarchParams;
-use super::super::raymarch::tiled_frame;
+use super::super::raymarch::{tiled_frame, tiled_rows};
 use super::super::rays::{clip_to_box, pixel_hash, CameraRays, VoxelRay};
 use super::super::shade::VolumeLights;
 use super::hyper::Hypertexture;
@@ -199,13 +199,37 @@ pub fn render_distance_field_shadowed(
     let mut tr = Tracer::new(vol, camera, height, params, look, hyper);
     tr.shadows = shadows.filter(|m| !m.is_empty());
     let rays = CameraRays::new(camera, width, height);
-    let (color, samples) = tiled_frame(width, height, |x, y| {
+    let ray = |x: u32, y: u32| {
         let (o, d) = rays.ray(x as f32 + 0.5, y as f32 + 0.5);
         let t_max = depth.map_or(f32::INFINITY, |dd| dd[(y * width + x) as usize]);
-        let j = if tr.jitter { pixel_hash(x, y) } else { 0.0 };
-        let (c, n, _) = tr.trace(o, d, t_max, j);
-        (c, n)
-    });
+        (o, d, t_max)
+    };
+    let (color, samples) = match tr.melted_warp() {
+        // The melted core alone: two neighbouring rays marched in turn.
+        Some(w) => tiled_rows(width, height, |y, xs, color| {
+            let mut n = 0;
+            let mut x = xs.start;
+            while x + 1 < xs.end {
+                let [a, b] = tr.march_melted_pair(w, [ray(x, y), ray(x + 1, y)]);
+                color.extend([a.0, b.0]);
+                n += a.1 + b.1;
+                x += 2;
+            }
+            if x < xs.end {
+                let (o, d, t_max) = ray(x, y);
+                let (c, k, _) = tr.march_melted(w, o, d, t_max);
+                color.push(c);
+                n += k;
+            }
+            n
+        }),
+        None => tiled_frame(width, height, |x, y| {
+            let (o, d, t_max) = ray(x, y);
+            let j = if tr.jitter { pixel_hash(x, y) } else { 0.0 };
+            let (c, n, _) = tr.trace(o, d, t_max, j);
+            (c, n)
+        }),
+    };
     Ok(Frame {
         width,
         height,
@@ -358,11 +382,7 @@ impl Tracer<'_> {
     /// `depth_only` the material is left out and nothing is shaded.
     #[inline(never)]
     pub(super) fn trace(&self, eye: Vec3, dir: Vec3, t_max: f32, jitter: f32) -> (Vec4, u64, f32) {
-        if let Some(w) = self
-            .warp
-            .as_ref()
-            .filter(|_| self.reach.is_finite() && (self.depth_only || !self.has_material()))
-        {
+        if let Some(w) = self.melted_warp() {
             return self.march_melted(w, eye, dir, t_max);
         }
         match if self.depth_only {
@@ -556,6 +576,15 @@ impl Tracer<'_> {
             }
         }
         (acc, reads, hit_t)
+    }
+
+    /// The melted core's lattice when the core is all a ray can find (no material, or a
+    /// depth-only trace): such rays take [`Self::march_melted`].
+    #[inline(always)]
+    fn melted_warp(&self) -> Option<&Warp> {
+        self.warp
+            .as_ref()
+            .filter(|_| self.reach.is_finite() && (self.depth_only || !self.has_material()))
     }
 
     /// True when the hypertexture has material (amplitude and opacity above 0).

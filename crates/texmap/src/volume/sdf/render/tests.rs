@@ -131,7 +131,7 @@ fn wide_steps_are_the_march_taking_every_second_point_from_their_opacity() {
 }
 
 #[test]
-fn the_melted_cores_own_loop_is_the_generic_march() {
+fn the_melted_cores_own_loop_and_its_pairs_are_the_generic_march() {
     let vol = ball();
     let cam = camera(Vec3::new(0.3, 0.5, 2.6));
     let (w, h) = (40, 40);
@@ -154,6 +154,18 @@ fn the_melted_cores_own_loop_is_the_generic_march() {
                 assert_eq!(own.1, generic.1, "reads at {x}, {y}");
                 assert_eq!(own.2.to_bits(), generic.2.to_bits(), "hit at {x}, {y}");
                 hits += usize::from(own.2.is_finite());
+                // Two rays marched in turn take each one's own steps.
+                let (o2, d2) = rays.ray(x as f32 + 0.5, (h - 1 - y) as f32 + 0.5);
+                let pair = tr.march_melted_pair(
+                    warp,
+                    [(o, d, f32::INFINITY), (o2, d2, f32::INFINITY)],
+                );
+                let other = tr.march_melted(warp, o2, d2, f32::INFINITY);
+                for (got, want) in pair.iter().zip([own, other]) {
+                    assert_eq!(got.0, want.0, "pair colour at {x}, {y}");
+                    assert_eq!(got.1, want.1, "pair reads at {x}, {y}");
+                    assert_eq!(got.2.to_bits(), want.2.to_bits(), "pair hit at {x}, {y}");
+                }
             }
         }
         assert!(hits > 100, "{hits} rays met the melted ball");
