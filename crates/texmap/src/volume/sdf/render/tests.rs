@@ -156,10 +156,8 @@ fn the_melted_cores_own_loop_and_its_pairs_are_the_generic_march() {
                 hits += usize::from(own.2.is_finite());
                 // Two rays marched in turn take each one's own steps.
                 let (o2, d2) = rays.ray(x as f32 + 0.5, (h - 1 - y) as f32 + 0.5);
-                let pair = tr.march_melted_pair(
-                    warp,
-                    [(o, d, f32::INFINITY), (o2, d2, f32::INFINITY)],
-                );
+                let pair =
+                    tr.march_melted_pair(warp, [(o, d, f32::INFINITY), (o2, d2, f32::INFINITY)]);
                 let other = tr.march_melted(warp, o2, d2, f32::INFINITY);
                 for (got, want) in pair.iter().zip([own, other]) {
                     assert_eq!(got.0, want.0, "pair colour at {x}, {y}");
