@@ -67,15 +67,33 @@ impl NoiseCache {
 
     /// The noise at texture point `x` read trilinearly, `noise` evaluating it at lattice
     /// points not yet stored; `None` outside the lattice.
-    #[inline(always)]
+    #[cfg(test)]
     pub(super) fn read(&self, x: Vec3, noise: impl Fn(Vec3) -> f32) -> Option<f32> {
-        let q = (x - self.origin) * self.density;
+        self.read_lattice(self.lattice_point(x), noise)
+    }
+
+    /// Texture point `x` in lattice coordinates (the lattice's points at whole numbers).
+    #[inline(always)]
+    pub(super) fn lattice_point(&self, x: Vec3) -> Vec3A {
+        Vec3A::from((x - self.origin) * self.density)
+    }
+
+    /// A texture-space direction `v` in lattice units: a ray's lattice coordinates are
+    /// `lattice_point(o) + lattice_vector(v) · t`.
+    #[inline(always)]
+    pub(super) fn lattice_vector(&self, v: Vec3) -> Vec3A {
+        Vec3A::from(v * self.density)
+    }
+
+    /// [`Self::read`] at lattice coordinates `qa` ([`Self::lattice_point`]).
+    #[inline(always)]
+    pub(super) fn read_lattice(&self, qa: Vec3A, noise: impl Fn(Vec3) -> f32) -> Option<f32> {
         let [nx, ny, _] = self.dims;
         // The six bounds in lanes (one mask test; NaN fails as before).
-        let qa = Vec3A::from(q);
         if !(qa.cmpge(Vec3A::ZERO) & qa.cmplt(Vec3A::from(self.last))).all() {
             return None;
         }
+        let q = Vec3::from(qa);
         let c = q.floor();
         let f = q - c;
         // SAFETY: in range and not negative (checked above, NaN failing the checks): the
@@ -170,6 +188,27 @@ mod tests {
         for p in [Vec3::new(0.125, -0.3, 0.375), Vec3::new(-0.41, 0.29, 0.03)] {
             let v = cache.read(p, f).expect("inside");
             assert!((v - f(p)).abs() < 1e-5, "{p}: {v} vs {}", f(p));
+        }
+    }
+
+    #[test]
+    fn a_rays_lattice_coordinates_read_as_its_points() {
+        let cache = NoiseCache::new(
+            Vec3::splat(-0.5),
+            Vec3::splat(0.5),
+            Vec3::new(8.0, 5.0, 8.0),
+        )
+        .expect("small");
+        let f = |p: Vec3| 0.25 + 0.5 * p.x - 0.125 * p.y + 0.0625 * p.z;
+        let (o, v) = (Vec3::new(-0.9, 0.2, -0.7), Vec3::new(0.6, -0.2, 0.5));
+        let (lo, lv) = (cache.lattice_point(o), cache.lattice_vector(v));
+        for t in [0.8, 1.0, 1.3, 1.7] {
+            let by_ray = cache.read_lattice(lo + lv * t, f).expect("inside");
+            let by_point = cache.read(o + v * t, f).expect("inside");
+            assert!(
+                (by_ray - by_point).abs() < 1e-5,
+                "t {t}: {by_ray} vs {by_point}"
+            );
         }
     }
 

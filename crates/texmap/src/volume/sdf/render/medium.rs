@@ -8,7 +8,7 @@
 //!   cannot reach the sample's height: no material there, whatever the finer octaves.
 //! - Where the frame's noise lattice covers the sample, the noise is read from it.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 use super::super::hyper::{Hypertexture, NoiseKind};
 use super::kind::{self, flag};
@@ -73,7 +73,8 @@ impl Tracer<'_> {
     }
 
     /// The density at world point `p` with field distance `d` and gradient `g`, in `[0, 1]`,
-    /// its ramp value `u` and its entry in the tables (`shape`, `alpha`).
+    /// its ramp value `u` and its entry in the tables (`shape`, `alpha`). `lat`, when given,
+    /// is `p` in the noise lattice's coordinates (a ray's, [`Tracer::lattice_ray`]).
     #[inline(always)]
     fn density<const K: u8>(
         &self,
@@ -81,6 +82,7 @@ impl Tracer<'_> {
         p: Vec3,
         d: f32,
         g: impl Fn() -> Vec3,
+        lat: Option<Vec3A>,
     ) -> (f32, f32, usize) {
         // A plain march ([`kind::PLAIN`]) has material and no melt.
         let plain = K & kind::PLAIN != 0;
@@ -110,8 +112,13 @@ impl Tracer<'_> {
         } else {
             None
         };
+        // (Without strands `at` is `p`, so a ray's lattice coordinates are `at`'s.)
         let cached = lattice.and_then(|c| {
-            c.read(self.texture_from_world.transform_point3(at), |t| {
+            let q = match lat.filter(|_| !flag::<K>(kind::STRANDS, h.strands)) {
+                Some(q) => q,
+                None => c.lattice_point(self.texture_from_world.transform_point3(at)),
+            };
+            c.read_lattice(q, |t| {
                 self.noise_above_texture(h, t, f32::NEG_INFINITY)
                     .unwrap_or(0.0)
             })
@@ -138,7 +145,8 @@ impl Tracer<'_> {
         (self.shape[i], u.min(1.0), i)
     }
 
-    /// The material at one sample: its colour, opacity over the step, and the reads taken.
+    /// The material at one sample: its colour, opacity over the step, and the reads taken
+    /// (`lat` as [`Self::density`]'s).
     pub(super) fn material<const K: u8>(
         &self,
         h: &Hypertexture,
@@ -146,6 +154,7 @@ impl Tracer<'_> {
         d: f32,
         g: impl Fn() -> Vec3,
         dir: Vec3,
+        lat: Option<Vec3A>,
     ) -> (Vec3, f32, u64) {
         // The gradient read once, where the strands or the lighting first need it.
         let memo = std::cell::Cell::new(None::<Vec3>);
@@ -157,7 +166,7 @@ impl Tracer<'_> {
                 v
             }
         };
-        let (dens, u, i) = self.density::<K>(h, p, d, g);
+        let (dens, u, i) = self.density::<K>(h, p, d, g, lat);
         if dens <= 0.0 {
             return (Vec3::ZERO, 0.0, 0);
         }
@@ -189,7 +198,7 @@ impl Tracer<'_> {
                 tau = f32::INFINITY;
                 break;
             }
-            tau += h.opacity * self.density::<K>(h, ps, dd, || gg).0 * ds / self.shell;
+            tau += h.opacity * self.density::<K>(h, ps, dd, || gg, None).0 * ds / self.shell;
         }
         let ambient = ramp * 0.2;
         (

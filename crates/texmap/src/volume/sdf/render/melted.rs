@@ -152,8 +152,7 @@ impl Tracer<'_> {
         let e = self.core_step_distance(p.into());
         r.reads += 1;
         if e <= 0.0 {
-            let (hit, acc, n) =
-                self.core_crossing(r.eye, r.dir, (r.t_prev, r.e_prev), (t, e), true);
+            let (hit, acc, n) = self.core_crossing(r.eye, r.dir, (r.t_prev, r.e_prev), (t, e));
             (r.hit_t, r.acc) = (hit, acc);
             r.reads += n;
             r.done = true;

@@ -163,6 +163,43 @@ fn the_melted_cores_own_loop_and_its_pairs_are_the_generic_march() {
 }
 
 #[test]
+fn core_crossings_are_placed_within_the_tolerance() {
+    // False position from the last sample's distance: the hit is within half the tolerance
+    // (1/100 voxel) of a point outside and one inside, for the plain surface, a material
+    // with a core (fire, fur) and jittered grids.
+    let vol = ball();
+    let cam = camera(Vec3::new(0.3, 0.5, 2.6));
+    let (w, h) = (40, 40);
+    let look = SurfaceLook::default();
+    for preset in [None, Some("fire"), Some("fur")] {
+        let hyper = preset.map(|p| Hypertexture::preset(p).expect("a preset"));
+        for jitter in [0.0, 0.37] {
+            let params = MarchParams::default();
+            let tr = Tracer::new(&vol, &cam, h, &params, &look, hyper.as_ref());
+            let tol = 0.01 * tr.field.voxel;
+            let rays = CameraRays::new(&cam, w, h);
+            let mut hits = 0;
+            for y in 0..h {
+                for x in 0..w {
+                    let (o, d) = rays.ray(x as f32 + 0.5, y as f32 + 0.5);
+                    let hit = tr.trace(o, d, f32::INFINITY, jitter).2;
+                    if !hit.is_finite() {
+                        continue;
+                    }
+                    hits += 1;
+                    let at = |t: f32| tr.core_distance(o + d * t);
+                    assert!(at(hit - 0.5 * tol) > 0.0, "{preset:?}: outside at {x}, {y}");
+                    assert!(at(hit + 0.5 * tol) <= 0.0, "{preset:?}: inside at {x}, {y}");
+                }
+            }
+            // Fur's strands stop most rays before the core.
+            let least = if preset == Some("fur") { 1 } else { 200 };
+            assert!(hits >= least, "{preset:?}: {hits} rays met the ball");
+        }
+    }
+}
+
+#[test]
 fn a_field_longer_than_its_reads_take_is_refused() {
     // 2^24 + 1 voxels along x: read as empty, it would draw nothing; the render refuses it.
     let n = super::super::reader::MAX_AXIS + 1;
