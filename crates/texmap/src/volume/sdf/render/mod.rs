@@ -24,6 +24,9 @@
 //!   by bisection where the first end's is not known, and shaded with the normal from
 //!   central differences (±½ voxel) of the trilinear field. (Bisection's reads depend each
 //!   on the last: a shell step of 2 voxels took 8; false position takes 2–3.)
+//! - A material's march ([`kind::PLAIN`]) starts with its way in: the sphere-traced steps
+//!   to the reach of two neighbouring rays, a step of each in turn ([`approach`]); each
+//!   ray's march resumes where its way in stopped (the same steps, the same image).
 //! - A material's samples read the noise lattice at the ray's own lattice coordinates,
 //!   `o + v·t` ([`Tracer::lattice_ray`]), not the sample's world point carried through
 //!   the texture transform.
@@ -36,6 +39,7 @@
 //!   transfer functions): the frame holds them as they are.
 //! - The image does not depend on the number of threads (per-pixel work, fixed tile order).
 
+mod approach;
 mod medium;
 mod melted;
 #[cfg(test)]
@@ -58,6 +62,7 @@ use crate::camera::{Camera, CameraProjection};
 use crate::frame::{Frame, FrameStats};
 use crate::shading::shadow::ShadowMaps;
 use crate::Result;
+use approach::Start;
 use kind::flag;
 use warp::Warp;
 
@@ -229,6 +234,10 @@ pub fn render_distance_field_shadowed(
             }
             n
         }),
+        // A material's march: the rays' ways in two at a time.
+        None if tr.kind & kind::PLAIN != 0 => tiled_rows(width, height, |y, xs, color| {
+            tr.trace_row(y, xs, color, ray)
+        }),
         None => tiled_frame(width, height, |x, y| {
             let (o, d, t_max) = ray(x, y);
             let j = if tr.jitter { pixel_hash(x, y) } else { 0.0 };
@@ -391,20 +400,34 @@ impl Tracer<'_> {
         if let Some(w) = self.melted_warp() {
             return self.march_melted(w, eye, dir, t_max);
         }
+        self.trace_from(eye, dir, t_max, jitter, None)
+    }
+
+    /// [`Self::trace`] resuming from `start` when given (a plain kind's approach).
+    #[inline(always)]
+    fn trace_from(
+        &self,
+        eye: Vec3,
+        dir: Vec3,
+        t_max: f32,
+        jitter: f32,
+        start: Option<Start>,
+    ) -> (Vec4, u64, f32) {
         match if self.depth_only {
             kind::GENERIC
         } else {
             self.kind
         } {
-            kind::FUR => self.march::<{ kind::FUR }>(eye, dir, t_max, jitter),
-            kind::FIRE => self.march::<{ kind::FIRE }>(eye, dir, t_max, jitter),
-            kind::SMOKE => self.march::<{ kind::SMOKE }>(eye, dir, t_max, jitter),
-            _ => self.march::<{ kind::GENERIC }>(eye, dir, t_max, jitter),
+            kind::FUR => self.march::<{ kind::FUR }>(eye, dir, t_max, jitter, start),
+            kind::FIRE => self.march::<{ kind::FIRE }>(eye, dir, t_max, jitter, start),
+            kind::SMOKE => self.march::<{ kind::SMOKE }>(eye, dir, t_max, jitter, start),
+            _ => self.march::<{ kind::GENERIC }>(eye, dir, t_max, jitter, start),
         }
     }
 
     /// [`Self::trace`] specialised as `K` says ([`kind`]; the tracer's flags agree with it),
     /// a function of its own so each loop gets its own registers.
+    /// From `start`, when given, it resumes where the ray's approach left it.
     #[inline(never)]
     fn march<const K: u8>(
         &self,
@@ -412,6 +435,7 @@ impl Tracer<'_> {
         dir: Vec3,
         t_max: f32,
         jitter: f32,
+        start: Option<Start>,
     ) -> (Vec4, u64, f32) {
         let plain = K & kind::PLAIN != 0;
         let ray = VoxelRay::new(&self.field.voxel_from_world, eye, dir);
@@ -443,7 +467,12 @@ impl Tracer<'_> {
         } else {
             None
         };
-        for _ in 0..MAX_STEPS {
+        let mut first = 0;
+        if let Some(s) = start {
+            (t, t_prev, e_prev, at_end, reads, first) =
+                (s.t, s.t_prev, s.e_prev, s.at_end, s.reads, s.steps);
+        }
+        for _ in first..MAX_STEPS {
             if t > span.t1 {
                 // The last sample sits on the span's end, so a crossing just before a stop
                 // (a surface in front, the box's far side) is still found.

@@ -141,7 +141,7 @@ fn the_melted_cores_own_loop_and_its_pairs_are_the_generic_march() {
             for x in 0..w {
                 let (o, d) = rays.ray(x as f32 + 0.5, y as f32 + 0.5);
                 let own = tr.march_melted(warp, o, d, f32::INFINITY);
-                let generic = tr.march::<{ super::kind::GENERIC }>(o, d, f32::INFINITY, 0.0);
+                let generic = tr.march::<{ super::kind::GENERIC }>(o, d, f32::INFINITY, 0.0, None);
                 assert_eq!(own.0, generic.0, "colour at {x}, {y}");
                 assert_eq!(own.1, generic.1, "reads at {x}, {y}");
                 assert_eq!(own.2.to_bits(), generic.2.to_bits(), "hit at {x}, {y}");
@@ -196,6 +196,58 @@ fn core_crossings_are_placed_within_the_tolerance() {
             let least = if preset == Some("fur") { 1 } else { 200 };
             assert!(hits >= least, "{preset:?}: {hits} rays met the ball");
         }
+    }
+}
+
+#[test]
+fn the_ways_in_two_at_a_time_are_each_rays_own_march() {
+    let vol = ball();
+    let cam = camera(Vec3::new(0.3, 0.5, 2.6));
+    let (w, h) = (40, 40);
+    let look = SurfaceLook::default();
+    let params = MarchParams::default();
+    for preset in ["fur", "fire", "smoke"] {
+        let hyper = Hypertexture::preset(preset).expect("a preset");
+        let tr = Tracer::new(&vol, &cam, h, &params, &look, Some(&hyper));
+        assert!(tr.kind & super::kind::PLAIN != 0, "{preset}: a plain kind");
+        let rays = CameraRays::new(&cam, w, h);
+        let ray = |x: u32, y: u32| {
+            let (o, d) = rays.ray(x as f32 + 0.5, y as f32 + 0.5);
+            (o, d, f32::INFINITY)
+        };
+        let (mut resumed, mut ended) = (0, 0);
+        for y in 0..h {
+            for x in 0..w {
+                // This ray beside another from across the frame (unlike ways, unlike ends).
+                let pair = [ray(x, y), ray(w - 1 - x, (y * 7) % h)];
+                let jitters = [0.31, 0.77];
+                let ways = tr.approach_pair(pair);
+                for ((way, (o, d, t_max)), j) in ways.into_iter().zip(pair).zip(jitters) {
+                    let want = tr.trace(o, d, t_max, j);
+                    let got = match way {
+                        super::approach::Approached::Ended(n) => {
+                            ended += 1;
+                            (glam::Vec4::ZERO, n, f32::INFINITY)
+                        }
+                        super::approach::Approached::At(s) => {
+                            resumed += 1;
+                            tr.trace_from(o, d, t_max, j, Some(s))
+                        }
+                    };
+                    assert_eq!(got.0, want.0, "{preset}: colour at {x}, {y}");
+                    assert_eq!(got.1, want.1, "{preset}: reads at {x}, {y}");
+                    assert_eq!(
+                        got.2.to_bits(),
+                        want.2.to_bits(),
+                        "{preset}: hit at {x}, {y}"
+                    );
+                }
+            }
+        }
+        assert!(
+            resumed > 500 && ended > 500,
+            "{preset}: {resumed} resumed, {ended} ended"
+        );
     }
 }
 
