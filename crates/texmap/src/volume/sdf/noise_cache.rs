@@ -103,13 +103,14 @@ impl NoiseCache {
         let base = cx + nx * (cy + ny * cz);
         let (sy, sz) = (nx, nx * ny);
         // Corner k's offset: +1 along x for odd k, +sy for k & 2, +sz for k & 4.
-        let offsets = [0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1];
         let corners = &self.values[base..=base + sz + sy + 1];
         // SAFETY: every offset is at most `sz + sy + 1`, the slice's last index.
         let load = |o: usize| unsafe { corners.get_unchecked(o) }.load(Ordering::Relaxed);
+        let offsets = [0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1];
         let mut bits = offsets.map(load);
-        // One test for the eight (all stored, after the lattice's first reads).
-        if bits.contains(&EMPTY) {
+        // One test for the eight (all stored, after the lattice's first reads), without a
+        // branch per corner.
+        if bits.iter().fold(false, |any, &b| any | (b == EMPTY)) {
             bits = self.fill_missing([cx, cy, cz], bits, &noise);
         }
         // The pairs straight from the loaded values (an array built in memory and read
