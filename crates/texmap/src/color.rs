@@ -29,10 +29,13 @@ pub fn linear_to_srgb(c: f32) -> f32 {
 /// Encodes a linear value to an 8-bit sRGB code, exactly rounded: code k for `c` in
 /// [lin((k − ½)/255), lin((k + ½)/255)), 0 for NaN and values ≤ 0, 255 from 1 up.
 ///
-/// No `powf` per channel (which dominated building a texture's mip chain): a 4096-bucket
-/// table gives the code at the bucket's start, and at most two thresholds fall inside a
-/// bucket, so a short walk finishes. Encoding many values, [`Srgb8Encoder`] looks the table
-/// up once.
+/// No `powf` per channel (which dominated building a texture's mip chain), and no branch
+/// on the value: the float's top 16 bits (its exponent and 7 bits of mantissa) choose a
+/// slot of a table, which holds the code at the slot's start and the one threshold that may
+/// fall inside the slot (the slots are narrower than the gaps between thresholds: 1/128 of
+/// an octave against at least 0.89 % of the value), so one comparison finishes the code.
+/// Values under 2⁻¹³ (below the first threshold) share a slot of code 0, values from 1 up
+/// one of code 255. Encoding many values, [`Srgb8Encoder`] looks the table up once.
 #[inline]
 #[must_use]
 pub fn linear_to_srgb8(c: f32) -> u8 {
@@ -45,11 +48,16 @@ pub struct Srgb8Encoder {
     table: &'static Srgb8Table,
 }
 
-const BUCKETS: usize = 4096;
+/// The slots' keys (`bits >> 16` of a positive float) span [2⁻¹³, 1): 13 octaves of 128.
+const KEY_LO: u32 = 114 << 7;
+const KEY_HI: u32 = 127 << 7;
+/// The spanned keys, and one slot below them and one above.
+const SLOTS: usize = (KEY_HI - KEY_LO) as usize + 2;
 
+/// Slot `i`: the threshold inside it (NaN when none: no value is at or above it) and the
+/// code at its start.
 struct Srgb8Table {
-    thresholds: [f32; 255],
-    start: [u8; BUCKETS],
+    slots: [(f32, u32); SLOTS],
 }
 
 impl Default for Srgb8Encoder {
@@ -64,12 +72,24 @@ impl Srgb8Encoder {
     pub fn new() -> Self {
         static TABLE: OnceLock<Srgb8Table> = OnceLock::new();
         let table = TABLE.get_or_init(|| {
-            let thresholds = std::array::from_fn(|k| srgb_to_linear((k as f32 + 0.5) / 255.0));
-            let start = std::array::from_fn(|i| {
-                let v = i as f32 / BUCKETS as f32;
-                thresholds.partition_point(|&x| x <= v) as u8
+            let thresholds: [f32; 255] =
+                std::array::from_fn(|k| srgb_to_linear((k as f32 + 0.5) / 255.0));
+            let code_at = |v: f32| thresholds.partition_point(|&t| t <= v);
+            let slots = std::array::from_fn(|i| match i {
+                0 => (f32::NAN, 0),
+                _ if i == SLOTS - 1 => (f32::NAN, 255),
+                _ => {
+                    let key = KEY_LO + i as u32 - 1;
+                    let start = f32::from_bits(key << 16);
+                    let k = code_at(start);
+                    let end = f32::from_bits((key + 1) << 16);
+                    // At most one threshold inside a slot (the encoding's premise).
+                    assert!(k + 2 > 255 || thresholds[k + 1] >= end, "slot {key:#x}");
+                    let inside = thresholds.get(k).copied().filter(|&t| t < end);
+                    (inside.unwrap_or(f32::NAN), k as u32)
+                }
             });
-            Srgb8Table { thresholds, start }
+            Srgb8Table { slots }
         });
         Srgb8Encoder { table }
     }
@@ -78,18 +98,17 @@ impl Srgb8Encoder {
     #[inline]
     #[must_use]
     pub fn encode(self, c: f32) -> u8 {
-        if !(c > 0.0) {
-            return 0;
+        let key = c.to_bits() >> 16;
+        // Below the span: slot 0; from 1 up (and negative values, NaN): the last slot.
+        let slot = ((key + 1).saturating_sub(KEY_LO) as usize).min(SLOTS - 1);
+        let (threshold, start) = self.table.slots[slot];
+        let code = start + u32::from(c >= threshold);
+        // NaN, zero and negative values encode to 0.
+        if c > 0.0 {
+            code as u8
+        } else {
+            0
         }
-        if c >= 1.0 {
-            return 255;
-        }
-        let t = self.table;
-        let mut k = t.start[((c * BUCKETS as f32) as usize).min(BUCKETS - 1)] as usize;
-        while k < 255 && t.thresholds[k] <= c {
-            k += 1;
-        }
-        k as u8
     }
 }
 
@@ -192,6 +211,40 @@ mod tests {
         for v in values {
             let want = if v.is_nan() { 0 } else { code(v) };
             assert_eq!(linear_to_srgb8(v), want, "v = {v:e}");
+        }
+    }
+
+    #[test]
+    fn srgb8_encoding_is_exact_over_the_floats() {
+        // Every 61st float from 0 to 1 (about 17 million, every slot many times over), the
+        // slots' edges and their neighbours, negative values and the specials: against
+        // the definition, by a search of the thresholds.
+        let thresholds: Vec<f32> = (0..255)
+            .map(|k| srgb_to_linear((k as f32 + 0.5) / 255.0))
+            .collect();
+        let code = |v: f32| thresholds.partition_point(|&t| t <= v) as u8;
+        let e = Srgb8Encoder::new();
+        let one = 1.0f32.to_bits();
+        let mut bits: Vec<u32> = (0..=one).step_by(61).collect();
+        for key in (KEY_LO - 2)..=(KEY_HI + 1) {
+            let b = key << 16;
+            bits.extend([b - 1, b, b + 1]);
+        }
+        for b in bits {
+            let v = f32::from_bits(b);
+            assert_eq!(e.encode(v), code(v), "v = {v:e}");
+            assert_eq!(e.encode(-v), 0, "v = {:e}", -v);
+        }
+        for v in [
+            f32::NAN,
+            -f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MAX,
+            1.0e-40,
+        ] {
+            let want = if v > 0.0 { code(v) } else { 0 };
+            assert_eq!(e.encode(v), want, "v = {v:e}");
         }
     }
 }
