@@ -88,6 +88,14 @@ impl Gradient {
     }
 }
 
+/// The window depth plane of triangle `v` relative to the centre of pixel `(px, py)`:
+/// [`Planes::set`]'s `z`.
+#[inline]
+#[must_use]
+pub fn depth_plane(v: [&PostVertex; 3], px: i32, py: i32) -> Plane {
+    Gradient::new(v, px, py).plane(v[0].z as f64, v[1].z as f64, v[2].z as f64)
+}
+
 impl Planes {
     /// Sets up the planes of triangle `v` (any orientation, non-zero area) relative to the
     /// centre of pixel `(px, py)`, for the first `n` varyings.
@@ -133,8 +141,7 @@ impl Planes {
     /// Only the depth plane of [`Planes::set`] (the same bits), for a pass that needs
     /// nothing else; the other planes are left as they were.
     pub fn set_depth(&mut self, v: [&PostVertex; 3], px: i32, py: i32) {
-        let g = Gradient::new(v, px, py);
-        self.z = g.plane(v[0].z as f64, v[1].z as f64, v[2].z as f64);
+        self.z = depth_plane(v, px, py);
     }
 
     /// Evaluates the varyings at the four pixel centres of the quad whose top-left pixel is at

@@ -28,6 +28,7 @@
 //! with up to [`MAX_VARYINGS`] floats each, the pipeline interpolates them and hands 2×2 quads
 //! to a [`FragmentShader`].
 
+mod batch;
 pub mod bin;
 pub mod clip;
 mod covered;
@@ -41,11 +42,12 @@ pub mod transform;
 use glam::Vec4;
 use rayon::prelude::*;
 
+pub use batch::BATCH;
 pub use bin::{bin_prims, Bins, TILE};
 pub use clip::{clip_polygon, ClipPolygon};
 pub use framebuffer::{downsample_box, TileBuffer};
 pub use interpolate::Planes;
-pub use raster::{rasterize_tile, TileStats, BATCH};
+pub use raster::{rasterize_tile, TileStats};
 pub use setup::{assemble_triangle, Prim};
 pub use transform::{transform_call, ClipVertex, PostVertex, ScreenCall, VertexShader, Viewport};
 

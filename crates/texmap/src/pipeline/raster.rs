@@ -10,13 +10,13 @@
 //! the per-quad edge tests. Depth is tested per sample
 //! before shading; the shader runs once per pixel per triangle (at the pixel centre) and its
 //! colour goes to every covered sample that passed. Covered quads wait in a `Batch` of up
-//! to 8 (one primitive's, so disjoint) and are shaded together, which lets the shader overlap
-//! their work. Colour and depth live in the tile buffer; the finished tile goes to the
+//! to 8 (one primitive's, so disjoint; `batch.rs`) and are shaded together, which lets the
+//! shader overlap their work. Colour and depth live in the tile buffer; the finished tile goes to the
 //! target's rows with streaming stores.
 //!
 //! With one sample a pixel, a tile with two or more primitives of draws that test and write
-//! depth, do not blend and keep every pixel they shade ([`super::DrawState::keeps_all`]) is
-//! rasterized twice: a depth pre-pass finds those primitives' nearest depth per pixel, then
+//! depth, do not blend and keep every pixel they shade ([`super::DrawState::keeps_all`]), not
+//! all in one plane (pieces of one flat surface cannot hide each other), is rasterized twice: a depth pre-pass finds those primitives' nearest depth per pixel, then
 //! their quads are shaded only where they reach it (`z ≤` that depth, besides `z <` the stored
 //! one), so hidden surfaces cost no shading. The first fragment at the nearest depth is still
 //! the one kept: the image is the single pass's, ties and discarding draws included. The
@@ -28,15 +28,16 @@
 
 use glam::Vec4;
 
+use super::batch::{Batch, Pending};
 use super::bin::{Bins, TileRect};
 use super::covered::{with_covered, Covered, CoveredQuad};
-use super::framebuffer::{over, stream_fence, stream_fill, TileBuffer};
-use super::interpolate::Planes;
+use super::framebuffer::{stream_fence, stream_fill, TileBuffer};
+use super::interpolate::{depth_plane, Plane, Planes};
 use super::quad_edges::{QuadEdges, QuadStep};
 use super::setup::{Edges, EXTRA_VERTEX};
 use super::transform::PostVertex;
 use super::transform::ScreenCall;
-use super::{FragmentShader, Prim, Quad, Target, MAX_VARYINGS};
+use super::{FragmentShader, Prim, Target};
 
 /// Direct3D's standard sample positions for 1, 2, 4, 8 and 16 samples, in 1/16 pixel from
 /// the pixel centre (x right, y down). Any other count gets the 1-sample pattern.
@@ -130,14 +131,7 @@ pub fn rasterize_tile(
     match buf.samples {
         1 => {
             // The depth pre-pass, when two primitives or more could hide each other.
-            // Primitives that only share the tile's box (the fan of a clipped plane) cannot
-            // hide each other: only those that reach the tile count.
-            let pre = prims
-                .iter()
-                .filter(|&&pi| prepassed(ctx, pi) && reaches(ctx, rect, pi))
-                .nth(1)
-                .is_some();
-            if pre {
+            if could_hide(ctx, rect, prims) {
                 zmin.fill(1.0);
                 with_covered(|covered| {
                     let z = Depths {
@@ -227,6 +221,39 @@ fn reaches(ctx: &RasterContext, rect: TileRect, pi: u32) -> bool {
     let edges = Edges::new(v, x0, y0);
     let (ext_x, ext_y) = ((x1 - x0) as i64 | 1, (y1 - y0) as i64 | 1);
     (0..3).all(|k| edge_range(&edges, k, ext_x, ext_y).1 >= 0)
+}
+
+/// Whether the pre-passed primitives of tile `rect` could hide one another: two of them at
+/// least reach it, and not all lie in one plane. Primitives that only share the tile's box
+/// cannot hide each other, nor can the pieces of one flat surface (a clipped polygon's fan,
+/// a quad's two triangles), which meet only along their edges: a pre-pass over them would
+/// spare no shading. (The image is the same either way: the pre-pass only skips the
+/// shading of what ends up hidden.)
+fn could_hide(ctx: &RasterContext, rect: TileRect, prims: &[u32]) -> bool {
+    let mut first: Option<Plane> = None;
+    for &pi in prims {
+        if !(prepassed(ctx, pi) && reaches(ctx, rect, pi)) {
+            continue;
+        }
+        let prim = &ctx.prims[pi as usize];
+        let call = &ctx.calls[prim.call as usize];
+        let v = prim.v.map(|r| ctx.vertex(call, r));
+        let z = depth_plane(v, rect.x0 as i32, rect.y0 as i32);
+        match first {
+            None => first = Some(z),
+            Some(f) if !same_plane(f, z) => return true,
+            Some(_) => {}
+        }
+    }
+    false
+}
+
+/// Whether depth planes `a` and `b` (relative to a tile's first pixel) agree over the tile
+/// within a few units in the last place of a depth near 1: one plane, set up from two
+/// triangles' vertices.
+fn same_plane(a: Plane, b: Plane) -> bool {
+    let t = super::bin::TILE as f32;
+    (a.c - b.c).abs() + t * ((a.dx - b.dx).abs() + (a.dy - b.dy).abs()) <= 4.0e-6
 }
 
 /// The nearest depth per pixel of the pre-passed primitives (one sample a pixel, the depth
@@ -588,138 +615,44 @@ fn shade_kept(
     batch.flush::<1>(ctx, prim.call, &zoff, color, depth, stats);
 }
 
-/// Quads shaded in one call: up to this many covered quads of one primitive, so the
-/// shader's per-quad chains (level of detail, texel addresses, loads) of neighbouring quads
-/// sit close enough in the instruction stream to overlap. The most quads one
-/// [`super::FragmentShader::shade_batch`] call receives, so
-/// shaders size their scratch arrays by it.
-pub const BATCH: usize = 8;
-
-/// A quad waiting in a [`Batch`]: its tile position, the samples that passed the depth test
-/// per pixel, and the pixels' depths.
-#[derive(Clone, Copy, Default)]
-struct Pending {
-    lx: usize,
-    ly: usize,
-    pass: [u32; 4],
-    zp: [f32; 4],
-}
-
-/// Covered quads of one primitive, depth-tested, waiting to be shaded and written. They are
-/// disjoint, so testing all before writing any gives what quad-by-quad would.
-struct Batch {
-    len: usize,
-    quads: [Quad; BATCH],
-    pending: [Pending; BATCH],
-    colors: [[Vec4; 4]; BATCH],
-    kept: [u8; BATCH],
-}
-
-impl Batch {
-    fn new() -> Self {
-        Batch {
-            len: 0,
-            quads: std::array::from_fn(|_| Quad {
-                x: 0,
-                y: 0,
-                mask: 0,
-                front_facing: true,
-                varyings: [Vec4::ZERO; MAX_VARYINGS],
-            }),
-            pending: [Pending::default(); BATCH],
-            colors: [[Vec4::ZERO; 4]; BATCH],
-            kept: [0; BATCH],
-        }
-    }
-
-    /// Queues quad `p` of `prim` (`qmask` its pixels to shade), its varyings from `planes`;
-    /// true when the batch is full and must be flushed.
-    #[inline(always)]
-    fn push(
-        &mut self,
-        prim: &Prim,
-        qmask: u8,
-        p: Pending,
-        rect: TileRect,
-        planes: &Planes,
-    ) -> bool {
-        let n = self.len;
-        let quad = &mut self.quads[n];
-        quad.x = rect.x0 + p.lx as u32;
-        quad.y = rect.y0 + p.ly as u32;
-        quad.mask = qmask;
-        quad.front_facing = prim.front_facing;
-        planes.quad(p.lx as f32, p.ly as f32, &mut quad.varyings);
-        self.pending[n] = p;
-        self.len += 1;
-        self.len == BATCH
-    }
-
-    /// Shades the waiting quads of draw `call` and writes their colours and depths.
-    fn flush<const S: usize>(
-        &mut self,
-        ctx: &RasterContext,
-        call: u32,
-        zoff: &[f32; S],
-        color: &mut [Vec4],
-        depth: &mut [f32],
-        stats: &mut TileStats,
-    ) {
-        let n = std::mem::take(&mut self.len);
-        if n == 0 {
-            return;
-        }
-        let state = ctx.calls[call as usize].state;
-        let tile = super::bin::TILE as usize;
-        ctx.shader.shade_batch(
-            call,
-            &self.quads[..n],
-            &mut self.colors[..n],
-            &mut self.kept[..n],
-        );
-        for ((quad, p), (colors, &kept)) in self.quads[..n]
-            .iter()
-            .zip(&self.pending[..n])
-            .zip(self.colors[..n].iter().zip(&self.kept[..n]))
-        {
-            let shaded = u64::from(quad.mask.count_ones());
-            stats.pixels_shaded += shaded;
-            stats.texture_samples += shaded * u64::from(state.texture_reads);
-            let kept = kept & quad.mask;
-            if S == 1 && kept == 0b1111 && !state.blend {
-                // The common quad: all four pixels written, one sample each (`pass` is the
-                // quad's mask then), without a test per pixel.
-                let i = p.ly * tile + p.lx;
-                color[i..i + 2].copy_from_slice(&colors[..2]);
-                color[i + tile..i + tile + 2].copy_from_slice(&colors[2..]);
-                if state.depth_write {
-                    depth[i..i + 2].copy_from_slice(&p.zp[..2]);
-                    depth[i + tile..i + tile + 2].copy_from_slice(&p.zp[2..]);
-                }
-                continue;
-            }
-            for j in 0..4 {
-                if kept & (1 << j) == 0 {
-                    continue;
-                }
-                let (x, y) = (p.lx + (j & 1), p.ly + (j >> 1));
-                let base = (y * tile + x) * S;
-                for s in 0..S {
-                    if p.pass[j] & (1 << s) != 0 {
-                        over(&mut color[base + s], colors[j], state.blend);
-                        if state.depth_write {
-                            depth[base + s] = p.zp[j] + zoff[s];
-                        }
-                    }
-                }
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pieces_of_one_plane_share_it_and_other_planes_do_not() {
+        use super::super::transform::Viewport;
+        use super::super::MAX_VARYINGS;
+        use glam::{Mat4, Vec3};
+        // A ground plane seen at a grazing angle (the peers' plane), split into a fan of
+        // triangles, against the same fan lifted a hundredth of a unit or tilted a little.
+        let vp = Viewport::new(1920, 1080);
+        let proj = Mat4::perspective_rh_gl(60f32.to_radians(), 16.0 / 9.0, 0.05, 1000.0)
+            * Mat4::look_at_rh(Vec3::Y, Vec3::new(0.0, 0.0, -50.0), Vec3::Y);
+        let vertex = |p: Vec3| PostVertex::new(proj * p.extend(1.0), [0.0; MAX_VARYINGS], &vp);
+        let fan = |lift: f32, tilt: f32| {
+            let points = [
+                (-3.0, -4.0),
+                (3.0, -4.0),
+                (4.0, -12.0),
+                (0.0, -30.0),
+                (-5.0, -9.0),
+            ];
+            points
+                .iter()
+                .map(|&(x, z)| vertex(Vec3::new(x, lift + tilt * x, z)))
+                .collect::<Vec<_>>()
+        };
+        let (px, py) = (896, 576);
+        let plane = |v: &[PostVertex], k: usize| depth_plane([&v[0], &v[k], &v[k + 1]], px, py);
+        let flat = fan(0.0, 0.0);
+        for k in 1..4 {
+            assert!(same_plane(plane(&flat, 1), plane(&flat, k)), "piece {k}");
+        }
+        for other in [fan(0.01, 0.0), fan(0.0, 0.001)] {
+            assert!(!same_plane(plane(&flat, 1), plane(&other, 1)));
+        }
+    }
 
     #[test]
     fn sample_patterns_have_the_right_counts_and_stay_inside_the_pixel() {
