@@ -18,7 +18,8 @@ use super::{Prim, Quad, MAX_VARYINGS};
 pub const BATCH: usize = 8;
 
 /// A quad waiting in a [`Batch`]: its tile position, the samples that passed the depth test
-/// per pixel, and the pixels' depths.
+/// per pixel (with one sample a pixel unset: the quad's mask says it), and the pixels'
+/// depths.
 #[derive(Clone, Copy, Default)]
 pub(super) struct Pending {
     pub(super) lx: usize,
@@ -109,14 +110,16 @@ impl Batch {
             stats.texture_samples += shaded * u64::from(state.texture_reads);
             let kept = kept & quad.mask;
             if S == 1 && kept == 0b1111 && !state.blend {
-                // The common quad: all four pixels written, one sample each (`pass` is the
-                // quad's mask then), without a test per pixel.
+                // The common quad: all four pixels written, one sample each, without a test
+                // per pixel.
                 let i = p.ly * tile + p.lx;
-                color[i..i + 2].copy_from_slice(&colors[..2]);
-                color[i + tile..i + tile + 2].copy_from_slice(&colors[2..]);
+                let c = &mut color[i..i + tile + 2];
+                c[..2].copy_from_slice(&colors[..2]);
+                c[tile..].copy_from_slice(&colors[2..]);
                 if state.depth_write {
-                    depth[i..i + 2].copy_from_slice(&p.zp[..2]);
-                    depth[i + tile..i + tile + 2].copy_from_slice(&p.zp[2..]);
+                    let d = &mut depth[i..i + tile + 2];
+                    d[..2].copy_from_slice(&p.zp[..2]);
+                    d[tile..].copy_from_slice(&p.zp[2..]);
                 }
                 continue;
             }
@@ -127,7 +130,7 @@ impl Batch {
                 let (x, y) = (p.lx + (j & 1), p.ly + (j >> 1));
                 let base = (y * tile + x) * S;
                 for s in 0..S {
-                    if p.pass[j] & (1 << s) != 0 {
+                    if S == 1 || p.pass[j] & (1 << s) != 0 {
                         over(&mut color[base + s], colors[j], state.blend);
                         if state.depth_write {
                             depth[base + s] = p.zp[j] + zoff[s];

@@ -11,17 +11,18 @@
 //! before shading; the shader runs once per pixel per triangle (at the pixel centre) and its
 //! colour goes to every covered sample that passed. Covered quads wait in a `Batch` of up
 //! to 8 (one primitive's, so disjoint; `batch.rs`) and are shaded together, which lets the
-//! shader overlap their work. Colour and depth live in the tile buffer; the finished tile goes to the
-//! target's rows with streaming stores.
+//! shader overlap their work. Colour and depth live in the tile buffer; the finished tile
+//! goes to the target's rows with streaming stores.
 //!
 //! With one sample a pixel, a tile with two or more primitives of draws that test and write
 //! depth, do not blend and keep every pixel they shade ([`super::DrawState::keeps_all`]), not
-//! all in one plane (pieces of one flat surface cannot hide each other), is rasterized twice: a depth pre-pass finds those primitives' nearest depth per pixel, then
-//! their quads are shaded only where they reach it (`z ≤` that depth, besides `z <` the stored
-//! one), so hidden surfaces cost no shading. The first fragment at the nearest depth is still
-//! the one kept: the image is the single pass's, ties and discarding draws included. The
-//! pre-pass keeps the quads it covers (`covered.rs`), and the shading pass reads them back
-//! instead of walking those primitives' coverage a second time.
+//! all in one plane (pieces of one flat surface cannot hide each other), is rasterized
+//! twice: a depth pre-pass finds those primitives' nearest depth per pixel, then their quads
+//! are shaded only where they reach it (`z ≤` that depth, besides `z <` the stored one), so
+//! hidden surfaces cost no shading. The first fragment at the nearest depth is still the one
+//! kept: the image is the single pass's, ties and discarding draws included. The pre-pass
+//! keeps the quads it covers (`covered.rs`), and the shading pass reads them back instead of
+//! walking those primitives' coverage a second time.
 //!
 //! MSAA sample positions are Direct3D's standard patterns (in 1/16 pixel from the centre),
 //! exact in the 1/256-pixel fixed-point grid.
@@ -478,16 +479,16 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
                         // One sample: the quad's four depths compared at once (the sample
                         // offset is zero; the tile buffer holds whole quads, so the reads
                         // stay inside it at the tile's edges).
+                        // (`pass` stays unset: with one sample the quad's mask says it.)
                         let i = ly * tile + lx;
-                        let stored =
-                            Vec4::new(depth[i], depth[i + 1], depth[i + tile], depth[i + tile + 1]);
+                        let d = &depth[i..i + tile + 2];
+                        let stored = Vec4::new(d[0], d[1], d[tile], d[tile + 1]);
                         let nearer = if state.depth_test {
                             Vec4::from_array(zp).cmplt(stored).bitmask() as u8
                         } else {
                             0b1111
                         };
                         qmask = pmask & nearer;
-                        pass = std::array::from_fn(|j| u32::from(qmask >> j) & 1);
                     }
                     for j in 0..4 {
                         if S == 1 || pmask & (1 << j) == 0 {
@@ -577,13 +578,14 @@ fn shade_kept(
         let (lx, ly) = (usize::from(q.lx), usize::from(q.ly));
         let i = ly * tile + lx;
         let zp = Vec4::from_array(q.zp);
-        let stored = Vec4::new(depth[i], depth[i + 1], depth[i + tile], depth[i + tile + 1]);
+        let (d, z) = (&depth[i..i + tile + 2], &zmin[i..i + tile + 2]);
+        let stored = Vec4::new(d[0], d[1], d[tile], d[tile + 1]);
         let nearer = if state.depth_test {
             zp.cmplt(stored).bitmask() as u8
         } else {
             0b1111
         };
-        let near = Vec4::new(zmin[i], zmin[i + 1], zmin[i + tile], zmin[i + tile + 1]);
+        let near = Vec4::new(z[0], z[1], z[tile], z[tile + 1]);
         // Shaded only where nothing pre-passed lies nearer.
         let qmask = q.mask & nearer & zp.cmple(near).bitmask() as u8;
         if qmask == 0 {
@@ -601,11 +603,10 @@ fn shade_kept(
             zoff[0] = (planes.z.dx * 0.0 + planes.z.dy * 0.0) / 16.0;
             have_planes = true;
         }
-        let pass = std::array::from_fn(|j| u32::from(qmask >> j) & 1);
         let p = Pending {
             lx,
             ly,
-            pass,
+            pass: [0; 4],
             zp: q.zp,
         };
         if batch.push(prim, qmask, p, rect, planes) {
