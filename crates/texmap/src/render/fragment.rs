@@ -473,15 +473,24 @@ fn interpolated_factors(d: &DrawInfo, quad: &Quad) -> Option<Factors> {
 /// A plain draw's colours from the factors and texels: `combine` for an opaque colour,
 /// straight = c / a (unless a is 0 or 1), then straight·D + S with alpha 1 (the factors'
 /// fourth lanes are 0).
+/// A quad whose four colours are opaque (an opaque texture under an opaque base, most
+/// quads) is finished without a division or a test per pixel: the same values.
 #[inline(always)]
 fn plain_colors(d: &DrawInfo, f: &QuadFactors, texels: Option<&[Vec4; 4]>, out: &mut [Vec4; 4]) {
-    for j in 0..4 {
-        let mut c = d.base;
-        if let Some(t) = texels {
-            c *= t[j];
+    let c: [Vec4; 4] = match texels {
+        Some(t) => std::array::from_fn(|j| d.base * t[j]),
+        None => [d.base; 4],
+    };
+    let alphas = Vec4::new(c[0].w, c[1].w, c[2].w, c[3].w);
+    if alphas.cmpeq(Vec4::ONE).all() {
+        for j in 0..4 {
+            out[j] = c[j] * f.d[j] + f.s[j] + Vec4::W;
         }
-        let a = c.w;
-        let straight = if a > 0.0 && a != 1.0 { c / a } else { c };
+        return;
+    }
+    for j in 0..4 {
+        let a = c[j].w;
+        let straight = if a > 0.0 && a != 1.0 { c[j] / a } else { c[j] };
         out[j] = straight * f.d[j] + f.s[j] + Vec4::W;
     }
 }
