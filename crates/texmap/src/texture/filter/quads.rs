@@ -101,7 +101,7 @@ crate::cpu::dispatch! {
 
 /// [`sample_quads_lanes`] when every quad reads one level (`choice`, fixed by the filter
 /// pair `min` and its magnification): each quad's texel indices computed once, for its
-/// prefetch (as [`gl_begin`] asks for it) and its read. `false`, and nothing read, when the
+/// prefetch (bilinear taps, as [`gl_begin`] asks for them) and its read. `false`, and nothing read, when the
 /// fixed-point path does not serve this texture or sampler.
 #[inline(always)]
 fn level_quads(
@@ -118,7 +118,10 @@ fn level_quads(
         .zip(masks.chunks(CHUNK))
         .zip(out.chunks_mut(CHUNK))
     {
-        let far = if matches!(min, MinFilter::Nearest | MinFilter::Linear) {
+        // Bilinear taps minified on level 0 are asked for first; nearest ones are not: a
+        // nearest quad's four loads are issued close together anyway, and the prefetch's
+        // level of detail and addresses cost more than it saved (DESIGN.md's log).
+        let far = if min == MinFilter::Linear {
             far_quads(texture, sampler, coords)
         } else {
             0
