@@ -5,7 +5,7 @@
 
 use glam::{Vec2, Vec4};
 
-use super::super::{Filter, MagFilter, MinFilter, MipChoice, Sampler, Texture2D};
+use super::super::{Filter, LodRule, MagFilter, MinFilter, MipChoice, Sampler, Texture2D};
 use super::{fixed16, gl_read, sample_quad_lanes};
 
 /// One quad's coordinates for [`sample_quads_lanes`]: pixel `j`'s `(u, v)` in lane `j`, and the
@@ -270,7 +270,7 @@ const _: () = assert!(CHUNK <= fixed16::LEVEL_QUADS);
 
 /// λ above which a quad's neighbouring pixels read texels more than two apart, so that on
 /// level 0 their texels leave the cache lines already read (fixed16/prefetch.rs).
-const FAR_LOD: f32 = 1.0;
+pub(super) const FAR_LOD: f32 = 1.0;
 
 /// The OpenGL level choices of up to `N` (≤ 32) quads: λ four quads at a time (one per
 /// lane), then each quad's levels; and a mask of the quads whose λ is over [`FAR_LOD`] (bit
@@ -320,16 +320,29 @@ fn lod4(size: Vec2, sampler: &Sampler, coords: &[QuadCoords]) -> Vec4 {
 }
 
 /// The mask of `coords`' quads (at most 32; bit `i` for quad `i`) whose λ is over
-/// [`FAR_LOD`]: [`gl_choices`]' second value.
+/// [`FAR_LOD`], after the sampler's bias and clamp: [`gl_choices`]' second value, without
+/// the logarithm (λ = ½·log2 of the squared length the lod rule takes, so λ + bias > FAR_LOD
+/// where that length exceeds 4^(FAR_LOD − bias)). Only prefetches follow from it.
 #[inline(always)]
-fn far_quads(texture: &Texture2D, sampler: &Sampler, coords: &[QuadCoords]) -> u32 {
+pub(super) fn far_quads(texture: &Texture2D, sampler: &Sampler, coords: &[QuadCoords]) -> u32 {
+    // The clamp's range decides alone when it lies on one side of FAR_LOD.
+    if !(sampler.max_lod > FAR_LOD) {
+        return 0;
+    }
+    if sampler.min_lod > FAR_LOD {
+        return u32::MAX >> (32 - coords.len().clamp(1, 32));
+    }
+    let limit = (2.0 * (FAR_LOD - sampler.lod_bias)).exp2();
     let size = Vec2::new(texture.width() as f32, texture.height() as f32);
     let mut far = 0;
-    for (k, coords) in coords.chunks(4).enumerate() {
-        let lod = lod4(size, sampler, coords);
-        for i in 0..coords.len() {
-            far |= u32::from(sampler.adjust_lod(lod[i]) > FAR_LOD) << (4 * k + i);
-        }
+    for (i, c) in coords.iter().enumerate().take(32) {
+        let (dx, dy) = (c.duv_dx * size, c.duv_dy * size);
+        let (lx, ly) = (dx.length_squared(), dy.length_squared());
+        let arg = match sampler.lod_rule {
+            LodRule::GlMax => lx.max(ly),
+            LodRule::RootSumSquares => lx + ly,
+        };
+        far |= u32::from(arg > limit) << i;
     }
     far
 }

@@ -685,3 +685,46 @@ fn ewa_reads_round_footprints_exactly() {
         );
     }
 }
+
+proptest! {
+    /// The quads whose texels a bilinear read on level 0 asks for first are those whose λ,
+    /// biased and clamped by the sampler, is over `FAR_LOD`: the logarithm-free test against
+    /// λ itself (away from the boundary, where the two roundings may differ).
+    #[test]
+    fn far_quads_are_those_past_the_level_of_detail(
+        d in prop::collection::vec((-0.05f32..0.05, -0.05f32..0.05, -0.05f32..0.05, -0.05f32..0.05), 1..16),
+        bias in -2.0f32..2.0,
+        min_lod in -1.0f32..3.0,
+        span in 0.0f32..4.0,
+        rss in any::<bool>(),
+    ) {
+        use super::quads::{far_quads, FAR_LOD};
+        let tex = noisy(64, 48);
+        let sampler = Sampler {
+            lod_bias: bias,
+            min_lod,
+            max_lod: min_lod + span,
+            lod_rule: if rss { LodRule::RootSumSquares } else { LodRule::GlMax },
+            ..Sampler::new(Filter::parse("bilinear").unwrap(), Wrap::Repeat)
+        };
+        let coords: Vec<crate::texture::QuadCoords> = d
+            .iter()
+            .map(|&(a, b, c, e)| crate::texture::QuadCoords {
+                duv_dx: Vec2::new(a, b),
+                duv_dy: Vec2::new(c, e),
+                ..Default::default()
+            })
+            .collect();
+        let far = far_quads(&tex, &sampler, &coords);
+        for (i, c) in coords.iter().enumerate() {
+            let size = Vec2::new(64.0, 48.0);
+            let (lx, ly) = ((c.duv_dx * size).length_squared(), (c.duv_dy * size).length_squared());
+            let arg = if rss { lx + ly } else { lx.max(ly) };
+            let lod = 0.5 * f64::from(arg).log2() as f32;
+            let adjusted = sampler.adjust_lod(lod);
+            if (adjusted - FAR_LOD).abs() > 1e-3 {
+                prop_assert_eq!(far & (1 << i) != 0, adjusted > FAR_LOD, "quad {} λ {}", i, lod);
+            }
+        }
+    }
+}
