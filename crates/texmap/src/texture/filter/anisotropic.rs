@@ -101,7 +101,7 @@ pub(crate) fn sample<C: Codec>(
 /// [`sample`] for a quad's four pixels (pixel `j` at `(u[j], v[j])`, the derivatives shared)
 /// in lanes, in fixed point: `None` where [`fixed16`] does not serve the texture and sampler.
 /// Pixels whose bit in `mask` is clear are left zero.
-#[inline]
+#[inline(always)]
 pub(crate) fn sample_quad(
     tex: &Texture2D,
     s: &Sampler,
@@ -126,5 +126,5 @@ pub(crate) fn sample_quad(
     for (i, p) in probes.iter_mut().enumerate().take(taps as usize) {
         *p = (offset(i as u32, n), 1.0 / n);
     }
-    fixed16::read_probes(tex, s, choice, uv, axis_uv, &probes[..taps as usize], mask)
+    fixed16::read_probes_inlined(tex, s, choice, uv, axis_uv, &probes[..taps as usize], mask)
 }

@@ -6,7 +6,7 @@
 use glam::{Vec2, Vec4};
 
 use super::super::{Filter, LodRule, MagFilter, MinFilter, MipChoice, Sampler, Texture2D};
-use super::{fixed16, gl_read, sample_quad_lanes};
+use super::{anisotropic, fixed16, gl_read, sample_quad_lanes};
 
 /// One quad's coordinates for [`sample_quads_lanes`]: pixel `j`'s `(u, v)` in lane `j`, and the
 /// derivatives the quad shares.
@@ -64,7 +64,20 @@ fn sample_quads_in(
 ) {
     assert!(masks.len() >= coords.len() && out.len() >= coords.len());
     let Filter::Gl { mag, min } = sampler.filter else {
-        for ((c, &m), o) in coords.iter().zip(masks).zip(out.iter_mut()) {
+        let quads = coords.iter().zip(masks).zip(out.iter_mut());
+        if let Filter::Anisotropic { max_aniso } = sampler.filter {
+            // The default storage's probes inline here, so that they are compiled at this
+            // copy's level too (the other storages read as `sample_quad_lanes` reads).
+            for ((c, &m), o) in quads {
+                let uv = (c.u, c.v);
+                *o = anisotropic::sample_quad(
+                    texture, sampler, uv, c.duv_dx, c.duv_dy, m, max_aniso,
+                )
+                .unwrap_or_else(|| sample_quad_lanes(texture, sampler, uv, c.duv_dx, c.duv_dy, m));
+            }
+            return;
+        }
+        for ((c, &m), o) in quads {
             *o = sample_quad_lanes(texture, sampler, (c.u, c.v), c.duv_dx, c.duv_dy, m);
         }
         return;
