@@ -66,6 +66,12 @@ fn texels_of(tex: &Texture2D, s: &Sampler) -> Option<Texels> {
     }
 }
 
+/// Whether these reads serve `tex` through `s` (see `texels_of`).
+#[inline]
+pub(super) fn serves(tex: &Texture2D, s: &Sampler) -> bool {
+    texels_of(tex, s).is_some()
+}
+
 mod quads;
 pub(super) use quads::{read_level_quads, read_quad, read_quads, LEVEL_QUADS};
 

@@ -65,9 +65,12 @@ fn sample_quads_in(
     assert!(masks.len() >= coords.len() && out.len() >= coords.len());
     let Filter::Gl { mag, min } = sampler.filter else {
         let quads = coords.iter().zip(masks).zip(out.iter_mut());
-        if let Filter::Anisotropic { max_aniso } = sampler.filter {
-            // The default storage's probes inline here, so that they are compiled at this
-            // copy's level too (the other storages read as `sample_quad_lanes` reads).
+        // The fixed-point probes inline here, so that they are compiled at this copy's level
+        // too; the textures they do not serve read as `sample_quad_lanes` reads (which would
+        // otherwise plan each quad twice).
+        if let (Filter::Anisotropic { max_aniso }, true) =
+            (sampler.filter, fixed16::serves(texture, sampler))
+        {
             for ((c, &m), o) in quads {
                 let uv = (c.u, c.v);
                 *o = anisotropic::sample_quad(
@@ -333,9 +336,10 @@ fn lod4(size: Vec2, sampler: &Sampler, coords: &[QuadCoords]) -> Vec4 {
 }
 
 /// The mask of `coords`' quads (at most 32; bit `i` for quad `i`) whose λ is over
-/// [`FAR_LOD`], after the sampler's bias and clamp: [`gl_choices`]' second value, without
-/// the logarithm (λ = ½·log2 of the squared length the lod rule takes, so λ + bias > FAR_LOD
-/// where that length exceeds 4^(FAR_LOD − bias)). Only prefetches follow from it.
+/// [`FAR_LOD`], after the sampler's bias and clamp: the decision of [`gl_choices`]' second
+/// value, without the logarithm (λ = ½·log2 of the squared length the lod rule takes, so
+/// λ + bias > FAR_LOD where that length exceeds 4^(FAR_LOD − bias)). Only prefetches follow
+/// from it.
 #[inline(always)]
 pub(super) fn far_quads(texture: &Texture2D, sampler: &Sampler, coords: &[QuadCoords]) -> u32 {
     // The clamp's range decides alone when it lies on one side of FAR_LOD.
