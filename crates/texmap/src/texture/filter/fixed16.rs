@@ -81,15 +81,48 @@ pub(super) use prefetch::prefetch_quads;
 /// The most textures [`read_quad_shared`] reads together.
 pub(super) const MAX_SHARED: usize = 5;
 
-/// [`read_quad`] of several textures (at most [`MAX_SHARED`]) at the same coordinates
-/// through the same sampler, on the same levels: textures of one size, so one level's texel
-/// indices and weights serve them all. They are computed once per level, and each texture's
-/// taps are summed as [`read_quad`] sums them (the same values, bit for bit); `out[t]` gets
-/// texture `t`'s reads. `false`, and nothing read, when some texture or the sampler is not
-/// one this path handles, the sizes differ, or the read is not bilinear.
+/// Textures that [`read_quad_shared`] reads together through one sampler, checked once for
+/// all the quads read: at most [`MAX_SHARED`], of one size, each served by these reads (how
+/// each texture's texels enter the sums).
+#[derive(Clone, Copy)]
+pub(super) struct Shared {
+    texels: [Texels; MAX_SHARED],
+}
+
+impl Shared {
+    /// `texes` through `s`, when these reads serve them all together.
+    #[inline]
+    pub(super) fn new(texes: &[&Texture2D], s: &Sampler) -> Option<Self> {
+        let first = texes.first()?;
+        if texes.len() > MAX_SHARED {
+            return None;
+        }
+        let size = |t: &Texture2D| (t.width(), t.height(), t.levels().len());
+        let mut texels = [Texels::Linear16; MAX_SHARED];
+        for (slot, t) in texels.iter_mut().zip(texes) {
+            if size(t) != size(first) {
+                return None;
+            }
+            *slot = texels_of(t, s)?;
+        }
+        Some(Shared { texels })
+    }
+}
+
+/// [`read_quad`] of several textures (`texes`, checked together as `shared`) at the same
+/// coordinates through the same sampler, on the same levels: textures of one size, so one
+/// level's texel indices and weights serve them all. They are computed once per level, and
+/// each texture's taps are summed as [`read_quad`] sums them (the same values, bit for bit);
+/// `out[t]` gets texture `t`'s reads. `false`, and nothing read, when the read is not
+/// bilinear.
+///
+/// # Panics
+/// If `out` is shorter than `texes`, or `texes` are not the textures `shared` checked.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 pub(super) fn read_quad_shared(
     texes: &[&Texture2D],
+    shared: &Shared,
     s: &Sampler,
     choice: MipChoice,
     u: Vec4,
@@ -97,29 +130,18 @@ pub(super) fn read_quad_shared(
     mask: u8,
     out: &mut [[Vec4; 4]],
 ) -> bool {
-    let Some(first) = texes.first() else {
-        return true;
-    };
-    let same = |t: &&Texture2D| {
-        texels_of(t, s).is_some()
-            && (t.width(), t.height(), t.levels().len())
-                == (first.width(), first.height(), first.levels().len())
-    };
-    if texes.len() > MAX_SHARED
-        || out.len() < texes.len()
-        || choice.texels != TexelFilter::Linear
-        || !texes.iter().all(same)
-    {
+    assert!(out.len() >= texes.len() && texes.len() <= MAX_SHARED);
+    if choice.texels != TexelFilter::Linear {
         return false;
     }
     #[cfg(target_arch = "x86_64")]
     {
-        sse2::linear_quad_shared(texes, s, choice, u, v, mask, out);
+        sse2::linear_quad_shared(texes, &shared.texels, s, choice, u, v, mask, out);
         true
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        let _ = (u, v, mask);
+        let _ = (shared, u, v, mask);
         false
     }
 }

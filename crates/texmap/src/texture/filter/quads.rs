@@ -402,17 +402,21 @@ pub fn sample_quads_lanes_shared(
     let mut quad = [[Vec4::ZERO; 4]; fixed16::MAX_SHARED];
     for (start, (coords, masks)) in coords.chunks(CHUNK).zip(masks.chunks(CHUNK)).enumerate() {
         let (choices, _) = gl_choices::<CHUNK>(first, sampler, coords, mag, min);
-        for (k, ((c, &m), &choice)) in coords.iter().zip(masks).zip(&choices).enumerate() {
-            let i = start * CHUNK + k;
-            for (group, textures) in textures.chunks(fixed16::MAX_SHARED).enumerate() {
+        for (group, textures) in textures.chunks(fixed16::MAX_SHARED).enumerate() {
+            // The group's textures checked once for the chunk's quads.
+            let shared = fixed16::Shared::new(textures, sampler);
+            for (k, ((c, &m), &choice)) in coords.iter().zip(masks).zip(&choices).enumerate() {
                 let quad = &mut quad[..textures.len()];
-                if !fixed16::read_quad_shared(textures, sampler, choice, c.u, c.v, m, quad) {
+                let read = shared.as_ref().is_some_and(|shared| {
+                    fixed16::read_quad_shared(textures, shared, sampler, choice, c.u, c.v, m, quad)
+                });
+                if !read {
                     for (q, texture) in quad.iter_mut().zip(textures) {
                         *q = gl_read(texture, sampler, (c.u, c.v), choice, m);
                     }
                 }
                 for (t, q) in quad.iter().enumerate() {
-                    put(group * fixed16::MAX_SHARED + t, i, *q);
+                    put(group * fixed16::MAX_SHARED + t, start * CHUNK + k, *q);
                 }
             }
         }

@@ -197,7 +197,7 @@ pub(in super::super) fn read_level_quads(
             for ((t, &mask), out) in taps.iter().zip(masks).zip(out).take(n) {
                 // SAFETY: SSE2 is part of x86_64.
                 let mut acc = [unsafe { _mm_setzero_si128() }; 4];
-                sse2::gather(data, texels, t, mask, &mut acc);
+                sse2::gather(data, texels, t, &mut acc);
                 *out = sse2::finish(&acc, mask);
             }
         }

@@ -35,10 +35,10 @@ pub(super) fn linear_quad(
     let second = choice.blend.map(|b| b.level);
     let wa = first_weight(choice);
     if wa > 0 {
-        accumulate(&tex.level(a), texels, s, u, v, wa, mask, &mut acc);
+        accumulate(&tex.level(a), texels, s, u, v, wa, &mut acc);
     }
     if let Some(b) = second.filter(|_| wa < ONE) {
-        accumulate(&tex.level(b), texels, s, u, v, ONE - wa, mask, &mut acc);
+        accumulate(&tex.level(b), texels, s, u, v, ONE - wa, &mut acc);
     }
     finish(&acc, mask)
 }
@@ -70,10 +70,10 @@ pub(super) fn linear_quad_on(
     let mut acc = [unsafe { _mm_setzero_si128() }; 4];
     let wa = first_weight(choice);
     if wa > 0 {
-        accumulate_on(first, texels, s, u, v, wa, mask, &mut acc);
+        accumulate_on(first, texels, s, u, v, wa, &mut acc);
     }
     if choice.blend.is_some() && wa < ONE {
-        accumulate_on(second, texels, s, u, v, ONE - wa, mask, &mut acc);
+        accumulate_on(second, texels, s, u, v, ONE - wa, &mut acc);
     }
     finish(&acc, mask)
 }
@@ -93,11 +93,14 @@ pub(super) fn finish(acc: &[__m128i; 4], mask: u8) -> [Vec4; 4] {
     })
 }
 
-/// [`super::read_quad_shared`]: [`linear_quad`] of each texture, the taps' addresses and
-/// weights computed once per level for all of them.
+/// [`super::read_quad_shared`]: [`linear_quad`] of each texture (`texels[t]` how texture
+/// `t`'s texels enter the sums), the taps' addresses and weights computed once per level for
+/// all of them.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub(super) fn linear_quad_shared(
     texes: &[&Texture2D],
+    texels: &[Texels],
     s: &Sampler,
     choice: MipChoice,
     u: Vec4,
@@ -114,14 +117,13 @@ pub(super) fn linear_quad_shared(
     let level = |index: usize, weight: i32, acc: &mut [[__m128i; 4]]| {
         let first = texes[0].level(index);
         let t = taps(&first, first.tiles_x(), s, u, v, weight);
-        for (tex, acc) in texes.iter().zip(acc.iter_mut()) {
+        for ((tex, &texels), acc) in texes.iter().zip(texels).zip(acc.iter_mut()) {
             let lv = tex.level(index);
             // One size: the first texture's indices are in range for every one.
             assert!((lv.w, lv.h) == (first.w, first.h));
-            let texels = super::texels_of(tex, s).expect("checked by read_quad_shared");
             let (data, tiles_x) = lv.tiled_texels(bpp(texels));
             assert_eq!(tiles_x, t.tiles_x);
-            gather(data, texels, &t, mask, acc);
+            gather(data, texels, &t, acc);
         }
     };
     if wa > 0 {
@@ -167,20 +169,13 @@ pub(super) fn probes_quad(
         let wa = (fa * weight as f32).round() as i32;
         let (pu, pv) = (u + Vec4::splat(step.x * t), v + Vec4::splat(step.y * t));
         if wa > 0 {
-            accumulate(&first, texels, s, pu, pv, wa, mask, &mut acc);
+            accumulate(&first, texels, s, pu, pv, wa, &mut acc);
         }
         if let Some(lv) = second.as_ref().filter(|_| wa < weight) {
-            accumulate(lv, texels, s, pu, pv, weight - wa, mask, &mut acc);
+            accumulate(lv, texels, s, pu, pv, weight - wa, &mut acc);
         }
     }
-    let scale = 1.0 / (ONE as f32 * ONE as f32);
-    std::array::from_fn(|j| {
-        // SAFETY: SSE2 is part of x86_64.
-        let sum = Vec4::from(unsafe { _mm_cvtepi32_ps(acc[j]) });
-        // Pixels outside `mask` summed nothing; a tap whose rounded weight came out −1
-        // can leave a sum a hair below zero.
-        (sum * scale).max(Vec4::ZERO)
-    })
+    finish(&acc, mask)
 }
 
 /// The tiled texel indices of the nearest texels to `(u, v)` on `lv` (one lane per pixel).
@@ -402,20 +397,10 @@ fn accumulate(
     u: Vec4,
     v: Vec4,
     level_weight: i32,
-    mask: u8,
     acc: &mut [__m128i; 4],
 ) {
     let (data, tiles_x) = lv.tiled_texels(bpp(texels));
-    accumulate_on(
-        (lv, data, tiles_x),
-        texels,
-        s,
-        u,
-        v,
-        level_weight,
-        mask,
-        acc,
-    );
+    accumulate_on((lv, data, tiles_x), texels, s, u, v, level_weight, acc);
 }
 
 /// [`accumulate`] on a level whose tiled texels and tiles per row are given.
@@ -428,11 +413,10 @@ fn accumulate_on(
     u: Vec4,
     v: Vec4,
     level_weight: i32,
-    mask: u8,
     acc: &mut [__m128i; 4],
 ) {
     let t = taps(lv, tiles_x, s, u, v, level_weight);
-    gather(data, texels, &t, mask, acc);
+    gather(data, texels, &t, acc);
 }
 
 /// Bytes a texel of `texels` takes.
@@ -518,22 +502,22 @@ pub(super) fn taps(
 }
 
 /// Adds the taps `t` of a level whose tiled texels (held as `texels` says) are `data`
-/// into `acc`; `data` must be a level of the size the taps were computed for (its
-/// `tiled_texels`).
+/// into `acc`, every pixel's (those outside the quad's mask too: [`finish`] drops them);
+/// `data` must be a level of the size the taps were computed for (its `tiled_texels`).
 #[inline(always)]
-pub(super) fn gather(data: &[u8], texels: Texels, t: &Taps, mask: u8, acc: &mut [__m128i; 4]) {
+pub(super) fn gather(data: &[u8], texels: Texels, t: &Taps, acc: &mut [__m128i; 4]) {
     let base = data.as_ptr();
     // SAFETY (every loader): SSE2 is part of x86_64; each load reads one texel at an
     // index below `data.len() / bpp` (the offsets' level has this size, see `taps`).
     match texels {
-        Texels::Linear16 => gather_with(t, mask, acc, |i0, i1| unsafe {
+        Texels::Linear16 => gather_with(t, acc, |i0, i1| unsafe {
             let q = |i: usize| _mm_loadl_epi64(base.add(i * 8).cast());
             _mm_srli_epi16(_mm_unpacklo_epi16(q(i0), q(i1)), 1)
         }),
         Texels::Rgba8(r) => match (r.srgb15, r.opaque) {
             // Each code's 15-bit value inserted straight at its interleaved place, alpha
             // 255 (32767 in 15 bits) already there.
-            (Some(table), true) => gather_with(t, mask, acc, |i0, i1| unsafe {
+            (Some(table), true) => gather_with(t, acc, |i0, i1| unsafe {
                 let (p0, p1) = (base.add(i0 * 4), base.add(i1 * 4));
                 let c = |p: *const u8, k: usize| i32::from(table[usize::from(*p.add(k))]);
                 let v = _mm_set_epi16(0x7fff, 0x7fff, 0, 0, 0, 0, 0, 0);
@@ -546,12 +530,12 @@ pub(super) fn gather(data: &[u8], texels: Texels, t: &Taps, mask: u8, acc: &mut 
             }),
             // Bytes interleaved (r0 r1 g0 g1 …), then each doubled: `c · 257` in 16 bits,
             // already in the interleaved order.
-            (None, true) => gather_with(t, mask, acc, |i0, i1| unsafe {
+            (None, true) => gather_with(t, acc, |i0, i1| unsafe {
                 let q = |i: usize| _mm_cvtsi32_si128(read8(base, i) as i32);
                 let b = _mm_unpacklo_epi8(q(i0), q(i1));
                 _mm_srli_epi16(_mm_unpacklo_epi8(b, b), 1)
             }),
-            (_, false) => gather_with(t, mask, acc, |i0, i1| unsafe {
+            (_, false) => gather_with(t, acc, |i0, i1| unsafe {
                 let q = |i: usize| {
                     let c = read8(base, i);
                     let q = match r.srgb {
@@ -604,13 +588,12 @@ fn premultiply(q: u64) -> u64 {
 }
 
 /// [`gather`] with each pair of taps' texels (their indices given) loaded by `pair` as
-/// 15-bit linear premultiplied channels, interleaved (r0 r1 g0 g1 b0 b1 a0 a1).
+/// 15-bit linear premultiplied channels, interleaved (r0 r1 g0 g1 b0 b1 a0 a1). Every
+/// pixel's taps are summed, with no branch per pixel: their indices are in range for helper
+/// pixels too, and the sums of pixels outside a quad's mask are dropped when finished.
 #[inline(always)]
-fn gather_with(t: &Taps, mask: u8, acc: &mut [__m128i; 4], pair: impl Fn(usize, usize) -> __m128i) {
+fn gather_with(t: &Taps, acc: &mut [__m128i; 4], pair: impl Fn(usize, usize) -> __m128i) {
     for j in 0..4 {
-        if mask & (1 << j) == 0 {
-            continue;
-        }
         // SAFETY: SSE2 is part of x86_64.
         unsafe {
             // Two taps' channels interleaved, as 15 bits, times their packed weights: one
