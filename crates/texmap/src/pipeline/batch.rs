@@ -15,7 +15,7 @@ use super::{Prim, Quad, MAX_VARYINGS};
 /// sit close enough in the instruction stream to overlap. The most quads one
 /// [`super::FragmentShader::shade_batch`] call receives, so
 /// shaders size their scratch arrays by it.
-pub const BATCH: usize = 8;
+pub const BATCH: usize = 16;
 
 /// A quad waiting in a [`Batch`]: its tile position, the samples that passed the depth test
 /// per pixel (with one sample a pixel unset: the quad's mask says it), and the pixels'

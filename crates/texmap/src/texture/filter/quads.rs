@@ -200,7 +200,7 @@ pub struct StagedQuads {
 
 /// The most quads one [`StagedQuads`] holds: the rasterizer's batch (a smaller value to copy
 /// than the 16 a longer batch chooses at a time).
-pub const QUADS_STAGED: usize = 8;
+pub const QUADS_STAGED: usize = 16;
 
 impl StagedQuads {
     /// The first stage for `coords` and `masks` (at most [`QUADS_STAGED`] quads).
