@@ -1,40 +1,80 @@
 #!/usr/bin/env bash
 # Median ms per 1920x1080 frame, texmap next to Mesa's llvmpipe, measured in one run:
 # builtin:plane with each filter and builtin:sphere (199,200 triangles), 2 threads, a
-# 20-frame turntable each.
+# FRAMES-frame turntable each, ROUNDS rounds in which the renderers take turns (the order
+# reversed every other round). The ratios are medians of the rounds' own ratios.
 #
-#   bash tools/frame_speed.sh [FRAMES]       (needs bash ../shared/peers/setup.sh once)
+# llvmpipe runs twice a round: as gl_render.py draws by default (an RGBA8 texture filtered
+# as its sRGB codes are, into an 8-bit framebuffer) and with --srgb (an SRGB8_ALPHA8
+# texture and an sRGB framebuffer: texels decoded to linear light before they are
+# filtered, as texmap filters them). The second draws the image texmap draws.
+#
+#   bash tools/frame_speed.sh [FRAMES] [ROUNDS]   (needs bash ../shared/peers/setup.sh once)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 P=${PEERS:-../shared/peers}
 PY=$P/.venv/bin/python
 N=${1:-20}
+ROUNDS=${2:-3}
 cargo build --release --quiet
 TEXMAP=target/release/texmap
 OUT=$(mktemp -d)
-median() { "$PY" -c 'import json,sys; d=json.load(sys.stdin); print("%.1f" % d["frame_ms"]["median"])'; }
-echo "| scene | filter | texmap ms | llvmpipe ms | ratio |"
-echo "|---|---|---|---|---|"
-run() { # scene filter texmap-args... -- gl-args...
-    local scene=$1 filter=$2; shift 2
+trap 'rm -rf "$OUT"' EXIT
+median() { "$PY" -c 'import json,sys; d=json.load(sys.stdin); print("%.2f" % d["frame_ms"]["median"])'; }
+# One case: its name, texmap's arguments, then `--` and gl_render.py's (none: texmap alone).
+# Prints "name texmap gl gl_srgb" for each round (— where llvmpipe does not run).
+run() {
+    local name=$1; shift
     local targs=() gargs=()
     while [ $# -gt 0 ] && [ "$1" != "--" ]; do targs+=("$1"); shift; done
     [ $# -gt 0 ] && shift
     gargs=("$@")
-    ours=$("$TEXMAP" render "${targs[@]}" --size 1920x1080 --threads 2 --frames "$N" --stats -o "$OUT/t_{frame}.png" | median)
-    if [ ${#gargs[@]} -gt 0 ]; then
-        peer=$(LP_NUM_THREADS=2 "$PY" "$P/gl_render.py" "${gargs[@]}" --size 1920x1080 --threads 2 --frames "$N" --json -o "$OUT/g.png" | median)
-        ratio=$("$PY" -c "print('%.2f' % ($ours / $peer))")
-    else
-        peer="—"; ratio="—"
-    fi
-    echo "| $scene | $filter | $ours | $peer | $ratio |"
+    for r in $(seq 1 "$ROUNDS"); do
+        local order="texmap gl gls"
+        [ $((r % 2)) -eq 0 ] && order="gls gl texmap"
+        local t="—" g="—" s="—"
+        for who in $order; do
+            case $who in
+            texmap) t=$("$TEXMAP" render "${targs[@]}" --size 1920x1080 --threads 2 --frames "$N" \
+                        --stats -o "$OUT/t_{frame}.png" | median) ;;
+            gl) [ ${#gargs[@]} -gt 0 ] && g=$(LP_NUM_THREADS=2 "$PY" "$P/gl_render.py" "${gargs[@]}" \
+                        --size 1920x1080 --threads 2 --frames "$N" --json -o "$OUT/g.png" | median) ;;
+            gls) [ ${#gargs[@]} -gt 0 ] && s=$(LP_NUM_THREADS=2 "$PY" "$P/gl_render.py" "${gargs[@]}" \
+                        --srgb --size 1920x1080 --threads 2 --frames "$N" --json -o "$OUT/s.png" | median) ;;
+            esac
+        done
+        echo "$name $t $g $s"
+    done
 }
-for f in nearest bilinear trilinear aniso4 aniso16; do
-    run plane "$f" builtin:plane --filter "$f" -- --filter "$f"
-done
-for f in ewa sat; do
-    run plane "$f" builtin:plane --filter "$f"
-done
-run sphere trilinear builtin:sphere --texture "$P/data/noise.png" -- --scene mesh --mesh "$P/data/sphere.obj" --filter trilinear
-rm -rf "$OUT"
+{
+    for f in nearest bilinear trilinear aniso4 aniso16; do
+        run "plane|$f" builtin:plane --filter "$f" -- --filter "$f"
+    done
+    for f in ewa sat; do
+        run "plane|$f" builtin:plane --filter "$f"
+    done
+    run "sphere|trilinear" builtin:sphere --texture "$P/data/noise.png" \
+        -- --scene mesh --mesh "$P/data/sphere.obj" --filter trilinear
+} > "$OUT/rounds.txt"
+"$PY" - "$OUT/rounds.txt" <<'PY'
+import statistics, sys
+rows = {}
+for line in open(sys.argv[1]):
+    name, t, g, s = line.split()
+    rows.setdefault(name, []).append((t, g, s))
+def med(xs):
+    xs = [float(x) for x in xs if x != "—"]
+    return "%.1f" % statistics.median(xs) if xs else "—"
+def ratio(rounds, k):
+    rs = [float(r[0]) / float(r[k]) for r in rounds if r[k] != "—"]
+    if not rs:
+        return "—"
+    return "%.2f (%.2f–%.2f)" % (statistics.median(rs), min(rs), max(rs))
+print("| scene | filter | texmap ms | llvmpipe ms | texmap / llvmpipe | llvmpipe --srgb ms | texmap / llvmpipe --srgb |")
+print("|---|---|---|---|---|---|---|")
+for name, rounds in rows.items():
+    scene, filt = name.split("|")
+    scene = "sphere (199,200 tris)" if scene == "sphere" else scene
+    print(f"| {scene} | {filt} | {med(r[0] for r in rounds)} | {med(r[1] for r in rounds)} | "
+          f"{ratio(rounds, 1)} | {med(r[2] for r in rounds)} | {ratio(rounds, 2)} |")
+PY
