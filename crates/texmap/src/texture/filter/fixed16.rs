@@ -116,8 +116,10 @@ impl Shared {
 /// `out[t]` gets texture `t`'s reads. `false`, and nothing read, when the read is not
 /// bilinear.
 ///
+/// `texes` must be the textures `shared` was made for.
+///
 /// # Panics
-/// If `out` is shorter than `texes`, or `texes` are not the textures `shared` checked.
+/// If `out` is shorter than `texes`, or `texes` differ in size.
 #[inline]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn read_quad_shared(
