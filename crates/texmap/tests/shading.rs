@@ -1,6 +1,7 @@
 //! Per-pixel surface parameters, rendered: a bump map tilts the normal as the surface it
 //! describes would, heights scale with the object, the metallic-roughness texture drives
-//! exactly the factors it multiplies, and Gouraud shading of a metallic-roughness material
+//! exactly the factors it multiplies (an occlusion map in the same image read once, as a
+//! copy read apart gives it), and Gouraud shading of a metallic-roughness material
 //! stays close to Phong shading.
 
 use std::sync::Arc;
@@ -189,6 +190,74 @@ fn metallic_roughness_texture_multiplies_the_factors() {
     }
     // The metal half has no diffuse: its red channel is far below the dielectric's.
     assert!(pixel(&f, 30, 48).x < 0.5 * pixel(&f, 66, 48).x);
+}
+
+#[test]
+fn an_occlusion_map_in_the_metallic_roughness_image_reads_as_its_own_copy() {
+    // An ORM image (occlusion R, roughness G, metalness B) named by both maps is read once;
+    // the frame is the one drawn with the occlusion map in a copy of the image, read apart.
+    // With and without a base colour texture (read with the maps or not), under trilinear
+    // (the shared read) and anisotropic filtering (map by map).
+    let rgba: Vec<u8> = (0..32 * 32 * 4)
+        .map(|i: u32| match i % 4 {
+            3 => 255,
+            k => (i.wrapping_mul(37 + k) % 251) as u8,
+        })
+        .collect();
+    let image = || {
+        Arc::new(
+            Texture2D::from_texels(
+                32,
+                32,
+                texmap::texture::Format::Rgba8,
+                texmap::texture::ColorSpace::Linear,
+                &rgba,
+                TextureOptions::default(),
+            )
+            .unwrap(),
+        )
+    };
+    let orm = image();
+    let base = Arc::new(
+        Texture2D::from_fn(32, 32, TextureOptions::default(), |x, y| {
+            Vec4::new(x as f32 / 31.0, y as f32 / 31.0, 0.5, 1.0)
+        })
+        .unwrap(),
+    );
+    for filter in [Filter::TRILINEAR, Filter::Anisotropic { max_aniso: 8 }] {
+        for textured in [false, true] {
+            let sampler = Sampler::new(filter, Wrap::Repeat);
+            let map = |channel, tex: &Arc<Texture2D>| MaterialMap {
+                channel,
+                slot: TextureSlot::new(tex.clone(), sampler),
+                scale: 0.7,
+            };
+            let material = |occlusion: &Arc<Texture2D>| Material {
+                model: ShadingModel::MetallicRoughness,
+                base_color_texture: textured.then(|| TextureSlot::new(base.clone(), sampler)),
+                maps: vec![
+                    map(MapChannel::MetallicRoughness, &orm),
+                    map(MapChannel::Occlusion, occlusion),
+                ],
+                ..Default::default()
+            };
+            let (once, camera) = plane_scene(material(&orm), 1.0);
+            let (apart, _) = plane_scene(material(&image()), 1.0);
+            let (a, b) = (
+                frame(&once, &camera, ShadingMode::Phong),
+                frame(&apart, &camera, ShadingMode::Phong),
+            );
+            assert!(
+                a.color == b.color,
+                "{filter:?}, base colour texture {textured}"
+            );
+            // And the occlusion map is read: without it the frame differs.
+            let mut none = once.clone();
+            none.materials[0].maps.pop();
+            let c = frame(&none, &camera, ShadingMode::Phong);
+            assert!(a.color != c.color, "{filter:?}");
+        }
+    }
 }
 
 #[test]

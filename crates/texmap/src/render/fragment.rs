@@ -516,6 +516,10 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
         read_shared(d, shared, quads, out);
     }
     let own = |k: u8| shared & (1 << k) == 0;
+    // An occlusion map in the metallic-roughness map's image, read the same way (an ORM
+    // image), takes that read's values (read together, `read_shared` reads it once).
+    let occlusion_from_mr = own(2)
+        && matches!((&d.occlusion_map, &d.metal_rough_map), (Some(o), Some(m)) if o.reads_same(m));
     let mut fill = |t: &MapRead, set: &dyn Fn(&mut QuadReads, [Vec4; 4])| {
         for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
             t.quads(quads, &mut buf[..quads.len()]);
@@ -541,9 +545,12 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
     let maps: [(Option<&MapRead>, Field); 8] = [
         (d.normal_map.as_ref().filter(|_| own(1)), |m| &mut m.normals),
         (d.normal_object_map.as_ref(), |m| &mut m.object_normals),
-        (d.occlusion_map.as_ref().filter(|_| own(2)), |m| {
-            &mut m.occlusion
-        }),
+        (
+            d.occlusion_map
+                .as_ref()
+                .filter(|_| own(2) && !occlusion_from_mr),
+            |m| &mut m.occlusion,
+        ),
         (d.emissive_map.as_ref().filter(|_| own(3)), |m| {
             &mut m.emission
         }),
@@ -585,6 +592,11 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
             }
         }
     }
+    if occlusion_from_mr {
+        for m in out.iter_mut().filter_map(|o| o.maps.as_mut()) {
+            m.occlusion = m.metal_rough;
+        }
+    }
     fold_layers(d, quads, out);
 }
 
@@ -604,18 +616,45 @@ fn read_shared(d: &DrawInfo, shared: u8, quads: &[Quad], out: &mut [QuadReads]) 
     let Some(&(_, Some(first))) = members.first() else {
         return;
     };
-    let images: [_; 5] =
-        std::array::from_fn(|t| members.get(t).and_then(|m| m.1).unwrap_or(first).tex);
+    // Each image read once: members that read the same image (an occlusion map packed
+    // with the metallic-roughness one, say) take the same values. `of[t]`: the members
+    // (bits over the candidates) image `t` feeds.
+    let mut images = [first.tex; 5];
+    let mut of = [0u8; 5];
+    let mut distinct = 0;
+    for &(k, m) in members {
+        let tex = m.unwrap_or(first).tex;
+        let same = images[..distinct]
+            .iter()
+            .position(|&t| std::ptr::eq(t, tex));
+        let t = same.unwrap_or_else(|| {
+            images[distinct] = tex;
+            distinct += 1;
+            distinct - 1
+        });
+        of[t] |= 1 << k;
+    }
     for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
-        first.quads_shared(&images[..count], quads, |t, i, v| {
+        first.quads_shared(&images[..distinct], quads, |t, i, v| {
             let o = &mut out[i];
-            match (members[t].0, o.maps.as_mut()) {
-                (0, _) => o.texels = Some(v),
-                (1, Some(maps)) => maps.normals = Some(v),
-                (2, Some(maps)) => maps.occlusion = Some(v),
-                (3, Some(maps)) => maps.emission = Some(v),
-                (_, Some(maps)) => maps.metal_rough = Some(v),
-                (_, None) => {}
+            let bits = of[t];
+            if bits & 1 != 0 {
+                o.texels = Some(v);
+            }
+            if let Some(maps) = o.maps.as_mut() {
+                for (k, field) in [
+                    &mut maps.normals,
+                    &mut maps.occlusion,
+                    &mut maps.emission,
+                    &mut maps.metal_rough,
+                ]
+                .into_iter()
+                .enumerate()
+                {
+                    if bits & (2 << k) != 0 {
+                        *field = Some(v);
+                    }
+                }
             }
         });
     }

@@ -177,6 +177,19 @@ impl<'a> MapRead<'a> {
             && size(self) == size(other)
     }
 
+    /// Whether `other` reads what this map reads: the same image, at the same coordinates,
+    /// through the same sampler (two maps in one image, as glTF's occlusion and
+    /// metallic-roughness maps often are).
+    pub fn reads_same(&self, other: &MapRead) -> bool {
+        std::ptr::eq(self.tex, other.tex)
+            && self.virt.is_none()
+            && other.virt.is_none()
+            && self.sampler == other.sampler
+            && self.uv == other.uv
+            && self.linear == other.linear
+            && self.offset == other.offset
+    }
+
     /// [`MapRead::quads`] of the maps whose images are `images` (read at this one's
     /// coordinates through its sampler: each [`MapRead::shares_coords`] with it): `put(t, i,
     /// texels)` gets image `t`'s reads of `quads[i]` (the same values), the texel addresses
