@@ -82,6 +82,11 @@ pub(crate) struct TextureCache {
     cache: HashMap<CacheKey, Option<Arc<Texture2D>>>,
     /// Textures built ahead by [`TextureCache::prefetch`], not yet asked for.
     ready: HashMap<CacheKey, Result<Texture2D>>,
+    /// Textures packed into another's red channel ([`TextureCache::pack_red`]): asking for
+    /// one gives the texture it went into.
+    packed: HashMap<CacheKey, CacheKey>,
+    /// The names of the textures packed into each one, for its [`TextureInfo`].
+    packed_names: HashMap<CacheKey, String>,
     pub infos: Vec<TextureInfo>,
     pub warnings: Vec<String>,
     lenient: bool,
@@ -98,6 +103,8 @@ impl TextureCache {
             volumes: options.volume_options(),
             cache: HashMap::new(),
             ready: HashMap::new(),
+            packed: HashMap::new(),
+            packed_names: HashMap::new(),
             infos: Vec::new(),
             warnings: Vec::new(),
             lenient: options.lenient,
@@ -136,10 +143,15 @@ impl TextureCache {
             alpha,
             storage,
         };
+        let key = self.packed.get(&key).cloned().unwrap_or(key);
         if let Some(t) = self.cache.get(&key) {
             return Ok(t.clone());
         }
         let name = source.name();
+        let name = match self.packed_names.get(&key) {
+            Some(from) => format!("{name}, red channel from {from}"),
+            None => name,
+        };
         if not_decoded(&name) {
             self.warnings.push(format!(
                 "{name}: image format not decoded by texmap; the texture is left out"
@@ -244,6 +256,45 @@ impl TextureCache {
             })
             .collect();
         self.ready.extend(built);
+    }
+
+    /// Packs the prefetched linear texture `from` (alpha kept) into the red channel of the
+    /// prefetched `into` ([`Texture2D::take_red_from`]: only where the reads stay exact),
+    /// after which asking for `from` gives `into`: one texture read where two were. The
+    /// caller vouches that nothing reads `into`'s red channel, and nothing reads `from` but
+    /// through its red channel, with those keys (a glTF occlusion map and the
+    /// metallic-roughness map its materials pair it with). True when packed.
+    pub fn pack_red(&mut self, into: &str, from: &str, from_name: &str) -> bool {
+        let key = |source: &str| CacheKey {
+            source: source.to_string(),
+            color_space: ColorSpace::Linear,
+            alpha: AlphaChannel::Keep,
+            storage: self.storage,
+        };
+        let (into, from) = (key(into), key(from));
+        if into == from || self.cache.contains_key(&into) || self.cache.contains_key(&from) {
+            return false;
+        }
+        // Both built (a failed build stays where it is, reported when asked for).
+        let built = |k: &CacheKey| matches!(self.ready.get(k), Some(Ok(_)));
+        if !(built(&from) && built(&into)) {
+            return false;
+        }
+        let Some(Ok(source)) = self.ready.remove(&from) else {
+            return false;
+        };
+        let packed = match self.ready.get_mut(&into) {
+            Some(Ok(target)) => target.take_red_from(&source),
+            _ => false,
+        };
+        if !packed {
+            self.ready.insert(from, Ok(source));
+            return false;
+        }
+        self.packed_names
+            .insert(into.clone(), from_name.to_string());
+        self.packed.insert(from, into);
+        true
     }
 
     /// The texture `source` holds, decoded in `color_space` with its alpha as `alpha` says,

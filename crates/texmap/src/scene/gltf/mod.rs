@@ -32,6 +32,7 @@ mod lights;
 mod materials;
 mod mesh;
 mod nodes;
+mod packing;
 mod skin;
 mod textures;
 mod variants;

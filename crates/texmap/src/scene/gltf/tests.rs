@@ -268,3 +268,88 @@ fn material_extensions_and_variants() {
         "{msg}"
     );
 }
+
+/// An occlusion map in its own image, of the metallic-roughness map's size, is packed into
+/// that map's red channel (one texture, read once); where another use could tell (the
+/// occlusion image also an emissive map), the two stay apart.
+#[test]
+fn occlusion_is_packed_into_the_metallic_roughness_image() {
+    let png = |name: &str, f: &dyn Fn(u32, u32) -> [u8; 3]| {
+        let img = image::RgbImage::from_fn(8, 4, |x, y| image::Rgb(f(x, y)));
+        let mut bytes = Vec::new();
+        img.write_to(
+            &mut std::io::Cursor::new(&mut bytes),
+            image::ImageFormat::Png,
+        )
+        .unwrap();
+        crate::scene::test_file("gltf-orm", name, bytes)
+    };
+    let mr = |x: u32, y: u32| [200, (x * 30) as u8, (y * 60) as u8];
+    let ao = |x: u32, y: u32| [(x * 20 + y * 5) as u8, 7, 9];
+    png("mr.png", &mr);
+    png("ao.png", &ao);
+    let doc = |emissive: &str| {
+        format!(
+            r#"{{"asset": {{"version": "2.0"}},
+  "nodes": [{{"mesh": 0}}],
+  "meshes": [{{"primitives": [{{"material": 0, "attributes": {{"POSITION": 0, "TEXCOORD_0": 1}}}}]}}],
+  "materials": [{{"pbrMetallicRoughness": {{"metallicRoughnessTexture": {{"index": 0}}}},
+                  "occlusionTexture": {{"index": 1, "strength": 0.5}}}}{emissive}],
+  "textures": [{{"source": 0}}, {{"source": 1}}],
+  "images": [{{"uri": "mr.png"}}, {{"uri": "ao.png"}}],
+  "buffers": [{{"byteLength": 60, "uri": "data:application/octet-stream;base64,{}"}}],
+  "bufferViews": [{{"buffer": 0, "byteLength": 36}}, {{"buffer": 0, "byteOffset": 36, "byteLength": 24}}],
+  "accessors": [
+{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}},
+{{"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}}]}}"#,
+            {
+                use base64::Engine;
+                let mut b = Vec::new();
+                for v in [
+                    0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0,
+                ] {
+                    b.extend_from_slice(&v.to_le_bytes());
+                }
+                base64::engine::general_purpose::STANDARD.encode(b)
+            }
+        )
+    };
+    let maps = |l: &crate::scene::Loaded| {
+        let m = &l.scene.materials[0];
+        (
+            m.map(MapChannel::MetallicRoughness)
+                .unwrap()
+                .slot
+                .texture
+                .clone(),
+            m.map(MapChannel::Occlusion).unwrap().slot.texture.clone(),
+        )
+    };
+    let p = crate::scene::test_file("gltf-orm", "packed.gltf", doc(""));
+    let l = load(&p, &LoadOptions::default()).unwrap();
+    let (metal_rough, occlusion) = maps(&l);
+    assert!(std::sync::Arc::ptr_eq(&metal_rough, &occlusion));
+    assert_eq!(l.info.textures.len(), 1, "{:?}", l.info.textures);
+    assert!(l.info.textures[0].name.contains("red channel from image 1"));
+    let texels = metal_rough.decode_level(0);
+    for y in 0..4 {
+        for x in 0..8 {
+            let t = texels[(y * 8 + x) as usize];
+            let unorm = |c: u8| f32::from(c) / 255.0;
+            let want = [unorm(ao(x, y)[0]), unorm(mr(x, y)[1]), unorm(mr(x, y)[2])];
+            for (k, w) in want.iter().enumerate() {
+                assert!(
+                    (t[k] - w).abs() < 1e-6,
+                    "({x}, {y}) channel {k}: {t} vs {want:?}"
+                );
+            }
+        }
+    }
+    // The occlusion image is also an emissive map: its other channels are read, no packing.
+    let also = r#", {"emissiveTexture": {"index": 1}}"#;
+    let p = crate::scene::test_file("gltf-orm", "apart.gltf", doc(also));
+    let l = load(&p, &LoadOptions::default()).unwrap();
+    let (metal_rough, occlusion) = maps(&l);
+    assert!(!std::sync::Arc::ptr_eq(&metal_rough, &occlusion));
+    assert_eq!(occlusion.decode_level(0)[0].y, 7.0 / 255.0);
+}

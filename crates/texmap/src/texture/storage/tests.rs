@@ -229,3 +229,51 @@ fn rgba8_storage_level_is_the_encoded_average_of_the_one_above() {
         }
     }
 }
+
+#[test]
+fn a_packed_red_channel_reads_as_the_texture_it_came_from() {
+    // Two opaque linear RGBA8 textures of one size (odd, so the chain has padded tiles).
+    let (w, h) = (37u32, 21u32);
+    let make = |seed: usize, opaque: bool| {
+        let rgba: Vec<u8> = (0..(w * h * 4) as usize)
+            .map(|i| match i % 4 {
+                3 if opaque => 255,
+                _ => ((i * (31 + seed) + seed * 7) % 256) as u8,
+            })
+            .collect();
+        let options = TextureOptions::default().with_storage(Storage::Rgba8);
+        Texture2D::from_texels(w, h, Format::Rgba8, ColorSpace::Linear, &rgba, options).unwrap()
+    };
+    let (metal_rough, occlusion) = (make(1, true), make(2, true));
+    let mut packed = metal_rough.clone();
+    assert!(packed.take_red_from(&occlusion));
+    for i in 0..packed.levels().len() {
+        let (p, m, o) = (
+            packed.decode_level(i),
+            metal_rough.decode_level(i),
+            occlusion.decode_level(i),
+        );
+        for k in 0..p.len() {
+            assert_eq!(p[k].x, o[k].x, "level {i} texel {k}: red");
+            let rest = |c: Vec4| [c.y, c.z, c.w];
+            assert_eq!(rest(p[k]), rest(m[k]), "level {i} texel {k}: the rest");
+        }
+    }
+    // Nothing changes where the reads would not be the same.
+    let translucent = make(3, false);
+    let mut other = metal_rough.clone();
+    assert!(!other.take_red_from(&translucent));
+    let srgb = {
+        let options = TextureOptions::default().with_storage(Storage::Rgba8);
+        let rgba = vec![200u8; (w * h * 4) as usize];
+        Texture2D::from_texels(w, h, Format::Rgba8, ColorSpace::Srgb, &rgba, options).unwrap()
+    };
+    assert!(!other.take_red_from(&srgb));
+    let smaller = {
+        let options = TextureOptions::default().with_storage(Storage::Rgba8);
+        let rgba = vec![255u8; 16 * 16 * 4];
+        Texture2D::from_texels(16, 16, Format::Rgba8, ColorSpace::Linear, &rgba, options).unwrap()
+    };
+    assert!(!other.take_red_from(&smaller));
+    assert_eq!(other.decode_level(0), metal_rough.decode_level(0));
+}
