@@ -642,18 +642,17 @@ fn read_shared(d: &DrawInfo, shared: u8, quads: &[Quad], out: &mut [QuadReads]) 
                 o.texels = Some(v);
             }
             if let Some(maps) = o.maps.as_mut() {
-                for (k, field) in [
-                    &mut maps.normals,
-                    &mut maps.occlusion,
-                    &mut maps.emission,
-                    &mut maps.metal_rough,
-                ]
-                .into_iter()
-                .enumerate()
-                {
-                    if bits & (2 << k) != 0 {
-                        *field = Some(v);
-                    }
+                if bits & 2 != 0 {
+                    maps.normals = Some(v);
+                }
+                if bits & 4 != 0 {
+                    maps.occlusion = Some(v);
+                }
+                if bits & 8 != 0 {
+                    maps.emission = Some(v);
+                }
+                if bits & 16 != 0 {
+                    maps.metal_rough = Some(v);
                 }
             }
         });

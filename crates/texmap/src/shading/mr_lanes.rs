@@ -152,8 +152,12 @@ pub fn specular_albedo_quad(n_dot_v: Vec4, roughness: Vec4) -> (Vec4, Vec4) {
     let last = Vec4::splat((N - 1) as f32);
     let x = sqrt4(n_dot_v.max(zero).min(one)) * last;
     let y = roughness.max(zero).min(one) * last;
-    // The cell: ⌊x⌋ and ⌊y⌋ at most N − 2 (`as usize` of a NaN is 0, as `max` makes it here).
-    let cell = |t: Vec4| t.max(zero).to_array().map(|t| (t as usize).min(N - 2));
+    // The cell: ⌊x⌋ and ⌊y⌋ at most N − 2, in lanes (a NaN lane is 0, as `max` makes it;
+    // clamped first, so the truncation is in range).
+    let cell = |t: Vec4| {
+        crate::texture::filter::truncate4(t.max(zero).min(Vec4::splat((N - 2) as f32)))
+            .map(|i| i as usize)
+    };
     let (i, j) = (cell(x), cell(y));
     let fx = x - Vec4::from_array(i.map(|i| i as f32));
     let fy = y - Vec4::from_array(j.map(|j| j as f32));

@@ -344,10 +344,10 @@ fn bilinear_quad<C: Codec>(lv: &LevelRef, s: &Sampler, u: Vec4, v: Vec4, mask: u
     out
 }
 
-/// Four floats (already integral) to `i32`, truncating; NaN and out-of-range lanes give
-/// `i32::MIN` on x86-64 (callers range-check the result).
+/// Four floats to `i32`, truncating; NaN and out-of-range lanes give `i32::MIN` on x86-64
+/// (callers range-check the result).
 #[inline(always)]
-fn truncate4(v: Vec4) -> [i32; 4] {
+pub(crate) fn truncate4(v: Vec4) -> [i32; 4] {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{__m128i, _mm_cvttps_epi32};
