@@ -33,7 +33,7 @@
 
 use glam::Vec4;
 
-use super::super::storage::Rgba8Texels;
+use super::super::storage::{LevelRef, Rgba8Texels};
 use super::super::{Format, Layout, MipChoice, Sampler, TexelFilter, Texture2D, Wrap};
 
 /// The largest 15-bit weight: a read's weights sum to it.
@@ -83,48 +83,128 @@ pub(super) const MAX_SHARED: usize = 5;
 
 /// Textures that [`read_quad_shared`] reads together through one sampler, checked once for
 /// all the quads read: at most [`MAX_SHARED`], of one size, each served by these reads (how
-/// each texture's texels enter the sums).
-#[derive(Clone, Copy)]
-pub(super) struct Shared {
+/// each texture's texels enter the sums). It holds the textures, so the reads are of the
+/// textures checked, and the two levels last read: each texture's tiled texels looked up and
+/// checked once for the quads that read that level, not once a quad.
+pub(super) struct Shared<'a> {
+    texes: [&'a Texture2D; MAX_SHARED],
+    count: usize,
     texels: [Texels; MAX_SHARED],
+    levels: [Option<SharedLevel<'a>>; 2],
+    /// The slot the next level looked up replaces.
+    next: usize,
 }
 
-impl Shared {
+/// One level of every texture of a [`Shared`]: the first texture's view (whose size the
+/// taps are computed for) and each texture's tiled texels, checked to be a level of that
+/// size and tiling holding enough bytes.
+struct SharedLevel<'a> {
+    index: usize,
+    first: LevelRef<'a>,
+    tiles_x: u32,
+    data: [&'a [u8]; MAX_SHARED],
+}
+
+impl<'a> Shared<'a> {
     /// `texes` through `s`, when these reads serve them all together.
     #[inline]
-    pub(super) fn new(texes: &[&Texture2D], s: &Sampler) -> Option<Self> {
-        let first = texes.first()?;
+    pub(super) fn new(texes: &[&'a Texture2D], s: &Sampler) -> Option<Self> {
+        let first = *texes.first()?;
         if texes.len() > MAX_SHARED {
             return None;
         }
         let size = |t: &Texture2D| (t.width(), t.height(), t.levels().len());
         let mut texels = [Texels::Linear16; MAX_SHARED];
-        for (slot, t) in texels.iter_mut().zip(texes) {
+        let mut all = [first; MAX_SHARED];
+        for ((slot, t), held) in texels.iter_mut().zip(texes).zip(&mut all) {
             if size(t) != size(first) {
                 return None;
             }
             *slot = texels_of(t, s)?;
+            *held = t;
         }
-        Some(Shared { texels })
+        Some(Shared {
+            texes: all,
+            count: texes.len(),
+            texels,
+            levels: [None, None],
+            next: 0,
+        })
+    }
+
+    /// How many textures are read together.
+    #[inline]
+    fn len(&self) -> usize {
+        self.count
+    }
+
+    /// Level `index` of every texture (looked up and checked when not one of the last two).
+    ///
+    /// # Panics
+    /// If a texture's level is not of the first one's size and tiling, or not a tiled level
+    /// of its texels (`Shared::new` checked the sizes; the tiling follows from them).
+    #[inline]
+    fn level(&mut self, index: usize) -> &SharedLevel<'a> {
+        if let Some(k) = self
+            .levels
+            .iter()
+            .position(|l| l.as_ref().is_some_and(|l| l.index == index))
+        {
+            return self.levels[k].as_ref().expect("found above");
+        }
+        let first = self.texes[0].level(index);
+        let mut data = [&[][..]; MAX_SHARED];
+        let mut tiles_x = 0;
+        for (k, (tex, &texels)) in self.texes[..self.count]
+            .iter()
+            .zip(&self.texels)
+            .enumerate()
+        {
+            let lv = tex.level(index);
+            assert!(
+                (lv.w, lv.h) == (first.w, first.h),
+                "shared levels differ in size"
+            );
+            let (d, tx) = lv.tiled_texels(bpp(texels));
+            if k == 0 {
+                tiles_x = tx;
+            }
+            assert_eq!(tx, tiles_x, "shared levels differ in tiling");
+            data[k] = d;
+        }
+        let level = SharedLevel {
+            index,
+            first,
+            tiles_x,
+            data,
+        };
+        let slot = self.next;
+        self.next ^= 1;
+        self.levels[slot].insert(level)
     }
 }
 
-/// [`read_quad`] of several textures (`texes`, checked together as `shared`) at the same
-/// coordinates through the same sampler, on the same levels: textures of one size, so one
-/// level's texel indices and weights serve them all. They are computed once per level, and
-/// each texture's taps are summed as [`read_quad`] sums them (the same values, bit for bit);
-/// `out[t]` gets texture `t`'s reads. `false`, and nothing read, when the read is not
-/// bilinear.
-///
-/// `texes` must be the textures `shared` was made for.
+/// Bytes a texel of `texels` takes.
+#[inline(always)]
+fn bpp(texels: Texels) -> usize {
+    match texels {
+        Texels::Linear16 => 8,
+        Texels::Rgba8(_) => 4,
+    }
+}
+
+/// [`read_quad`] of the textures of `shared` at the same coordinates through the same
+/// sampler, on the same levels: textures of one size, so one level's texel indices and
+/// weights serve them all. They are computed once per level, and each texture's taps are
+/// summed as [`read_quad`] sums them (the same values, bit for bit); `out[t]` gets texture
+/// `t`'s reads. `false`, and nothing read, when the read is not bilinear.
 ///
 /// # Panics
-/// If `out` is shorter than `texes`, or `texes` differ in size.
+/// If `out` is shorter than the textures.
 #[inline]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn read_quad_shared(
-    texes: &[&Texture2D],
-    shared: &Shared,
+    shared: &mut Shared,
     s: &Sampler,
     choice: MipChoice,
     u: Vec4,
@@ -132,13 +212,13 @@ pub(super) fn read_quad_shared(
     mask: u8,
     out: &mut [[Vec4; 4]],
 ) -> bool {
-    assert!(out.len() >= texes.len() && texes.len() <= MAX_SHARED);
+    assert!(out.len() >= shared.len());
     if choice.texels != TexelFilter::Linear {
         return false;
     }
     #[cfg(target_arch = "x86_64")]
     {
-        sse2::linear_quad_shared(texes, &shared.texels, s, choice, u, v, mask, out);
+        sse2::linear_quad_shared(shared, s, choice, u, v, mask, out);
         true
     }
     #[cfg(not(target_arch = "x86_64"))]

@@ -404,11 +404,11 @@ pub fn sample_quads_lanes_shared(
         let (choices, _) = gl_choices::<CHUNK>(first, sampler, coords, mag, min);
         for (group, textures) in textures.chunks(fixed16::MAX_SHARED).enumerate() {
             // The group's textures checked once for the chunk's quads.
-            let shared = fixed16::Shared::new(textures, sampler);
+            let mut shared = fixed16::Shared::new(textures, sampler);
             for (k, ((c, &m), &choice)) in coords.iter().zip(masks).zip(&choices).enumerate() {
                 let quad = &mut quad[..textures.len()];
-                let read = shared.as_ref().is_some_and(|shared| {
-                    fixed16::read_quad_shared(textures, shared, sampler, choice, c.u, c.v, m, quad)
+                let read = shared.as_mut().is_some_and(|shared| {
+                    fixed16::read_quad_shared(shared, sampler, choice, c.u, c.v, m, quad)
                 });
                 if !read {
                     for (q, texture) in quad.iter_mut().zip(textures) {

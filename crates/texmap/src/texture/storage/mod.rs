@@ -575,7 +575,7 @@ pub(crate) struct LevelRef<'a> {
     blocks: Option<BlockRef>,
 }
 
-impl LevelRef<'_> {
+impl<'a> LevelRef<'a> {
     /// The 2×2 texels with top-left `(x, y)` (all in range): ((x,y), (x+1,y)), ((x,y+1), (x+1,y+1)).
     #[inline(always)]
     pub fn quad<C: Codec>(&self, x: i32, y: i32) -> ((Vec4, Vec4), (Vec4, Vec4)) {
@@ -624,19 +624,13 @@ impl LevelRef<'_> {
     /// # Panics
     /// If the level is not so laid out (callers check the texture's layout and format).
     #[inline]
-    pub fn tiled_texels(&self, bpp: usize) -> (&[u8], u32) {
+    pub fn tiled_texels(&self, bpp: usize) -> (&'a [u8], u32) {
         let tiles = self.tiles_x as usize * (self.h as usize).div_ceil(4);
         assert!(
             self.layout == Layout::Tiled4x4 && self.data.len() >= tiles * 16 * bpp,
             "not a tiled level of {bpp}-byte texels"
         );
         (self.data, self.tiles_x)
-    }
-
-    /// Tiles per row (of a [`Layout::Tiled4x4`] level).
-    #[inline(always)]
-    pub fn tiles_x(&self) -> u32 {
-        self.tiles_x
     }
 
     /// The texel index of in-range `(0, y)`: with [`LevelRef::column`], a row's indices with

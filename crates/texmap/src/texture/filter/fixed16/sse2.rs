@@ -93,14 +93,12 @@ pub(super) fn finish(acc: &[__m128i; 4], mask: u8) -> [Vec4; 4] {
     })
 }
 
-/// [`super::read_quad_shared`]: [`linear_quad`] of each texture (`texels[t]` how texture
-/// `t`'s texels enter the sums), the taps' addresses and weights computed once per level for
-/// all of them.
+/// [`super::read_quad_shared`]: [`linear_quad`] of each texture of `shared` (how each
+/// one's texels enter the sums is `shared`'s), the taps' addresses and weights computed once
+/// per level for all of them.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 pub(super) fn linear_quad_shared(
-    texes: &[&Texture2D],
-    texels: &[Texels],
+    shared: &mut super::Shared,
     s: &Sampler,
     choice: MipChoice,
     u: Vec4,
@@ -114,15 +112,14 @@ pub(super) fn linear_quad_shared(
         .blend
         .map_or((None, 0.0), |b| (Some(b.level), b.weight));
     let wa = ((1.0 - f.clamp(0.0, 1.0)) * ONE as f32).round() as i32;
-    let level = |index: usize, weight: i32, acc: &mut [[__m128i; 4]]| {
-        let first = texes[0].level(index);
-        let t = taps(&first, first.tiles_x(), s, u, v, weight);
-        for ((tex, &texels), acc) in texes.iter().zip(texels).zip(acc.iter_mut()) {
-            let lv = tex.level(index);
-            // One size: the first texture's indices are in range for every one.
-            assert!((lv.w, lv.h) == (first.w, first.h));
-            let (data, tiles_x) = lv.tiled_texels(bpp(texels));
-            assert_eq!(tiles_x, t.tiles_x);
+    let count = shared.len();
+    let texels = shared.texels;
+    let mut level = |index: usize, weight: i32, acc: &mut [[__m128i; 4]]| {
+        let lv = shared.level(index);
+        let t = taps(&lv.first, lv.tiles_x, s, u, v, weight);
+        // Each texture's level is of the first one's size and tiling (checked when the
+        // level was looked up), so the first one's indices are in range for every one.
+        for ((data, &texels), acc) in lv.data.iter().zip(&texels[..count]).zip(acc.iter_mut()) {
             gather(data, texels, &t, acc);
         }
     };
@@ -132,7 +129,7 @@ pub(super) fn linear_quad_shared(
     if let Some(b) = second.filter(|_| wa < ONE) {
         level(b, ONE - wa, &mut acc);
     }
-    for (o, acc) in out.iter_mut().zip(&acc).take(texes.len()) {
+    for (o, acc) in out.iter_mut().zip(&acc).take(count) {
         *o = finish(acc, mask);
     }
 }
@@ -419,14 +416,7 @@ fn accumulate_on(
     gather(data, texels, &t, acc);
 }
 
-/// Bytes a texel of `texels` takes.
-#[inline(always)]
-pub(super) fn bpp(texels: Texels) -> usize {
-    match texels {
-        Texels::Linear16 => 8,
-        Texels::Rgba8(_) => 4,
-    }
-}
+pub(super) use super::bpp;
 
 /// A quad's bilinear taps on one level: each pixel's four texel indices and its
 /// 15-bit weights, packed in pairs (top row, bottom row).
@@ -435,8 +425,6 @@ pub(super) struct Taps {
     pub(super) offsets: [[i32; 4]; 4],
     top: [i32; 4],
     bottom: [i32; 4],
-    /// The level's tiles per row the offsets were computed for.
-    tiles_x: u32,
 }
 
 /// Level `lv`'s bilinear taps at `(u, v)`, weighted `level_weight / ONE` in all
@@ -496,7 +484,6 @@ pub(super) fn taps(
             offsets,
             top: pack(w00, w10),
             bottom: pack(w01, w11),
-            tiles_x,
         }
     }
 }
