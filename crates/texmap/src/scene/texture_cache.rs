@@ -19,7 +19,9 @@ use rayon::prelude::*;
 use super::asset::{LoadOptions, TextureInfo};
 use crate::shading::MapChannel;
 use crate::texture::container::{self, Container, TextureFile};
-use crate::texture::load::{decode_image, decode_image_bytes, texture_from_image, Limits};
+use crate::texture::load::{
+    decode_image, decode_image_bytes, texture_from_image, with_red_from, Limits,
+};
 use crate::texture::{ColorSpace, Storage, Texture2D, TextureOptions};
 use crate::{Error, Result};
 
@@ -76,6 +78,16 @@ struct CacheKey {
     storage: Storage,
 }
 
+/// A texture [`TextureCache::prefetch`] builds: its key, source and name, and a second
+/// image whose red channel it takes (its key, source, name, and the name its texture's
+/// [`TextureInfo`] gives it).
+struct Job<'a> {
+    key: CacheKey,
+    source: ImageSource<'a>,
+    name: String,
+    red: Option<(CacheKey, ImageSource<'a>, String, String)>,
+}
+
 /// Loads textures once per (source, colour space, alpha), applying `--lenient` and recording
 /// [`TextureInfo`]s and warnings.
 pub(crate) struct TextureCache {
@@ -85,7 +97,7 @@ pub(crate) struct TextureCache {
     /// Textures packed into another's red channel ([`TextureCache::pack_red`]): asking for
     /// one gives the texture it went into.
     packed: HashMap<CacheKey, CacheKey>,
-    /// The names of the textures packed into each one, for its [`TextureInfo`].
+    /// A packed texture's name for its [`TextureInfo`] (both images named).
     packed_names: HashMap<CacheKey, String>,
     pub infos: Vec<TextureInfo>,
     pub warnings: Vec<String>,
@@ -148,10 +160,8 @@ impl TextureCache {
             return Ok(t.clone());
         }
         let name = source.name();
-        let name = match self.packed_names.get(&key) {
-            Some(from) => format!("{name}, red channel from {from}"),
-            None => name,
-        };
+        // A packed texture is named for both images, whichever map asks first.
+        let name = self.packed_names.get(&key).cloned().unwrap_or(name);
         if not_decoded(&name) {
             self.warnings.push(format!(
                 "{name}: image format not decoded by texmap; the texture is left out"
@@ -202,9 +212,20 @@ impl TextureCache {
     /// it: warnings, errors and [`TextureInfo`]s then come in the order the scene asks, as
     /// without prefetching. Keys already built, repeated, or of a format not decoded are
     /// skipped.
-    pub fn prefetch(&mut self, requests: Vec<(String, ImageSource<'_>, ColorSpace, AlphaChannel)>) {
+    ///
+    /// `packs` names pairs of linear requests (alpha kept) to build as one texture where
+    /// [`with_red_from`] can: `(into, from, from's name)`, the second image's red channel in
+    /// the first's, after which asking for `from` gives `into`'s texture. The caller vouches
+    /// that nothing reads `into`'s red channel and nothing reads `from` but through its red
+    /// channel, with those keys (a glTF occlusion map and the metallic-roughness map its
+    /// materials pair it with). A pair that cannot be packed is built as two textures.
+    pub fn prefetch(
+        &mut self,
+        requests: Vec<(String, ImageSource<'_>, ColorSpace, AlphaChannel)>,
+        packs: &[(String, String, String)],
+    ) {
         let storage = self.storage;
-        let mut todo: Vec<(CacheKey, ImageSource<'_>, String)> = Vec::new();
+        let mut todo: Vec<Job<'_>> = Vec::new();
         for (key, source, color_space, alpha) in requests {
             let key = CacheKey {
                 source: key,
@@ -214,12 +235,37 @@ impl TextureCache {
             };
             let name = source.name();
             let known = self.cache.contains_key(&key) || self.ready.contains_key(&key);
-            if known || not_decoded(&name) || todo.iter().any(|(k, ..)| *k == key) {
+            if known || not_decoded(&name) || todo.iter().any(|j| j.key == key) {
                 continue;
             }
-            todo.push((key, source, name));
+            todo.push(Job {
+                key,
+                source,
+                name,
+                red: None,
+            });
         }
-        if todo.len() < 2 {
+        // Each pair found among the requests: one job, `from` riding with `into`.
+        for (into, from, from_name) in packs {
+            let linear = |source: &String| CacheKey {
+                source: source.clone(),
+                color_space: ColorSpace::Linear,
+                alpha: AlphaChannel::Keep,
+                storage,
+            };
+            let (into, from) = (linear(into), linear(from));
+            let Some(f) = todo.iter().position(|j| j.key == from && j.red.is_none()) else {
+                continue;
+            };
+            if into == from || !todo.iter().any(|j| j.key == into && j.red.is_none()) {
+                continue;
+            }
+            let job = todo.remove(f);
+            if let Some(target) = todo.iter_mut().find(|j| j.key == into) {
+                target.red = Some((job.key, job.source, job.name, from_name.clone()));
+            }
+        }
+        if todo.len() < 2 && todo.iter().all(|j| j.red.is_none()) {
             return; // nothing to overlap: `get` builds it
         }
         // Largest first, each thread taking the next when it is done: the big textures'
@@ -230,7 +276,7 @@ impl TextureCache {
         // data (`Storage`). Not the encoded bytes alone: DamagedHelmet's emissive map
         // compresses ten times better than its base colour, came last and built its 16-bit
         // chain beside the four finished textures (the load's peak of memory).
-        let weight = |(key, source, _): &(CacheKey, ImageSource<'_>, String)| {
+        let weight = |key: &CacheKey, source: &ImageSource<'_>| {
             let bytes_a_texel = if key.color_space == ColorSpace::Srgb {
                 2
             } else {
@@ -238,7 +284,10 @@ impl TextureCache {
             };
             texel_count(source) * bytes_a_texel
         };
-        todo.sort_by_key(|t| std::cmp::Reverse(weight(t)));
+        todo.sort_by_key(|j| {
+            let red = j.red.as_ref().map_or(0, |(k, s, ..)| weight(k, s));
+            std::cmp::Reverse(weight(&j.key, &j.source) + red)
+        });
         let this = &*self;
         let next = std::sync::atomic::AtomicUsize::new(0);
         let workers = rayon::current_num_threads().min(todo.len());
@@ -246,55 +295,79 @@ impl TextureCache {
             .into_par_iter()
             .flat_map_iter(|_| {
                 let mut mine = Vec::new();
-                while let Some((key, source, name)) =
+                while let Some(job) =
                     todo.get(next.fetch_add(1, std::sync::atomic::Ordering::Relaxed))
                 {
-                    let t = this.build(source, name, key.color_space, key.alpha, storage);
-                    mine.push((key.clone(), t));
+                    this.run(job, storage, &mut mine);
                 }
                 mine
             })
             .collect();
-        self.ready.extend(built);
+        for (key, result, packed) in built {
+            if let Some((from, name)) = packed {
+                self.packed_names.insert(key.clone(), name);
+                self.packed.insert(from, key.clone());
+            }
+            self.ready.insert(key, result);
+        }
     }
 
-    /// Packs the prefetched linear texture `from` (alpha kept) into the red channel of the
-    /// prefetched `into` ([`Texture2D::take_red_from`]: only where the reads stay exact),
-    /// after which asking for `from` gives `into`: one texture read where two were. The
-    /// caller vouches that nothing reads `into`'s red channel, and nothing reads `from` but
-    /// through its red channel, with those keys (a glTF occlusion map and the
-    /// metallic-roughness map its materials pair it with). True when packed.
-    pub fn pack_red(&mut self, into: &str, from: &str, from_name: &str) -> bool {
-        let key = |source: &str| CacheKey {
-            source: source.to_string(),
-            color_space: ColorSpace::Linear,
-            alpha: AlphaChannel::Keep,
-            storage: self.storage,
+    /// Builds `job` into `out`: its texture, or with a red channel to take, the one packed
+    /// texture (with the key it stands for and that image's name) or, where they cannot be
+    /// packed, the two.
+    #[allow(clippy::type_complexity)]
+    fn run(
+        &self,
+        job: &Job<'_>,
+        storage: Storage,
+        out: &mut Vec<(CacheKey, Result<Texture2D>, Option<(CacheKey, String)>)>,
+    ) {
+        let build = |key: &CacheKey, source: &ImageSource<'_>, name: &str| {
+            self.build(source, name, key.color_space, key.alpha, storage)
         };
-        let (into, from) = (key(into), key(from));
-        if into == from || self.cache.contains_key(&into) || self.cache.contains_key(&from) {
-            return false;
-        }
-        // Both built (a failed build stays where it is, reported when asked for).
-        let built = |k: &CacheKey| matches!(self.ready.get(k), Some(Ok(_)));
-        if !(built(&from) && built(&into)) {
-            return false;
-        }
-        let Some(Ok(source)) = self.ready.remove(&from) else {
-            return false;
+        let Some((red_key, red_source, red_name, red_label)) = &job.red else {
+            out.push((
+                job.key.clone(),
+                build(&job.key, &job.source, &job.name),
+                None,
+            ));
+            return;
         };
-        let packed = match self.ready.get_mut(&into) {
-            Some(Ok(target)) => target.take_red_from(&source),
-            _ => false,
+        let image = |source: &ImageSource<'_>| {
+            let plain = match source {
+                ImageSource::File(p) => Container::of_file(p),
+                ImageSource::Bytes { bytes, .. } => Container::sniff(bytes),
+            }
+            .is_none();
+            plain.then(|| self.decode(source).ok()).flatten()
         };
-        if !packed {
-            self.ready.insert(from, Ok(source));
-            return false;
+        let options = TextureOptions::default().with_storage(storage);
+        if let (Some(into), Some(from)) = (image(&job.source), image(red_source)) {
+            match with_red_from(into, &from) {
+                Ok(packed) => {
+                    drop(from);
+                    let t = texture_from_image(packed, ColorSpace::Linear, options)
+                        .map_err(|e| Error::decode(&job.name, e.to_string()));
+                    let name = format!("{}, red channel from {red_label}", job.name);
+                    out.push((job.key.clone(), t, Some((red_key.clone(), name))));
+                }
+                Err(into) => {
+                    let t = |img, name: &str| {
+                        texture_from_image(img, ColorSpace::Linear, options)
+                            .map_err(|e| Error::decode(name, e.to_string()))
+                    };
+                    out.push((job.key.clone(), t(into, &job.name), None));
+                    out.push((red_key.clone(), t(from, red_name), None));
+                }
+            }
+            return;
         }
-        self.packed_names
-            .insert(into.clone(), from_name.to_string());
-        self.packed.insert(from, into);
-        true
+        out.push((
+            job.key.clone(),
+            build(&job.key, &job.source, &job.name),
+            None,
+        ));
+        out.push((red_key.clone(), build(red_key, red_source, red_name), None));
     }
 
     /// The texture `source` holds, decoded in `color_space` with its alpha as `alpha` says,
@@ -328,18 +401,23 @@ impl TextureCache {
         alpha: AlphaChannel,
         options: TextureOptions,
     ) -> Result<Texture2D> {
-        let img = match source {
-            ImageSource::File(p) => decode_image(p, &self.limits)?,
-            ImageSource::Bytes { name, bytes } => {
-                decode_image_bytes(bytes, Path::new(name), &self.limits)?
-            }
-        };
+        let img = self.decode(source)?;
         let img = match alpha {
             AlphaChannel::Keep => img,
             AlphaChannel::Drop => drop_alpha(img),
         };
         texture_from_image(img, color_space, options)
             .map_err(|e| Error::decode(name, e.to_string()))
+    }
+
+    /// The image `source` holds, decoded by the `image` crate.
+    fn decode(&self, source: &ImageSource<'_>) -> Result<DynamicImage> {
+        match source {
+            ImageSource::File(p) => decode_image(p, &self.limits),
+            ImageSource::Bytes { name, bytes } => {
+                decode_image_bytes(bytes, Path::new(name), &self.limits)
+            }
+        }
     }
 
     /// A texture from a DDS, KTX or KTX2 file or bytes.
@@ -451,7 +529,7 @@ mod tests {
                     )
                 })
                 .collect();
-            cache.prefetch(requests);
+            cache.prefetch(requests, &[]);
             assert_eq!(cache.ready.len(), sources.len());
         }
         let answers = sources

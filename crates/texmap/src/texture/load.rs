@@ -209,9 +209,104 @@ pub fn texture_from_image(
     Texture2D::from_texels(w, h, format, color_space, &bytes, options)
 }
 
+/// `into` with its red channel taken from `from` (glTF's occlusion packed into its
+/// metallic-roughness image, whose red channel nothing reads): built as one texture, whose
+/// every level reads as `into`'s would in green, blue and alpha and as `from`'s would in red
+/// (8-bit channels are filtered and halved each on its own; tested for every storage). Only
+/// for 8-bit images of one size with no alpha below 255 (`into` RGB or RGBA, `from` RGB,
+/// RGBA or grey); `Err(into)`, unchanged, otherwise.
+pub fn with_red_from(
+    into: DynamicImage,
+    from: &DynamicImage,
+) -> std::result::Result<DynamicImage, DynamicImage> {
+    let opaque = |img: &DynamicImage| match img {
+        DynamicImage::ImageRgb8(_) | DynamicImage::ImageLuma8(_) => true,
+        DynamicImage::ImageRgba8(b) => b.pixels().all(|p| p.0[3] == 255),
+        _ => false,
+    };
+    let same_size = (into.width(), into.height()) == (from.width(), from.height());
+    let into_rgb = matches!(
+        into,
+        DynamicImage::ImageRgb8(_) | DynamicImage::ImageRgba8(_)
+    );
+    if !(same_size && into_rgb && opaque(&into) && opaque(from)) {
+        return Err(into);
+    }
+    // `from`'s red as its texture holds it: a grey image's value in every channel.
+    let red: Vec<u8> = match from {
+        DynamicImage::ImageRgb8(b) => b.pixels().map(|p| p.0[0]).collect(),
+        DynamicImage::ImageRgba8(b) => b.pixels().map(|p| p.0[0]).collect(),
+        DynamicImage::ImageLuma8(b) => b.pixels().map(|p| p.0[0]).collect(),
+        _ => return Err(into),
+    };
+    let mut into = into;
+    match &mut into {
+        DynamicImage::ImageRgb8(b) => b.pixels_mut().zip(&red).for_each(|(p, &r)| p.0[0] = r),
+        DynamicImage::ImageRgba8(b) => b.pixels_mut().zip(&red).for_each(|(p, &r)| p.0[0] = r),
+        _ => {}
+    }
+    Ok(into)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_packed_red_channel_reads_as_the_image_it_came_from() {
+        use crate::texture::Storage;
+        // An odd size (padded tiles, an uneven chain); the grey and RGBA cases too.
+        let (w, h) = (37u32, 21u32);
+        let rgb = |seed: u32| {
+            DynamicImage::ImageRgb8(image::RgbImage::from_fn(w, h, |x, y| {
+                let v = |k: u32| ((x * (31 + seed + k) + y * (17 + k) + seed * 7) % 256) as u8;
+                image::Rgb([v(0), v(1), v(2)])
+            }))
+        };
+        let grey = DynamicImage::ImageLuma8(image::GrayImage::from_fn(w, h, |x, y| {
+            image::Luma([((x * 13 + y * 29) % 256) as u8])
+        }));
+        let rgba = DynamicImage::ImageRgba8(rgb(3).to_rgba8());
+        for storage in [
+            Storage::Linear16,
+            Storage::Rgba8,
+            Storage::Native,
+            Storage::Compressed,
+        ] {
+            let options = TextureOptions::default().with_storage(storage);
+            let build =
+                |img: DynamicImage| texture_from_image(img, ColorSpace::Linear, options).unwrap();
+            for (into, from) in [
+                (rgb(1), rgb(2)),
+                (rgb(1), grey.clone()),
+                (rgba.clone(), rgb(2)),
+            ] {
+                let packed = build(with_red_from(into.clone(), &from).unwrap());
+                let (into, from) = (build(into), build(from));
+                for i in 0..packed.levels().len() {
+                    let (p, a, b) = (
+                        packed.decode_level(i),
+                        into.decode_level(i),
+                        from.decode_level(i),
+                    );
+                    for k in 0..p.len() {
+                        assert_eq!(p[k].x, b[k].x, "{storage:?} level {i} texel {k}: red");
+                        let rest = |c: glam::Vec4| [c.y, c.z, c.w];
+                        assert_eq!(rest(p[k]), rest(a[k]), "{storage:?} level {i} texel {k}");
+                    }
+                }
+            }
+        }
+        // Not packed: another size, translucent texels, 16 bits.
+        let small = DynamicImage::ImageRgb8(image::RgbImage::new(4, 4));
+        assert!(with_red_from(rgb(1), &small).is_err());
+        let mut clear = rgb(2).to_rgba8();
+        clear.get_pixel_mut(3, 3).0[3] = 254;
+        assert!(with_red_from(rgb(1), &DynamicImage::ImageRgba8(clear)).is_err());
+        let deep = DynamicImage::ImageRgb16(image::ImageBuffer::new(w, h));
+        assert!(with_red_from(rgb(1), &deep).is_err());
+        assert!(with_red_from(deep, &rgb(1)).is_err());
+    }
 
     fn tmp(name: &str) -> std::path::PathBuf {
         let dir = std::env::temp_dir().join(format!("texmap-load-{}", std::process::id()));

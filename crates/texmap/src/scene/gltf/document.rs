@@ -104,7 +104,6 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
         visits: 0,
     };
     loader.prefetch_images();
-    loader.pack_occlusion();
     loader.load_materials()?;
     loader.node_world = loader.node_world_matrices()?;
     loader.load_nodes()?;

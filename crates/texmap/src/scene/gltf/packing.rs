@@ -4,11 +4,11 @@
 //! green and blue channels of another, whose red channel nothing reads; many assets pack
 //! the three into one image (ORM), and a draw then reads it once (`render/fragment.rs`
 //! reads an image once however many maps name it). An asset that keeps them in two images
-//! of one size (DamagedHelmet) has them packed here, after the images are built and before
-//! the materials ask for them: the occlusion image's red channel is written into the
-//! metallic-roughness texture ([`crate::texture::Texture2D::take_red_from`], at every level:
-//! exact where it is done, else nothing changes) and the occlusion texture is dropped. One
-//! texture less to hold, one less to read a pixel.
+//! of one size (DamagedHelmet) has them packed as the images are built: the occlusion
+//! image's red channel is written into the decoded metallic-roughness image
+//! ([`crate::texture::load::with_red_from`]: 8-bit images of one size, no translucent
+//! texel; each level then reads as the two textures' would) and one texture is built for
+//! both. One texture less to build and hold, one less to read a pixel.
 //!
 //! Only where no other read can tell: the metallic-roughness image is named by no texture
 //! use but `metallicRoughnessTexture`, the occlusion image by none but `occlusionTexture`,
@@ -24,9 +24,10 @@ use super::document::Loader;
 type Uses = HashMap<usize, Vec<(String, usize)>>;
 
 impl Loader<'_> {
-    /// Packs each material's occlusion image into its metallic-roughness image where the
-    /// module's conditions hold (the images already built by `prefetch_images`).
-    pub(super) fn pack_occlusion(&mut self) {
+    /// The pairs of images to pack where the module's conditions hold, as
+    /// [`crate::scene::texture_cache::TextureCache::prefetch`] takes them: the
+    /// metallic-roughness image's key, the occlusion image's, and the occlusion image's name.
+    pub(super) fn occlusion_packs(&self) -> Vec<(String, String, String)> {
         let uses = self.image_uses();
         let mut pairs: Vec<(usize, usize)> = Vec::new();
         for m in self.doc.materials() {
@@ -34,35 +35,38 @@ impl Loader<'_> {
             let (Some(mr), Some(ao)) = (mr, m.occlusion_texture()) else {
                 continue;
             };
-            let (Some(mr), Some(ao)) = (
+            let images = (
                 self.plain_image(&mr.texture()),
                 self.plain_image(&ao.texture()),
-            ) else {
+            );
+            let (Some(mr), Some(ao)) = images else {
                 continue;
             };
             if mr != ao && !pairs.contains(&(mr, ao)) {
                 pairs.push((mr, ao));
             }
         }
-        for (mr, ao) in pairs {
-            let only = |image: usize, key: &str, partner: usize, partner_key: &str| {
-                uses[&image].iter().all(|(k, material)| {
-                    k == key
-                        && uses[&partner]
-                            .iter()
-                            .any(|(pk, pm)| pk == partner_key && pm == material)
-                })
-            };
-            const MR: &str = "metallicRoughnessTexture";
-            const AO: &str = "occlusionTexture";
-            if only(mr, MR, ao, AO) && only(ao, AO, mr, MR) {
-                self.textures.pack_red(
-                    &format!("image{mr}"),
-                    &format!("image{ao}"),
-                    &format!("image {ao}"),
-                );
-            }
-        }
+        const MR: &str = "metallicRoughnessTexture";
+        const AO: &str = "occlusionTexture";
+        let only = |image: usize, key: &str, partner: usize, partner_key: &str| {
+            uses[&image].iter().all(|(k, material)| {
+                k == key
+                    && uses[&partner]
+                        .iter()
+                        .any(|(pk, pm)| pk == partner_key && pm == material)
+            })
+        };
+        pairs
+            .into_iter()
+            .filter(|&(mr, ao)| only(mr, MR, ao, AO) && only(ao, AO, mr, MR))
+            .map(|(mr, ao)| {
+                (
+                    format!("image{mr}"),
+                    format!("image{ao}"),
+                    format!("image {ao}"),
+                )
+            })
+            .collect()
     }
 
     /// The image texture `tex` reads, unless it takes one from an extension.

@@ -179,7 +179,8 @@ impl Loader<'_> {
             };
             requests.push((key, source, color_space, alpha));
         }
-        self.textures.prefetch(requests);
+        let packs = self.occlusion_packs();
+        self.textures.prefetch(requests, &packs);
     }
 
     fn skip_image(&mut self, name: String) -> Result<Option<Arc<Texture2D>>> {

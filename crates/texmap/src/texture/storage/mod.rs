@@ -497,39 +497,6 @@ impl Texture2D {
         self.levels.iter().map(|l| l.data.len()).sum()
     }
 
-    /// Replaces this texture's red channel, at every level, with `other`'s: an occlusion
-    /// map packed into a metallic-roughness one (whose red channel nothing reads), so both
-    /// are read at once. Done, and true, only where the result reads exactly as the two
-    /// did: both held as opaque linear [`Storage::Rgba8`] (each channel read on its own,
-    /// nothing premultiplied), of one size, layout and chain length, not block-compressed,
-    /// and no summed-area table built yet; else nothing changes and false.
-    pub(crate) fn take_red_from(&mut self, other: &Texture2D) -> bool {
-        let plain = |t: &Texture2D| {
-            t.blocks.is_none()
-                && t.stored == Format::Rgba8
-                && t.color_space == ColorSpace::Linear
-                && t.sat.get().is_none()
-                && t.rgba8.is_some_and(|r| r.opaque && r.srgb.is_none())
-        };
-        let fits = plain(self)
-            && plain(other)
-            && self.layout == other.layout
-            && self.levels.len() == other.levels.len()
-            && self.levels.iter().zip(&other.levels).all(|(a, b)| {
-                (a.width, a.height, a.tiles_x, a.data.len())
-                    == (b.width, b.height, b.tiles_x, b.data.len())
-            });
-        if !fits {
-            return false;
-        }
-        for (a, b) in self.levels.iter_mut().zip(&other.levels) {
-            for (t, o) in a.data.chunks_exact_mut(4).zip(b.data.chunks_exact(4)) {
-                t[0] = o[0];
-            }
-        }
-        true
-    }
-
     /// A read view of level `i` (clamped to the last level).
     #[inline]
     pub(crate) fn level(&self, i: usize) -> LevelRef<'_> {
