@@ -261,13 +261,15 @@ pub(super) fn read_probes_inlined(
     probes: &[(f32, f32)],
     mask: u8,
 ) -> Option<[Vec4; 4]> {
-    if texels_of(tex, s).is_none() || choice.texels != TexelFilter::Linear {
+    let texels = texels_of(tex, s)?;
+    if choice.texels != TexelFilter::Linear {
         return None;
     }
     #[cfg(target_arch = "x86_64")]
     {
         Some(sse2::probes_quad(
             tex,
+            texels,
             s,
             choice,
             (u, v),
@@ -278,7 +280,7 @@ pub(super) fn read_probes_inlined(
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        let _ = (u, v, step, probes, mask);
+        let _ = (texels, u, v, step, probes, mask);
         None
     }
 }

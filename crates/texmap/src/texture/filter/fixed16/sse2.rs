@@ -137,8 +137,10 @@ pub(super) fn linear_quad_shared(
 /// [`super::read_probes`]: every probe's taps summed into one 32-bit accumulator per
 /// pixel, the 15-bit weights of all of them summing to exactly `ONE`.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub(super) fn probes_quad(
     tex: &Texture2D,
+    texels: Texels,
     s: &Sampler,
     choice: MipChoice,
     (u, v): (Vec4, Vec4),
@@ -146,13 +148,18 @@ pub(super) fn probes_quad(
     probes: &[(f32, f32)],
     mask: u8,
 ) -> [Vec4; 4] {
-    let texels = super::texels_of(tex, s).expect("checked by read_probes");
     let (second, f) = choice
         .blend
         .map_or((None, 0.0), |b| (Some(b.level), b.weight));
     let fa = 1.0 - f.clamp(0.0, 1.0);
-    let first = tex.level(choice.level);
-    let second = second.map(|b| tex.level(b));
+    // Each level's tiled texels looked up (and checked) once for all the probes.
+    let level = |index: usize| {
+        let lv = tex.level(index);
+        let (data, tiles_x) = lv.tiled_texels(bpp(texels));
+        (lv, data, tiles_x)
+    };
+    let first = level(choice.level);
+    let second = second.map(level);
     // SAFETY: SSE2 is part of x86_64.
     let mut acc = [unsafe { _mm_setzero_si128() }; 4];
     // Probe i's weight is what the running sum of weights, rounded, adds: the probes'
@@ -166,10 +173,19 @@ pub(super) fn probes_quad(
         let wa = (fa * weight as f32).round() as i32;
         let (pu, pv) = (u + Vec4::splat(step.x * t), v + Vec4::splat(step.y * t));
         if wa > 0 {
-            accumulate(&first, texels, s, pu, pv, wa, &mut acc);
+            let (lv, data, tiles_x) = &first;
+            accumulate_on((lv, data, *tiles_x), texels, s, pu, pv, wa, &mut acc);
         }
-        if let Some(lv) = second.as_ref().filter(|_| wa < weight) {
-            accumulate(lv, texels, s, pu, pv, weight - wa, &mut acc);
+        if let Some((lv, data, tiles_x)) = second.as_ref().filter(|_| wa < weight) {
+            accumulate_on(
+                (lv, data, *tiles_x),
+                texels,
+                s,
+                pu,
+                pv,
+                weight - wa,
+                &mut acc,
+            );
         }
     }
     finish(&acc, mask)
