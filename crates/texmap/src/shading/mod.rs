@@ -34,6 +34,7 @@
 //! `viewer.rs` (where the viewer is), [`layers`] (texture layers: OpenGL's texture
 //! environment) and [`toon`] (ramp-shaded diffuse, outlines).
 
+mod albedo;
 pub mod bump;
 pub mod ibl;
 pub mod lanes;

@@ -11,8 +11,9 @@ use std::f32::consts::PI;
 
 use glam::Vec4;
 
+use super::albedo::{albedo_table, ALBEDO_N};
 use super::lanes::{incidence, lane_mask, normalize_or_zero, splat3, sqrt4, Lanes3, QuadFactors};
-use super::pbr::{albedo_table, ALBEDO_N, MIN_ROUGHNESS};
+use super::pbr::MIN_ROUGHNESS;
 use super::{Lighting, Surface, Viewer};
 
 /// What the metallic-roughness model reads at a quad's four pixels (one pixel per lane): the

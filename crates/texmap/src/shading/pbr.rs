@@ -28,10 +28,12 @@
 //! computed from the base colour the [`Surface`] carries.
 
 use std::f32::consts::PI;
-use std::sync::OnceLock;
 
 use glam::{Vec2, Vec3};
 
+#[cfg(test)]
+use super::albedo::integration::integrate_specular_albedo;
+use super::albedo::{albedo_table, ALBEDO_N};
 use super::lobes::{coat_share, fresnel_f90, sheen_scaling};
 use super::{Lighting, Surface, Viewer};
 
@@ -256,7 +258,7 @@ fn layered(
 /// The directional albedo of the specular lobe for a white environment, split as
 /// `E = f0·A + B` and returned as `(A, B)`, at `n_dot_v` and `roughness` (bilinear in a
 /// 32 × 32 table over √(N·V) and roughness — dense near grazing, where it changes fastest
-/// — integrated once per process).
+/// — integrated ahead and committed: `shading/albedo.rs`).
 #[must_use]
 pub fn specular_albedo(n_dot_v: f32, roughness: f32) -> Vec2 {
     const N: usize = ALBEDO_N;
@@ -269,90 +271,6 @@ pub fn specular_albedo(n_dot_v: f32, roughness: f32) -> Vec2 {
     let top = at(i, j).lerp(at(i + 1, j), fx);
     let bottom = at(i, j + 1).lerp(at(i + 1, j + 1), fx);
     top.lerp(bottom, fy)
-}
-
-/// The side of [`specular_albedo`]'s table.
-pub(super) const ALBEDO_N: usize = 32;
-
-/// [`specular_albedo`]'s table, `(A, B)` at `[j·N + i]` for `√(N·V) = i/(N − 1)` and
-/// roughness `j/(N − 1)` (integrated on first use).
-pub(super) fn albedo_table() -> &'static [Vec2] {
-    const N: usize = ALBEDO_N;
-    static TABLE: OnceLock<Vec<Vec2>> = OnceLock::new();
-    TABLE.get_or_init(|| {
-        // Rows in parallel (each cell on its own: the same table at any thread count), the
-        // sample set's azimuths shared by every cell.
-        use rayon::prelude::*;
-        let azimuths = azimuths(2048);
-        let rows: Vec<Vec<Vec2>> = (0..N)
-            .into_par_iter()
-            .map(|j| {
-                let r = (j as f32 / (N - 1) as f32).max(MIN_ROUGHNESS);
-                (0..N)
-                    .map(|i| {
-                        let sqrt_nv = i as f32 / (N - 1) as f32;
-                        let nv = (sqrt_nv * sqrt_nv).max(1e-3);
-                        let e = integrate_with(nv, r * r, &azimuths);
-                        // The true albedo is at most 1; near grazing the estimate's noise is
-                        // not.
-                        e / (e.x + e.y).max(1.0)
-                    })
-                    .collect()
-            })
-            .collect();
-        rows.concat()
-    })
-}
-
-/// `(A, B)` by importance-sampling the GGX distribution of half vectors with `samples`
-/// points of a 2D low-discrepancy set: for `H` with density `D·(N·H)`, the estimator of
-/// `∫ F·D·Vis·(N·L) dω_L` is `F·Vis·(N·L)·4(V·H)/(N·H)`, and `F = f0·(1 − m) + m` with
-/// `m = (1 − V·H)⁵` splits it into `A` (the `1 − m` part) and `B` (the `m` part).
-#[cfg(test)]
-fn integrate_specular_albedo(n_dot_v: f32, alpha: f32, samples: u32) -> Vec2 {
-    integrate_with(n_dot_v, alpha, &azimuths(samples))
-}
-
-/// `(cos φ, sin φ)` of each of `samples` points' azimuth, `φ = 2π·radical_inverse(k)`.
-fn azimuths(samples: u32) -> Vec<(f32, f32)> {
-    (0..samples)
-        .map(|k| {
-            let phi = 2.0 * PI * radical_inverse_base2(k);
-            (phi.cos(), phi.sin())
-        })
-        .collect()
-}
-
-/// The estimate of `integrate_specular_albedo` (the tests' form) over the sample set whose
-/// azimuths are `azimuths`: `(A, B)` by importance-sampling the GGX distribution of half
-/// vectors (the estimator `F·Vis·(N·L)·4(V·H)/(N·H)`, split by `m = (1 − V·H)⁵`).
-fn integrate_with(n_dot_v: f32, alpha: f32, azimuths: &[(f32, f32)]) -> Vec2 {
-    let samples = azimuths.len() as u32;
-    let v = Vec3::new((1.0 - n_dot_v * n_dot_v).max(0.0).sqrt(), 0.0, n_dot_v);
-    let a2 = alpha * alpha;
-    let mut sum = glam::DVec2::ZERO;
-    for (k, &(cos_phi, sin_phi)) in azimuths.iter().enumerate() {
-        let u1 = (k as f32 + 0.5) / samples as f32;
-        // Invert the GGX CDF of cos θ_h; φ uniform.
-        let cos_h = ((1.0 - u1) / (1.0 + (a2 - 1.0) * u1)).sqrt();
-        let sin_h = (1.0 - cos_h * cos_h).max(0.0).sqrt();
-        let h = Vec3::new(sin_h * cos_phi, sin_h * sin_phi, cos_h);
-        let v_dot_h = v.dot(h);
-        let l = h * (2.0 * v_dot_h) - v;
-        let n_dot_l = l.z;
-        if n_dot_l <= 0.0 || v_dot_h <= 0.0 {
-            continue;
-        }
-        let w = visibility(n_dot_l, n_dot_v, alpha) * n_dot_l * 4.0 * v_dot_h / cos_h;
-        let m = (1.0 - v_dot_h).powi(5);
-        sum += glam::DVec2::new(f64::from(w * (1.0 - m)), f64::from(w * m));
-    }
-    (sum / f64::from(samples)).as_vec2()
-}
-
-/// The base-2 radical inverse of `k` (van der Corput): its bits mirrored about the point.
-fn radical_inverse_base2(k: u32) -> f32 {
-    (f64::from(k.reverse_bits()) / 4_294_967_296.0) as f32
 }
 
 #[cfg(test)]
