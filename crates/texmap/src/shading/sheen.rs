@@ -9,8 +9,8 @@
 //! base scaled by 1 − max(sheen_colour)·E(N·V, r)       (the albedo scaling)
 //! ```
 //!
-//! `Λ` is the extension's fitted curve. `E` is integrated once per process into a 16 × 16
-//! table over N·V and r (like [`super::pbr::specular_albedo`]).
+//! `Λ` is the extension's fitted curve. `E` is read from a 16 × 16 table over N·V and r,
+//! integrated ahead and committed (`sheen_albedo.bin`, like [`super::pbr::specular_albedo`]'s).
 
 use std::f32::consts::PI;
 use std::sync::OnceLock;
@@ -79,23 +79,20 @@ pub fn lobe(n: Vec3, v: Vec3, l: Vec3, r: f32) -> f32 {
     PI * distribution(n.dot(h).max(0.0), r) * visibility(n_dot_l, n_dot_v, r) * n_dot_l
 }
 
+/// The side of [`albedo`]'s table.
+const N: usize = 16;
+
+/// The committed table: `E` at `[j·N + i]` for N·V = `i/(N − 1)` and r = `j/(N − 1)`,
+/// little-endian `f32` (integrated ahead by [`integrate_table`]: a million evaluations of
+/// the lobe with the platform's `sin` and `cos`, once a sheen scene's first frame; the test
+/// below integrates it again, `TEXMAP_BLESS_ALBEDO=1` rewrites it).
+const TABLE: &[u8; N * N * 4] = include_bytes!("sheen_albedo.bin");
+
 /// The directional albedo `E(N·V, r)` of a white sheen lobe (bilinear in a 16 × 16 table
-/// over N·V and r, integrated once per process, the first time a sheen is shaded).
+/// over N·V and r).
 #[must_use]
 pub fn albedo(n_dot_v: f32, r: f32) -> f32 {
-    const N: usize = 16;
-    static TABLE: OnceLock<Vec<f32>> = OnceLock::new();
-    let table = TABLE.get_or_init(|| {
-        let mut t = Vec::with_capacity(N * N);
-        for j in 0..N {
-            for i in 0..N {
-                let nv = (i as f32 / (N - 1) as f32).max(1e-3);
-                let r = j as f32 / (N - 1) as f32;
-                t.push(integrate_albedo(nv, r, 32).min(1.0));
-            }
-        }
-        t
-    });
+    let table = cells();
     let x = n_dot_v.clamp(0.0, 1.0) * (N - 1) as f32;
     let y = r.clamp(0.0, 1.0) * (N - 1) as f32;
     let (i, j) = ((x as usize).min(N - 2), (y as usize).min(N - 2));
@@ -106,8 +103,34 @@ pub fn albedo(n_dot_v: f32, r: f32) -> f32 {
     top + (bottom - top) * fy
 }
 
+/// The committed table's cells.
+fn cells() -> &'static [f32] {
+    static CELLS: OnceLock<Vec<f32>> = OnceLock::new();
+    CELLS.get_or_init(|| {
+        TABLE
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect()
+    })
+}
+
+/// The table [`albedo`] reads, integrated (32 × 128 cells each).
+#[cfg(test)]
+fn integrate_table() -> Vec<f32> {
+    let mut t = Vec::with_capacity(N * N);
+    for j in 0..N {
+        for i in 0..N {
+            let nv = (i as f32 / (N - 1) as f32).max(1e-3);
+            let r = j as f32 / (N - 1) as f32;
+            t.push(integrate_albedo(nv, r, 32).min(1.0));
+        }
+    }
+    t
+}
+
 /// `∫ D·V·(N·L) dω_L` over the hemisphere by the midpoint rule on `n × 4n` cells in
 /// (cos θ, φ): the lobe is smooth and broad, so a plain grid converges fast.
+#[cfg(test)]
 fn integrate_albedo(n_dot_v: f32, r: f32, n: usize) -> f32 {
     let v = Vec3::new((1.0 - n_dot_v * n_dot_v).max(0.0).sqrt(), 0.0, n_dot_v);
     let (nt, np) = (n, 4 * n);
@@ -143,6 +166,21 @@ mod tests {
             }
             let integral = sum * std::f64::consts::TAU;
             assert!((integral - 1.0).abs() < 0.01, "r {r}: {integral}");
+        }
+    }
+
+    #[test]
+    fn the_committed_sheen_albedo_table_is_the_integration() {
+        let cells = integrate_table();
+        if std::env::var_os("TEXMAP_BLESS_ALBEDO").is_some() {
+            let bytes: Vec<u8> = cells.iter().flat_map(|c| c.to_le_bytes()).collect();
+            let path = concat!(env!("CARGO_MANIFEST_DIR"), "/src/shading/sheen_albedo.bin");
+            std::fs::write(path, bytes).unwrap();
+        }
+        // Within a few ulps (another platform's `sin` and `cos` may round differently).
+        assert_eq!(super::cells().len(), cells.len());
+        for (k, (t, c)) in super::cells().iter().zip(&cells).enumerate() {
+            assert!((t - c).abs() <= 1e-6, "cell {k}: {t} vs {c}");
         }
     }
 
