@@ -10,7 +10,7 @@ use glam::{Mat3, Mat4, Vec3, Vec4};
 
 use super::environment::EnvDraw;
 use super::layers::LayerRead;
-use super::maps::{shared_group, MapRead};
+use super::maps::{MapRead, SharedReads};
 use super::parallax::ParallaxRead;
 use super::settings::{Settings, ShadingMode, Visibility};
 use super::varyings::VaryingLayout;
@@ -155,9 +155,12 @@ pub(super) struct DrawInfo<'a> {
     /// of bump, object-space normal, parallax or solid maps, nor toon shading: its quads are
     /// lit in lanes (`mr_quad.rs`) unless the environment or projectors light it.
     pub mr_lanes: bool,
-    /// Which of [`DrawInfo::shared_candidates`] are read together, at one set of coordinates
-    /// (bit `k` for the `k`-th; `maps::shared_group`).
-    pub shared_maps: u8,
+    /// Which of [`DrawInfo::shared_candidates`] are read together, at one set of
+    /// coordinates, and the images they read (`maps::SharedReads`).
+    pub shared: Option<SharedReads<'a>>,
+    /// The occlusion map reads the metallic-roughness map's image the same way, apart from
+    /// the shared reads (`MapRead::reads_same`): it takes that read's values.
+    pub occlusion_from_mr: bool,
     /// The environment's terms, when the frame has an environment and the material takes
     /// them (`environment.rs`).
     pub env: Option<EnvDraw<'a>>,
@@ -475,14 +478,18 @@ impl<'a> DrawInfo<'a> {
                 && light_map.is_none()
                 && model == ShadingModel::Phong,
             mr_lanes,
-            shared_maps: 0,
+            shared: None,
+            occlusion_from_mr: false,
             env: None,
             layers,
             light_map,
             projectors: false,
             uniform_factors: None,
         };
-        draw.shared_maps = shared_group(&draw.shared_candidates());
+        draw.shared = SharedReads::new(&draw.shared_candidates());
+        let shared = draw.shared.map_or(0, |s| s.maps);
+        draw.occlusion_from_mr = shared & (1 << 2) == 0
+            && matches!((&draw.occlusion_map, &draw.metal_rough_map), (Some(o), Some(m)) if o.reads_same(m));
         draw
     }
 
@@ -504,7 +511,7 @@ impl<'a> DrawInfo<'a> {
         self
     }
 
-    /// The maps a draw may read together (`shared_maps`): the base colour texture, the
+    /// The maps a draw may read together (`shared`): the base colour texture, the
     /// normal, occlusion, emissive and metallic-roughness maps.
     pub(super) fn shared_candidates(&self) -> [Option<&MapRead<'a>>; 5] {
         [

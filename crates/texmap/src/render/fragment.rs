@@ -17,7 +17,7 @@ use glam::{Vec3, Vec4};
 use super::behind::SceneBehind;
 use super::draw::{DrawInfo, LightingPath};
 use super::layers::{apply_outline, fold_layers, surface_color};
-use super::maps::{lobe, MapRead, QuadMaps, QuadReads};
+use super::maps::{lobe, MapRead, QuadMaps, QuadReads, SharedReads};
 use super::parallax::{self, SelfShadow};
 use super::projectors::Projectors;
 use super::varyings::Factors;
@@ -511,15 +511,11 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
     }
     let mut buf = [[Vec4::ZERO; 4]; BATCH];
     // The maps read at one set of coordinates, together.
-    let shared = d.shared_maps;
-    if shared != 0 {
+    if let Some(shared) = &d.shared {
         read_shared(d, shared, quads, out);
     }
+    let shared = d.shared.map_or(0, |s| s.maps);
     let own = |k: u8| shared & (1 << k) == 0;
-    // An occlusion map in the metallic-roughness map's image, read the same way (an ORM
-    // image), takes that read's values (read together, `read_shared` reads it once).
-    let occlusion_from_mr = own(2)
-        && matches!((&d.occlusion_map, &d.metal_rough_map), (Some(o), Some(m)) if o.reads_same(m));
     let mut fill = |t: &MapRead, set: &dyn Fn(&mut QuadReads, [Vec4; 4])| {
         for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
             t.quads(quads, &mut buf[..quads.len()]);
@@ -548,7 +544,7 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
         (
             d.occlusion_map
                 .as_ref()
-                .filter(|_| own(2) && !occlusion_from_mr),
+                .filter(|_| own(2) && !d.occlusion_from_mr),
             |m| &mut m.occlusion,
         ),
         (d.emissive_map.as_ref().filter(|_| own(3)), |m| {
@@ -592,7 +588,9 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
             }
         }
     }
-    if occlusion_from_mr {
+    // An occlusion map in the metallic-roughness map's image, read the same way (an ORM
+    // image), takes that read's values (read together, `read_shared` reads it once).
+    if d.occlusion_from_mr {
         for m in out.iter_mut().filter_map(|o| o.maps.as_mut()) {
             m.occlusion = m.metal_rough;
         }
@@ -600,44 +598,16 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
     fold_layers(d, quads, out);
 }
 
-/// The reads of the maps in `shared` (bits over [`DrawInfo::shared_candidates`]) of `quads`
-/// into `out`, the maps read together ([`MapRead::quads_shared`]).
-fn read_shared(d: &DrawInfo, shared: u8, quads: &[Quad], out: &mut [QuadReads]) {
-    let candidates = d.shared_candidates();
-    let mut members = [(0usize, None::<&MapRead>); 5];
-    let mut count = 0;
-    for (k, m) in candidates.iter().enumerate() {
-        if let (Some(m), true) = (m, shared & (1 << k) != 0) {
-            members[count] = (k, Some(m));
-            count += 1;
-        }
-    }
-    let members = &members[..count];
-    let Some(&(_, Some(first))) = members.first() else {
+/// The reads of the maps `shared` names (bits over [`DrawInfo::shared_candidates`]) of
+/// `quads` into `out`, the maps read together ([`MapRead::quads_shared`]), each image once.
+fn read_shared(d: &DrawInfo, shared: &SharedReads, quads: &[Quad], out: &mut [QuadReads]) {
+    let Some(first) = d.shared_candidates()[shared.first] else {
         return;
     };
-    // Each image read once: members that read the same image (an occlusion map packed
-    // with the metallic-roughness one, say) take the same values. `of[t]`: the members
-    // (bits over the candidates) image `t` feeds.
-    let mut images = [first.tex; 5];
-    let mut of = [0u8; 5];
-    let mut distinct = 0;
-    for &(k, m) in members {
-        let tex = m.unwrap_or(first).tex;
-        let same = images[..distinct]
-            .iter()
-            .position(|&t| std::ptr::eq(t, tex));
-        let t = same.unwrap_or_else(|| {
-            images[distinct] = tex;
-            distinct += 1;
-            distinct - 1
-        });
-        of[t] |= 1 << k;
-    }
     for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
-        first.quads_shared(&images[..distinct], quads, |t, i, v| {
+        first.quads_shared(&shared.images[..shared.count], quads, |t, i, v| {
             let o = &mut out[i];
-            let bits = of[t];
+            let bits = shared.feeds[t];
             if bits & 1 != 0 {
                 o.texels = Some(v);
             }

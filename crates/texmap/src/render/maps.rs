@@ -167,13 +167,8 @@ impl<'a> MapRead<'a> {
     /// ([`MapRead::quads_shared`]).
     pub fn shares_coords(&self, other: &MapRead) -> bool {
         let size = |m: &MapRead| (m.tex.width(), m.tex.height(), m.tex.levels().len());
-        self.virt.is_none()
-            && other.virt.is_none()
-            && matches!(self.sampler.filter, Filter::Gl { .. })
-            && self.sampler == other.sampler
-            && self.uv == other.uv
-            && self.linear == other.linear
-            && self.offset == other.offset
+        matches!(self.sampler.filter, Filter::Gl { .. })
+            && self.same_coords(other)
             && size(self) == size(other)
     }
 
@@ -181,8 +176,13 @@ impl<'a> MapRead<'a> {
     /// through the same sampler (two maps in one image, as glTF's occlusion and
     /// metallic-roughness maps often are).
     pub fn reads_same(&self, other: &MapRead) -> bool {
-        std::ptr::eq(self.tex, other.tex)
-            && self.virt.is_none()
+        std::ptr::eq(self.tex, other.tex) && self.same_coords(other)
+    }
+
+    /// Whether `other` is read at this map's coordinates through its sampler (neither a
+    /// virtual texture).
+    fn same_coords(&self, other: &MapRead) -> bool {
+        self.virt.is_none()
             && other.virt.is_none()
             && self.sampler == other.sampler
             && self.uv == other.uv
@@ -298,6 +298,52 @@ pub(super) fn shared_group(maps: &[Option<&MapRead>]) -> u8 {
         bits
     } else {
         0
+    }
+}
+
+/// The maps of a draw read together ([`shared_group`]) and the images they read, each image
+/// once (two maps in one image take the same values): worked out once a draw.
+#[derive(Clone, Copy)]
+pub(super) struct SharedReads<'a> {
+    /// Bit `k` for the `k`-th candidate read together.
+    pub maps: u8,
+    /// The candidate whose coordinates and sampler the reads take (the first of them).
+    pub first: usize,
+    /// The distinct images, in the order of their first map…
+    pub images: [&'a Texture2D; 5],
+    /// …and the maps (bits over the candidates) each one feeds.
+    pub feeds: [u8; 5],
+    pub count: usize,
+}
+
+impl<'a> SharedReads<'a> {
+    /// The shared reads of a draw's `candidates`; `None` unless two or more are read
+    /// together.
+    pub(super) fn new(candidates: &[Option<&MapRead<'a>>; 5]) -> Option<Self> {
+        let maps = shared_group(candidates);
+        let first = (0..5).find(|&k| maps & (1 << k) != 0)?;
+        let mut reads = SharedReads {
+            maps,
+            first,
+            images: [candidates[first]?.tex; 5],
+            feeds: [0; 5],
+            count: 0,
+        };
+        for (k, m) in candidates.iter().enumerate() {
+            let Some(m) = m.filter(|_| maps & (1 << k) != 0) else {
+                continue;
+            };
+            let known = reads.images[..reads.count]
+                .iter()
+                .position(|&t| std::ptr::eq(t, m.tex));
+            let t = known.unwrap_or_else(|| {
+                reads.images[reads.count] = m.tex;
+                reads.count += 1;
+                reads.count - 1
+            });
+            reads.feeds[t] |= 1 << k;
+        }
+        Some(reads)
     }
 }
 

@@ -88,6 +88,10 @@ struct Job<'a> {
     red: Option<(CacheKey, ImageSource<'a>, String, String)>,
 }
 
+/// A texture [`TextureCache::prefetch`] built: its key, the result, and for a packed texture
+/// the key of the image packed into it and the texture's name.
+type Built = (CacheKey, Result<Texture2D>, Option<(CacheKey, String)>);
+
 /// Loads textures once per (source, colour space, alpha), applying `--lenient` and recording
 /// [`TextureInfo`]s and warnings.
 pub(crate) struct TextureCache {
@@ -315,13 +319,7 @@ impl TextureCache {
     /// Builds `job` into `out`: its texture, or with a red channel to take, the one packed
     /// texture (with the key it stands for and that image's name) or, where they cannot be
     /// packed, the two.
-    #[allow(clippy::type_complexity)]
-    fn run(
-        &self,
-        job: &Job<'_>,
-        storage: Storage,
-        out: &mut Vec<(CacheKey, Result<Texture2D>, Option<(CacheKey, String)>)>,
-    ) {
+    fn run(&self, job: &Job<'_>, storage: Storage, out: &mut Vec<Built>) {
         let build = |key: &CacheKey, source: &ImageSource<'_>, name: &str| {
             self.build(source, name, key.color_space, key.alpha, storage)
         };
