@@ -98,8 +98,8 @@ pub(crate) struct TextureCache {
     cache: HashMap<CacheKey, Option<Arc<Texture2D>>>,
     /// Textures built ahead by [`TextureCache::prefetch`], not yet asked for.
     ready: HashMap<CacheKey, Result<Texture2D>>,
-    /// Textures packed into another's red channel ([`TextureCache::pack_red`]): asking for
-    /// one gives the texture it went into.
+    /// Textures packed into another's red channel (`packs` of [`TextureCache::prefetch`]):
+    /// asking for one gives the texture it went into.
     packed: HashMap<CacheKey, CacheKey>,
     /// A packed texture's name for its [`TextureInfo`] (both images named).
     packed_names: HashMap<CacheKey, String>,
@@ -331,12 +331,9 @@ impl TextureCache {
             ));
             return;
         };
+        // Images the `image` crate decodes (a container's texture is built as it is).
         let image = |source: &ImageSource<'_>| {
-            let plain = match source {
-                ImageSource::File(p) => Container::of_file(p),
-                ImageSource::Bytes { bytes, .. } => Container::sniff(bytes),
-            }
-            .is_none();
+            let plain = container_of(source).is_none();
             plain.then(|| self.decode(source).ok()).flatten()
         };
         let options = TextureOptions::default().with_storage(storage);
@@ -379,11 +376,7 @@ impl TextureCache {
         storage: Storage,
     ) -> Result<Texture2D> {
         let options = TextureOptions::default().with_storage(storage);
-        let container = match source {
-            ImageSource::File(p) => Container::of_file(p),
-            ImageSource::Bytes { bytes, .. } => Container::sniff(bytes),
-        };
-        if container.is_some() {
+        if container_of(source).is_some() {
             self.container_texture(source, name, color_space, alpha, options)
         } else {
             self.image_texture(source, name, color_space, alpha, options)
@@ -444,6 +437,14 @@ impl TextureCache {
             }
         };
         container::texture_from_file_with(&file, color_space, options, alpha == AlphaChannel::Drop)
+    }
+}
+
+/// The texture container (DDS, KTX, KTX2) `source` is, if it is one.
+fn container_of(source: &ImageSource<'_>) -> Option<Container> {
+    match source {
+        ImageSource::File(p) => Container::of_file(p),
+        ImageSource::Bytes { bytes, .. } => Container::sniff(bytes),
     }
 }
 

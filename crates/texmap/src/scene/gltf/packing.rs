@@ -18,6 +18,7 @@
 use std::collections::HashMap;
 
 use super::document::Loader;
+use super::textures::{extension_source, image_key, BASISU, DDS};
 
 /// How an image is used: as what (the texture info's key, `metallicRoughnessTexture`,
 /// `occlusionTexture`, `clearcoatTexture`, …) in which material.
@@ -59,21 +60,16 @@ impl Loader<'_> {
         pairs
             .into_iter()
             .filter(|&(mr, ao)| only(mr, MR, ao, AO) && only(ao, AO, mr, MR))
-            .map(|(mr, ao)| {
-                (
-                    format!("image{mr}"),
-                    format!("image{ao}"),
-                    format!("image {ao}"),
-                )
-            })
+            .map(|(mr, ao)| (image_key(mr), image_key(ao), format!("image {ao}")))
             .collect()
     }
 
-    /// The image texture `tex` reads, unless it takes one from an extension.
+    /// The image texture `tex` reads, unless it reads one an extension names (as
+    /// `Loader::slot` chooses it).
     fn plain_image(&self, tex: &gltf::Texture) -> Option<usize> {
-        let extended = tex.extensions().is_some_and(|e| {
-            e.contains_key("MSFT_texture_dds") || e.contains_key("KHR_texture_basisu")
-        });
+        let extended = [DDS, BASISU]
+            .into_iter()
+            .any(|ext| extension_source(self.doc, tex, ext).is_some());
         (!extended).then(|| tex.source().index())
     }
 
@@ -117,15 +113,11 @@ impl Loader<'_> {
             for (key, t) in all {
                 if let Some(tex) = textures.get(t) {
                     // Every image the texture may read (its extensions' too).
-                    let mut images = vec![tex.source().index()];
-                    for name in ["MSFT_texture_dds", "KHR_texture_basisu"] {
-                        if let Some(i) = tex
-                            .extension_value(name)
-                            .and_then(|v| v.get("source")?.as_u64())
-                        {
-                            images.push(i as usize);
-                        }
-                    }
+                    let named = [DDS, BASISU]
+                        .into_iter()
+                        .filter_map(|ext| extension_source(self.doc, tex, ext));
+                    let images =
+                        std::iter::once(tex.source().index()).chain(named.map(|img| img.index()));
                     for i in images {
                         uses.entry(i).or_default().push((key.clone(), mi));
                     }

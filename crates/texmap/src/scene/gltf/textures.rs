@@ -69,7 +69,7 @@ impl Loader<'_> {
         color_space: ColorSpace,
         alpha: AlphaChannel,
     ) -> Result<Option<Arc<Texture2D>>> {
-        let key = format!("image{}", img.index());
+        let key = image_key(img.index());
         let unsupported = |mime: Option<&str>| matches!(mime, Some("image/webp"));
         match img.source() {
             gltf::image::Source::View { view, mime_type } => {
@@ -154,7 +154,7 @@ impl Loader<'_> {
                 .into_iter()
                 .find_map(|ext| extension_source(self.doc, &tex, ext))
                 .unwrap_or_else(|| tex.source());
-            let key = format!("image{}", img.index());
+            let key = image_key(img.index());
             let source = match img.source() {
                 gltf::image::Source::View { view, mime_type } if mime_type != "image/webp" => {
                     let name = format!(
@@ -191,13 +191,18 @@ impl Loader<'_> {
     }
 }
 
-const DDS: &str = "MSFT_texture_dds";
-const BASISU: &str = "KHR_texture_basisu";
+pub(super) const DDS: &str = "MSFT_texture_dds";
+pub(super) const BASISU: &str = "KHR_texture_basisu";
+
+/// The texture cache's key of image `index` of the asset.
+pub(super) fn image_key(index: usize) -> String {
+    format!("image{index}")
+}
 
 /// The image a texture names in the image extension `ext` (`MSFT_texture_dds`,
 /// `KHR_texture_basisu`); `None` without the extension, or when its `source` names no image:
 /// the texture's own `source` is then read.
-fn extension_source<'a>(
+pub(super) fn extension_source<'a>(
     doc: &'a gltf::Document,
     tex: &gltf::Texture,
     ext: &str,
