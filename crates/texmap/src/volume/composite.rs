@@ -13,7 +13,8 @@
 //!   raises the specular term by inline squaring: the same bits as the scalar code, about a
 //!   third of the shaded frame's instructions fewer with the lanes of `cell` and `bricks`.
 //! - A variant of [`cells`] that kept four samples in flight (independent load → interpolate
-//!   → table chains) measured no faster, so the simpler loop stays.
+//!   → table chains) measured no faster, so the simpler loop stays. Unshaded, with AVX2,
+//!   [`super::composite_lanes`] runs instead: eight samples' reads in lanes, the same bits.
 //! - Pre-classification classifies the eight voxels and interpolates premultiplied colour;
 //!   pre-integration classifies each segment between two samples from its table, and starts
 //!   again (no segment) after a skipped brick.

@@ -175,6 +175,18 @@ impl<'a> Marcher<'a> {
         self.lut_pm[i]
     }
 
+    /// The premultiplied table [`Self::classify_premultiplied`] reads (never empty).
+    #[inline(always)]
+    pub fn table_premultiplied(&self) -> &[Vec4] {
+        &self.lut_pm
+    }
+
+    /// The factor from a fractional 16-bit level to the table's index (before its `+ ½`).
+    #[inline(always)]
+    pub fn q_to_index(&self) -> f32 {
+        self.q_to_index
+    }
+
     /// World-space gradient of the values by central differences (one voxel each way).
     #[inline]
     pub fn gradient(&self, q: Vec3) -> Vec3 {

@@ -32,6 +32,7 @@ pub mod auto_transfer;
 mod bricks;
 mod cell;
 mod composite;
+mod composite_lanes;
 mod framing;
 mod grid;
 mod intensity;

@@ -17,6 +17,7 @@ use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::composite;
+use super::composite_lanes::{self, LaneGrid};
 use super::grid::Volume;
 use super::intensity;
 use super::iso;
@@ -38,6 +39,9 @@ enum RayLoop<'a> {
     /// Composite, post-classification, no gradient opacity, plain reads
     /// ([`composite::cells`]); shaded from these per-voxel normals when given.
     Cells { normals: Option<&'a [[i8; 4]]> },
+    /// [`RayLoop::Cells`] unshaded, eight samples in AVX2 lanes
+    /// ([`composite_lanes::cells`]) when the CPU has them and the grid fits.
+    CellsInLanes(LaneGrid),
     /// Any other composite case ([`composite::general`]).
     Composite,
     /// MIP or X-ray ([`intensity::project`]).
@@ -55,7 +59,10 @@ impl<'a> RayLoop<'a> {
                     && p.gradient_opacity.is_empty()
                     && !p.engine_sampling =>
             {
-                RayLoop::Cells { normals: m.normals }
+                match (m.normals, LaneGrid::new(m)) {
+                    (None, Some(grid)) => RayLoop::CellsInLanes(grid),
+                    (normals, _) => RayLoop::Cells { normals },
+                }
             }
             Mode::Composite => RayLoop::Composite,
             Mode::Mip | Mode::Xray => RayLoop::Intensity,
@@ -185,6 +192,11 @@ fn trace(m: &Marcher, rays: RayLoop, eye: Vec3, dir: Vec3, t_max: f32, jitter: f
                 None => composite::cells::<false>(m, &s, light, &[]),
             }
         }
+        RayLoop::CellsInLanes(grid) => composite_lanes::cells(
+            m,
+            &grid,
+            &RaySamples::by_reciprocal(ray, span, step, jitter),
+        ),
         RayLoop::Composite => composite::general(m, &RaySamples::new(ray, span, step, jitter), dir),
         RayLoop::Intensity => intensity::project(m, &RaySamples::new(ray, span, step, jitter)),
         RayLoop::Iso => iso::surface(m, &RaySamples::new(ray, span, step, jitter), dir),
