@@ -18,7 +18,9 @@ Prints a Markdown table and writes the images and a JSON file to --out.
 """
 import argparse, json, os, shutil, statistics, subprocess, sys
 
-P = os.path.normpath(os.path.join(os.path.dirname(__file__), "..", "..", "shared", "peers"))
+# `PEERS=DIR` points at a copy of ../shared/peers set up elsewhere (as the tools/ scripts take).
+P = os.environ.get("PEERS") or os.path.normpath(
+    os.path.join(os.path.dirname(__file__), "..", "..", "shared", "peers"))
 PY = os.path.join(P, ".venv", "bin", "python")
 TEXMAP = os.path.join("target", "release", "texmap")
 CASES = [("vol256", os.path.join(P, "data", "vol256.nii.gz"), "synth"),
