@@ -331,38 +331,49 @@ impl TextureCache {
             ));
             return;
         };
-        // Images the `image` crate decodes (a container's texture is built as it is).
+        // Images the `image` crate decodes, each once (a container's texture is built as it
+        // is: `None`).
         let image = |source: &ImageSource<'_>| {
             let plain = container_of(source).is_none();
-            plain.then(|| self.decode(source).ok()).flatten()
+            plain.then(|| self.decode(source))
         };
         let options = TextureOptions::default().with_storage(storage);
-        if let (Some(into), Some(from)) = (image(&job.source), image(red_source)) {
-            match with_red_from(into, &from) {
+        let texture = |img, name: &str| {
+            texture_from_image(img, ColorSpace::Linear, options)
+                .map_err(|e| Error::decode(name, e.to_string()))
+        };
+        match (image(&job.source), image(red_source)) {
+            (Some(Ok(into)), Some(Ok(from))) => match with_red_from(into, &from) {
                 Ok(packed) => {
                     drop(from);
-                    let t = texture_from_image(packed, ColorSpace::Linear, options)
-                        .map_err(|e| Error::decode(&job.name, e.to_string()));
                     let name = format!("{}, red channel from {red_label}", job.name);
-                    out.push((job.key.clone(), t, Some((red_key.clone(), name))));
+                    out.push((
+                        job.key.clone(),
+                        texture(packed, &job.name),
+                        Some((red_key.clone(), name)),
+                    ));
                 }
                 Err(into) => {
-                    let t = |img, name: &str| {
-                        texture_from_image(img, ColorSpace::Linear, options)
-                            .map_err(|e| Error::decode(name, e.to_string()))
-                    };
-                    out.push((job.key.clone(), t(into, &job.name), None));
-                    out.push((red_key.clone(), t(from, red_name), None));
+                    out.push((job.key.clone(), texture(into, &job.name), None));
+                    out.push((red_key.clone(), texture(from, red_name), None));
                 }
+            },
+            // Not both decoded: each built apart, from the image already decoded (or its
+            // error), a container's from its file.
+            (into, from) => {
+                let apart =
+                    |decoded: Option<Result<DynamicImage>>, key: &CacheKey, source, name| {
+                        match decoded {
+                            Some(img) => img.and_then(|img| texture(img, name)),
+                            None => build(key, source, name),
+                        }
+                    };
+                let t = apart(into, &job.key, &job.source, &job.name);
+                out.push((job.key.clone(), t, None));
+                let t = apart(from, red_key, red_source, red_name);
+                out.push((red_key.clone(), t, None));
             }
-            return;
         }
-        out.push((
-            job.key.clone(),
-            build(&job.key, &job.source, &job.name),
-            None,
-        ));
-        out.push((red_key.clone(), build(red_key, red_source, red_name), None));
     }
 
     /// The texture `source` holds, decoded in `color_space` with its alpha as `alpha` says,
@@ -511,30 +522,32 @@ mod tests {
     /// The cache's answers for `sources` asked in order, after prefetching them or not:
     /// each texture's level 0, or its error message; and the infos' names.
     fn ask(sources: &[(&str, &[u8])], prefetch: bool) -> (Vec<String>, Vec<String>) {
+        ask_in(sources, prefetch.then_some(&[]), ColorSpace::Srgb)
+    }
+
+    /// [`ask`] in `color_space`, prefetching with `packs` when given.
+    fn ask_in(
+        sources: &[(&str, &[u8])],
+        packs: Option<&[(String, String, String)]>,
+        color_space: ColorSpace,
+    ) -> (Vec<String>, Vec<String>) {
         let mut cache = TextureCache::new(&LoadOptions::default());
         let source = |name: &str, bytes| ImageSource::Bytes {
             name: name.to_string(),
             bytes,
         };
-        if prefetch {
+        if let Some(packs) = packs {
             let requests = sources
                 .iter()
-                .map(|&(n, b)| {
-                    (
-                        n.to_string(),
-                        source(n, b),
-                        ColorSpace::Srgb,
-                        AlphaChannel::Keep,
-                    )
-                })
+                .map(|&(n, b)| (n.to_string(), source(n, b), color_space, AlphaChannel::Keep))
                 .collect();
-            cache.prefetch(requests, &[]);
+            cache.prefetch(requests, packs);
             assert_eq!(cache.ready.len(), sources.len());
         }
         let answers = sources
             .iter()
             .map(
-                |&(n, b)| match cache.get(n, source(n, b), ColorSpace::Srgb, AlphaChannel::Keep) {
+                |&(n, b)| match cache.get(n, source(n, b), color_space, AlphaChannel::Keep) {
                     Ok(Some(t)) => format!("{:?}", t.decode_level(0)),
                     Ok(None) => "left out".into(),
                     Err(e) => e.to_string(),
@@ -546,6 +559,33 @@ mod tests {
             answers,
             cache.infos.iter().map(|i| i.name.clone()).collect(),
         )
+    }
+
+    /// A pair to pack that cannot be (an image broken, or two sizes) gives each texture, or
+    /// its error, as asking for the two apart does.
+    #[test]
+    fn a_pair_that_cannot_be_packed_gives_what_asking_apart_gives() {
+        let (a, b, c) = (png(9, 5, 1), png(9, 5, 2), png(4, 11, 3));
+        let broken: &[u8] = b"\x89PNG\r\n\x1a\nnot a png";
+        let packs = [(
+            "mr.png".to_string(),
+            "occ.png".to_string(),
+            "occlusion".to_string(),
+        )];
+        for sources in [
+            [("mr.png", &a[..]), ("occ.png", broken)],
+            [("mr.png", broken), ("occ.png", &b[..])],
+            [("mr.png", &a[..]), ("occ.png", &c[..])],
+        ] {
+            let apart = ask_in(&sources, None, ColorSpace::Linear);
+            let fetched = ask_in(&sources, Some(&packs), ColorSpace::Linear);
+            assert_eq!(fetched, apart);
+            // The broken image's error names it; the other is a texture.
+            for (answer, (name, bytes)) in apart.0.iter().zip(sources) {
+                let error = answer.starts_with(&format!("{name}: "));
+                assert_eq!(error, bytes == broken, "{answer}");
+            }
+        }
     }
 
     #[test]
