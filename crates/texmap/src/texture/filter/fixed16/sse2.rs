@@ -152,6 +152,15 @@ pub(super) fn probes_quad(
         .blend
         .map_or((None, 0.0), |b| (Some(b.level), b.weight));
     let fa = 1.0 - f.clamp(0.0, 1.0);
+    // A NaN level weight gives the first level nothing, as the saturating cast did.
+    let fa = if fa.is_nan() { 0.0 } else { fa };
+    // `x.round() as i32` for an `x` in [−ONE, ONE] (no NaN): the same value without the
+    // saturating cast's compares and branches, twice a probe.
+    let round = |x: f32| {
+        debug_assert!((-ONE as f32..=ONE as f32).contains(&x));
+        // SAFETY: `x` is finite and within ±ONE (asserted in debug builds; see the callers).
+        unsafe { x.round().to_int_unchecked::<i32>() }
+    };
     // Each level's tiled texels looked up (and checked) once for all the probes.
     let level = |index: usize| {
         let lv = tex.level(index);
@@ -167,10 +176,12 @@ pub(super) fn probes_quad(
     let (mut running, mut given) = (0.0, 0);
     for &(t, w) in probes {
         running += w;
-        let upto = ((running.clamp(0.0, 1.0) * ONE as f32).round() as i32).min(ONE);
+        // `max` then `min`: a NaN sum becomes 0 (what the saturating cast gave).
+        let upto = round(running.max(0.0).min(1.0) * ONE as f32);
         let weight = upto - given;
         given = upto;
-        let wa = (fa * weight as f32).round() as i32;
+        // `weight` is within ±ONE (two sums in [0, ONE]) and `fa` in [0, 1].
+        let wa = round(fa * weight as f32);
         let (pu, pv) = (u + Vec4::splat(step.x * t), v + Vec4::splat(step.y * t));
         if wa > 0 {
             let (lv, data, tiles_x) = &first;
