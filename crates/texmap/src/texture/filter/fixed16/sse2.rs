@@ -108,10 +108,8 @@ pub(super) fn linear_quad_shared(
 ) {
     // SAFETY: SSE2 is part of x86_64.
     let mut acc = [[unsafe { _mm_setzero_si128() }; 4]; super::MAX_SHARED];
-    let (second, f) = choice
-        .blend
-        .map_or((None, 0.0), |b| (Some(b.level), b.weight));
-    let wa = ((1.0 - f.clamp(0.0, 1.0)) * ONE as f32).round() as i32;
+    let second = choice.blend.map(|b| b.level);
+    let wa = first_weight(choice);
     let count = shared.len();
     let texels = shared.texels;
     let mut level = |index: usize, weight: i32, acc: &mut [[__m128i; 4]]| {
