@@ -174,7 +174,9 @@ pub(super) fn probes_quad(
     let (mut running, mut given) = (0.0, 0);
     for &(t, w) in probes {
         running += w;
-        // `max` then `min`: a NaN sum becomes 0 (what the saturating cast gave).
+        // `max` then `min`, not `clamp`: a NaN sum becomes 0 (what the saturating cast
+        // gave), where `clamp` would keep the NaN.
+        #[allow(clippy::manual_clamp)]
         let upto = round(running.max(0.0).min(1.0) * ONE as f32);
         let weight = upto - given;
         given = upto;
