@@ -258,7 +258,7 @@ mod tests {
         let normals = (0..count)
             .map(|_| {
                 let v = r();
-                if v % 7 == 0 {
+                if v.is_multiple_of(7) {
                     [0; 4]
                 } else {
                     [(v >> 8) as i8, (v >> 16) as i8, (v >> 24) as i8, 0]
