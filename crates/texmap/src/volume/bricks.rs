@@ -146,10 +146,9 @@ impl EmptyBricks {
         )
     }
 
-    /// At sample `k` (voxel-space `q`) of `walk`'s ray: skip the brick or sample it.
-    /// The brick next to `b` across its face on `axis`, the side `walk` leaves
-    /// by: its index and coordinates, the index `usize::MAX` when it lies outside the grid or
-    /// `axis` is none (3). Without branches: the steps per axis are the walk's.
+    /// The brick next to `b` across its face on `axis`, the side `walk` leaves by: its
+    /// index and coordinates, the index `usize::MAX` when it lies outside the grid or `axis`
+    /// is none (3). Without branches: the steps per axis are the walk's.
     #[inline(always)]
     fn neighbour(&self, b: [u32; 3], axis: usize, walk: &BrickWalk) -> (usize, [u32; 3]) {
         let d = walk.brick_step[axis & 3];
@@ -167,6 +166,7 @@ impl EmptyBricks {
         (if inside { index as usize } else { usize::MAX }, n)
     }
 
+    /// At sample `k` (voxel-space `q`) of `walk`'s ray: skip the brick or sample it.
     #[cfg(test)]
     fn step(&self, walk: &BrickWalk, q: Vec3, k: u32) -> BrickStep {
         let (i, b) = self.brick_of(q);
