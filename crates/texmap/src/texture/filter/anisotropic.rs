@@ -15,6 +15,9 @@
 
 use glam::{Vec2, Vec4};
 
+use std::sync::OnceLock;
+
+use super::fixed16::{ProbeSets, MAX_PROBES};
 use super::{bilinear, ellipse_axes, fixed16, texel_derivatives, trilinear_at, Codec};
 use crate::texture::{Footprint, MipChoice, Sampler, Texture2D};
 
@@ -121,10 +124,19 @@ pub(crate) fn sample_quad(
             taps,
         } => (choice, axis_uv, taps),
     };
-    let n = taps as f32;
-    let mut probes = [(0.0, 0.0); 16];
-    for (i, p) in probes.iter_mut().enumerate().take(taps as usize) {
-        *p = (offset(i as u32, n), 1.0 / n);
+    // The taps' places and 15-bit weights depend on their count alone: made once.
+    static PROBES: OnceLock<ProbeSets> = OnceLock::new();
+    let probes = PROBES.get_or_init(|| ProbeSets::new(layout));
+    fixed16::read_probes_inlined(tex, s, choice, uv, axis_uv, probes.get(taps as usize), mask)
+}
+
+/// The places along the axis and the weights of `n` taps (the first `n` of the array), as
+/// [`sample`] reads them.
+fn layout(n: usize) -> [(f32, f32); MAX_PROBES] {
+    let mut probes = [(0.0, 0.0); MAX_PROBES];
+    let count = n as f32;
+    for (i, p) in probes.iter_mut().enumerate().take(n) {
+        *p = (offset(i as u32, count), 1.0 / count);
     }
-    fixed16::read_probes_inlined(tex, s, choice, uv, axis_uv, &probes[..taps as usize], mask)
+    probes
 }

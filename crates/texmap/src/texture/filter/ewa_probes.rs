@@ -26,14 +26,17 @@
 //! ([`super::fixed16::read_probes`], as anisotropic filtering does), the exact reads by
 //! [`super::ewa_lanes`].
 
+use std::sync::OnceLock;
+
 use glam::{Vec2, Vec4};
 
+use super::fixed16::ProbeSets;
 use super::{bilinear, ellipse_axes, ewa, ewa_lanes, fixed16, texel_derivatives, Codec};
 use crate::texture::format::with_texture_codec;
 use crate::texture::{Footprint, MipChoice, Sampler, Texture2D};
 
 /// The most probes a footprint takes; longer footprints space them wider, a level coarser.
-pub(super) const MAX_PROBES: usize = 16;
+pub(super) use super::fixed16::MAX_PROBES;
 
 /// Below this eccentricity (major / minor, clamped) a footprint is read exactly.
 const EXACT_RATIO: f32 = 3.0;
@@ -49,12 +52,10 @@ pub(super) enum Plan {
     /// A nearly round footprint: `ewa-exact`'s read.
     Exact,
     /// `count` trilinear reads on the levels `choice` names, probe `i` at `uv + t·axis_uv`
-    /// weighted `w` for `(t, w) = probes[i]` (`t` in (−1, 1), symmetric about 0; the weights
-    /// summing to 1).
+    /// weighted `w` for `(t, w) = layout(count)[i]`.
     Probes {
         choice: MipChoice,
         axis_uv: Vec2,
-        probes: [(f32, f32); MAX_PROBES],
         count: usize,
     },
 }
@@ -83,11 +84,22 @@ pub(super) fn plan(tex: &Texture2D, s: &Sampler, fp: &Footprint, max_ecc: f32) -
         .ceil()
         .clamp(1.0, MAX_PROBES as f32);
     let lod = s.adjust_lod(crate::texture::footprint::fast_log2(2.0 * reach / n));
-    let count = n as usize;
+    let size = Vec2::new(tex.width() as f32, tex.height() as f32);
+    Plan::Probes {
+        choice: MipChoice::trilinear(lod, tex.levels().len()),
+        axis_uv: dir * reach / size,
+        count: n as usize,
+    }
+}
+
+/// The places `t` (in (−1, 1), symmetric about 0) and weights `w` (summing to 1) of `count`
+/// probes, the first `count` of the array: the centres of equal segments, weighted by their
+/// place along the axis.
+pub(super) fn layout(count: usize) -> [(f32, f32); MAX_PROBES] {
+    let n = count as f32;
     let mut probes = [(0.0, 0.0); MAX_PROBES];
     let mut total = 0.0;
     for (i, p) in probes.iter_mut().enumerate().take(count) {
-        // Weight the probes by their place along the axis.
         let t = (2 * i + 1) as f32 / n - 1.0;
         let w = 1.0 - t * t;
         *p = (t, w);
@@ -96,27 +108,21 @@ pub(super) fn plan(tex: &Texture2D, s: &Sampler, fp: &Footprint, max_ecc: f32) -
     for p in probes.iter_mut().take(count) {
         p.1 /= total;
     }
-    let size = Vec2::new(tex.width() as f32, tex.height() as f32);
-    Plan::Probes {
-        choice: MipChoice::trilinear(lod, tex.levels().len()),
-        axis_uv: dir * reach / size,
-        probes,
-        count,
-    }
+    probes
 }
 
 /// One footprint in float.
 pub(crate) fn sample<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint, max_ecc: f32) -> Vec4 {
-    let (choice, axis_uv, probes, count) = match plan(tex, s, fp, max_ecc) {
+    let (choice, axis_uv, count) = match plan(tex, s, fp, max_ecc) {
         Plan::Bilinear => return bilinear::<C>(&tex.level(0), s, fp.uv),
         Plan::Exact => return ewa::sample::<C>(tex, s, fp, max_ecc),
         Plan::Probes {
             choice,
             axis_uv,
-            probes,
             count,
-        } => (choice, axis_uv, probes, count),
+        } => (choice, axis_uv, count),
     };
+    let probes = layout(count);
     let first = tex.level(choice.level);
     let second = choice.blend.map(|b| (tex.level(b.level), b.weight));
     let mut sum = Vec4::ZERO;
@@ -153,7 +159,7 @@ pub(crate) fn sample_quad(
             MipChoice::trilinear(0.0, 1),
             uv,
             Vec2::ZERO,
-            &[(0.0, 1.0)],
+            &[fixed16::Probe::WHOLE],
             mask,
         ),
         Plan::Exact => Some(with_texture_codec!(tex, C => ewa_lanes::sample_quad::<C>(
@@ -162,8 +168,12 @@ pub(crate) fn sample_quad(
         Plan::Probes {
             choice,
             axis_uv,
-            probes,
             count,
-        } => fixed16::read_probes(tex, s, choice, uv, axis_uv, &probes[..count], mask),
+        } => {
+            // The probes' places and 15-bit weights depend on their count alone: made once.
+            static PROBES: OnceLock<ProbeSets> = OnceLock::new();
+            let probes = PROBES.get_or_init(|| ProbeSets::new(layout)).get(count);
+            fixed16::read_probes(tex, s, choice, uv, axis_uv, probes, mask)
+        }
     }
 }

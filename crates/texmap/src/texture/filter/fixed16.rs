@@ -25,7 +25,8 @@
 //! Anisotropic filtering's taps ([`read_probes`]) are such trilinear reads at several points
 //! of a quad's major axis, all summed into the same 32-bit accumulators: each probe's share of
 //! the 15-bit total is what the running sum of the probes' weights adds when rounded, so the
-//! weights of all the taps still sum to exactly 32767.
+//! weights of all the taps still sum to exactly 32767. The probes and their weights depend on
+//! the probe count alone, so they are made once per count ([`weights::ProbeSets`]).
 //!
 //! Only the repeat and clamp-to-edge wraps are handled here (indices by integer wrapping and
 //! float clamps); other wraps, other formats and other targets return `None` and the float
@@ -37,7 +38,6 @@ use super::super::storage::{LevelRef, Rgba8Texels};
 use super::super::{Format, Layout, MipChoice, Sampler, TexelFilter, Texture2D, Wrap};
 
 /// The largest 15-bit weight: a read's weights sum to it.
-#[cfg(target_arch = "x86_64")]
 const ONE: i32 = 32767;
 
 /// How a texture's texels enter the fixed-point sums.
@@ -77,6 +77,9 @@ pub(super) use quads::{read_level_quads, read_quad, read_quads, LEVEL_QUADS};
 
 mod prefetch;
 pub(super) use prefetch::prefetch_quads;
+
+mod weights;
+pub(super) use weights::{Probe, ProbeSets, MAX_PROBES};
 
 /// The most textures [`read_quad_shared`] reads together.
 pub(super) const MAX_SHARED: usize = 5;
@@ -228,9 +231,10 @@ pub(super) fn read_quad_shared(
     }
 }
 
-/// A quad's probes (anisotropic filtering in lanes): for each `(t, w)` of `probes`, a fixed-point
-/// trilinear read on the levels `choice` names at `(u, v) + t·step` (one pixel per lane), the
-/// reads summed with weights `w` (which should sum to 1), every tap's 15-bit weight in one sum
+/// A quad's probes (anisotropic filtering in lanes): for each [`Probe`] of `probes`, a
+/// fixed-point trilinear read on the levels `choice` names at `(u, v) + t·step` (one pixel per
+/// lane), the reads summed with its 15-bit weight (the weights summing to `ONE`, as
+/// [`weights::fixed`] makes them), every tap's 15-bit weight in one sum
 /// (a constant texture reads back its value). Against the float filter: within 1.6·10⁻⁴ over
 /// 20,000 random footprints of up to 16 taps (the property test of `filter/tests.rs`). Pixels
 /// whose `mask` bit is clear are left zero. `None` when this texture or sampler is not one
@@ -242,7 +246,7 @@ pub(super) fn read_probes(
     choice: MipChoice,
     uv: (Vec4, Vec4),
     step: glam::Vec2,
-    probes: &[(f32, f32)],
+    probes: &[Probe],
     mask: u8,
 ) -> Option<[Vec4; 4]> {
     read_probes_inlined(tex, s, choice, uv, step, probes, mask)
@@ -258,7 +262,7 @@ pub(super) fn read_probes_inlined(
     choice: MipChoice,
     (u, v): (Vec4, Vec4),
     step: glam::Vec2,
-    probes: &[(f32, f32)],
+    probes: &[Probe],
     mask: u8,
 ) -> Option<[Vec4; 4]> {
     let texels = texels_of(tex, s)?;

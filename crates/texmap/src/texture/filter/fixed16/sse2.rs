@@ -133,7 +133,7 @@ pub(super) fn linear_quad_shared(
 }
 
 /// [`super::read_probes`]: every probe's taps summed into one 32-bit accumulator per
-/// pixel, the 15-bit weights of all of them summing to exactly `ONE`.
+/// pixel, the 15-bit weights of all of them summing to exactly `ONE` (as the probes' do).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn probes_quad(
@@ -143,7 +143,7 @@ pub(super) fn probes_quad(
     choice: MipChoice,
     (u, v): (Vec4, Vec4),
     step: glam::Vec2,
-    probes: &[(f32, f32)],
+    probes: &[super::Probe],
     mask: u8,
 ) -> [Vec4; 4] {
     let (second, f) = choice
@@ -153,7 +153,7 @@ pub(super) fn probes_quad(
     // A NaN level weight gives the first level nothing, as the saturating cast did.
     let fa = if fa.is_nan() { 0.0 } else { fa };
     // `x.round() as i32` for an `x` in [−ONE, ONE] (no NaN): the same value without the
-    // saturating cast's compares and branches, twice a probe.
+    // saturating cast's compares and branches, once a probe.
     let round = |x: f32| {
         debug_assert!((-ONE as f32..=ONE as f32).contains(&x));
         // SAFETY: `x` is finite and within ±ONE (asserted in debug builds; see the callers).
@@ -169,18 +169,9 @@ pub(super) fn probes_quad(
     let second = second.map(level);
     // SAFETY: SSE2 is part of x86_64.
     let mut acc = [unsafe { _mm_setzero_si128() }; 4];
-    // Probe i's weight is what the running sum of weights, rounded, adds: the probes'
-    // weights sum to exactly ONE (NaN weights give 0).
-    let (mut running, mut given) = (0.0, 0);
-    for &(t, w) in probes {
-        running += w;
-        // `max` then `min`, not `clamp`: a NaN sum becomes 0 (what the saturating cast
-        // gave), where `clamp` would keep the NaN.
-        #[allow(clippy::manual_clamp)]
-        let upto = round(running.max(0.0).min(1.0) * ONE as f32);
-        let weight = upto - given;
-        given = upto;
-        // `weight` is within ±ONE (two sums in [0, ONE]) and `fa` in [0, 1].
+    for &super::Probe { t, weight } in probes {
+        // `weight` is within ±ONE (the difference of two sums in [0, ONE], `weights::fixed`)
+        // and `fa` in [0, 1].
         let wa = round(fa * weight as f32);
         let (pu, pv) = (u + Vec4::splat(step.x * t), v + Vec4::splat(step.y * t));
         if wa > 0 {
