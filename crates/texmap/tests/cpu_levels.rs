@@ -1,7 +1,8 @@
 //! The hot loops' two copies (`texmap::cpu`): the baseline build and the x86-64-v3 one give
 //! the same frames, float for float, over the pipeline's modes (the demo scene: textures under
 //! every filter kind, normal maps, highlights, blending; MSAA, Gouraud, flat, unlit) and the
-//! plane under the OpenGL filters, and a volume ray marched composite, unshaded (eight samples
+//! plane under the OpenGL filters (trilinear quads two at a time in AVX2 lanes at x86-64-v3),
+//! anisotropic filtering and `ewa` (probes two at a time), and a volume ray marched composite, unshaded (eight samples
 //! in AVX2 lanes at x86-64-v3) and shaded. On a CPU without x86-64-v3 there is one copy and
 //! the test says so. (Its own test binary: the level is the process's.)
 
@@ -45,6 +46,17 @@ fn frames() -> Vec<Vec<u32>> {
         (MagFilter::Linear, MinFilter::LinearMipmapLinear),
     ] {
         out.push(render(&plane, &plane_camera, &gl(mag, min)).unwrap());
+    }
+    // Probes (two at a time in AVX2 lanes at x86-64-v3), an odd count among them.
+    for filter in [
+        Filter::Anisotropic { max_aniso: 6 },
+        Filter::Anisotropic { max_aniso: 3 },
+        Filter::Ewa {
+            max_eccentricity: 16.0,
+        },
+    ] {
+        let s = base.with_textures(TextureOverrides::default().with_filter(filter));
+        out.push(render(&plane, &plane_camera, &s).unwrap());
     }
     // A blob with ripples, some of it transparent (empty bricks skipped), crossed by
     // jittered rays at a step that is not a power of two.

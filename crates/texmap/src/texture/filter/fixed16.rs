@@ -291,3 +291,6 @@ pub(super) fn read_probes_inlined(
 
 #[cfg(target_arch = "x86_64")]
 mod sse2;
+
+#[cfg(target_arch = "x86_64")]
+mod avx2;

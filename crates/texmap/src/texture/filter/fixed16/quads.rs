@@ -121,6 +121,22 @@ fn linear_on_one_pair(
     // Without a blend the second level is never read: the first stands in for it.
     let lb = tex.level(b.unwrap_or(a));
     let (db, tb) = lb.tiled_texels(size);
+    if crate::cpu::level() == crate::cpu::Level::V3 {
+        // SAFETY: the CPU has x86-64-v3 (`cpu::level`).
+        unsafe {
+            super::avx2::quad_pairs(
+                (&la, da, ta),
+                (&lb, db, tb),
+                texels,
+                s,
+                coords,
+                choices,
+                masks,
+                out,
+            );
+        }
+        return true;
+    }
     for (((c, &choice), &mask), o) in coords.iter().zip(choices).zip(masks).zip(out) {
         *o = sse2::linear_quad_on(
             (&la, da, ta),

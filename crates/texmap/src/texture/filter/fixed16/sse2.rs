@@ -169,7 +169,25 @@ pub(super) fn probes_quad(
     let second = second.map(level);
     // SAFETY: SSE2 is part of x86_64.
     let mut acc = [unsafe { _mm_setzero_si128() }; 4];
-    for &super::Probe { t, weight } in probes {
+    let mut rest = probes;
+    if crate::cpu::level() == crate::cpu::Level::V3 {
+        // Two probes' taps at once in AVX2 lanes (the same indices and weights), gathered
+        // probe by probe; an odd last probe as below.
+        // SAFETY: the CPU has x86-64-v3 (`cpu::level`).
+        rest = unsafe {
+            super::avx2::probe_pairs(
+                (&first, second.as_ref()),
+                texels,
+                s,
+                fa,
+                (u, v),
+                step,
+                probes,
+                &mut acc,
+            )
+        };
+    }
+    for &super::Probe { t, weight } in rest {
         // `weight` is within ±ONE (the difference of two sums in [0, ONE], `weights::fixed`)
         // and `fa` in [0, 1].
         let wa = round(fa * weight as f32);
@@ -438,11 +456,11 @@ pub(super) use super::bpp;
 
 /// A quad's bilinear taps on one level: each pixel's four texel indices and its
 /// 15-bit weights, packed in pairs (top row, bottom row).
-#[derive(Clone, Copy, Default)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(super) struct Taps {
     pub(super) offsets: [[i32; 4]; 4],
-    top: [i32; 4],
-    bottom: [i32; 4],
+    pub(super) top: [i32; 4],
+    pub(super) bottom: [i32; 4],
 }
 
 /// Level `lv`'s bilinear taps at `(u, v)`, weighted `level_weight / ONE` in all

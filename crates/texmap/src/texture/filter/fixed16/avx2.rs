@@ -1,0 +1,338 @@
+//! Two sets of taps at once in AVX2 lanes: [`super::sse2::taps`] of two points (eight
+//! pixels' indices and weights) — two probes of a quad (anisotropic filtering, `ewa`: the
+//! same levels at several points of one axis), or two quads of a trilinear batch on one pair
+//! of levels. The same operations lane for lane as the SSE2 taps, so the same indices and
+//! weights; the texels are then gathered by the SSE2 code, probe by probe or quad by quad.
+//! Each probe's or quad's chain of dependent steps (coordinates, indices, weights) runs
+//! beside its neighbour's.
+//!
+//! Runs where [`crate::cpu::level`] is x86-64-v3 (the callers check): the entry points
+//! ([`probe_pairs`], [`quad_pairs`]) are compiled for it, whatever copy calls them.
+
+use std::arch::x86_64::{
+    __m256, __m256i, _mm256_add_epi32, _mm256_add_ps, _mm256_and_si256, _mm256_andnot_si256,
+    _mm256_cmpeq_epi32, _mm256_cvtps_epi32, _mm256_cvttps_epi32, _mm256_floor_ps, _mm256_max_ps,
+    _mm256_min_epu32, _mm256_min_ps, _mm256_mul_ps, _mm256_mullo_epi32, _mm256_or_si256,
+    _mm256_set1_epi32, _mm256_set1_ps, _mm256_set_m128, _mm256_set_m128i, _mm256_setzero_ps,
+    _mm256_slli_epi32, _mm256_srli_epi32, _mm256_sub_epi32, _mm256_sub_ps, _mm_set1_epi32,
+};
+
+use glam::{Vec2, Vec4};
+
+use super::sse2::{self, Taps};
+use super::{Probe, Texels, ONE};
+use crate::texture::storage::LevelRef;
+use crate::texture::{MipChoice, QuadCoords, Sampler, Wrap};
+
+/// A level's view, tiled texels and tiles per row (as `tiled_texels` gives them).
+type Level<'a> = (&'a LevelRef<'a>, &'a [u8], u32);
+
+/// [`Level`] with the view held.
+type HeldLevel<'a> = (LevelRef<'a>, &'a [u8], u32);
+
+/// [`sse2::probes_quad`]'s probes two at a time, while two are left: both probes' taps on a
+/// level computed at once ([`taps2`]), each probe's texels then gathered into `acc` as the
+/// SSE2 loop gathers them (a probe whose weight on a level is 0 not read there). Returns the
+/// probes left (none, or the odd last one). `levels` are the first level and the second
+/// (`None` without a blend); `fa` the first level's share of a probe's weight.
+///
+/// # Safety
+/// The CPU must have x86-64-v3 ([`crate::cpu::level`]).
+#[allow(clippy::too_many_arguments)]
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
+pub(super) unsafe fn probe_pairs<'p>(
+    levels: (&HeldLevel, Option<&HeldLevel>),
+    texels: Texels,
+    s: &Sampler,
+    fa: f32,
+    (u, v): (Vec4, Vec4),
+    step: Vec2,
+    probes: &'p [Probe],
+    acc: &mut [std::arch::x86_64::__m128i; 4],
+) -> &'p [Probe] {
+    // `x.round() as i32` for an `x` in [−ONE, ONE], as `probes_quad` rounds.
+    let round = |x: f32| {
+        debug_assert!((-ONE as f32..=ONE as f32).contains(&x));
+        // SAFETY: `x` is finite and within ±ONE (a weight within ±ONE times `fa` in [0, 1]).
+        unsafe { x.round().to_int_unchecked::<i32>() }
+    };
+    let mut rest = probes;
+    while let [p, q, tail @ ..] = rest {
+        rest = tail;
+        let weight = [p.weight, q.weight];
+        let wa = weight.map(|w| round(fa * w as f32));
+        let pu = [p.t, q.t].map(|t| u + Vec4::splat(step.x * t));
+        let pv = [p.t, q.t].map(|t| v + Vec4::splat(step.y * t));
+        let wb = [weight[0] - wa[0], weight[1] - wa[1]];
+        let (first, second) = levels;
+        for ((lv, data, tiles_x), w) in [(first, wa)].into_iter().chain(second.map(|l| (l, wb))) {
+            if w[0] <= 0 && w[1] <= 0 {
+                continue;
+            }
+            // SAFETY: the CPU has AVX2 (this function's contract).
+            let taps = unsafe { taps2(lv, *tiles_x, s, pu, pv, w) };
+            for (t, w) in taps.iter().zip(w) {
+                if w > 0 {
+                    sse2::gather(data, texels, t, acc);
+                }
+            }
+        }
+    }
+    rest
+}
+
+/// `linear_on_one_pair`'s reads two quads at a time (`quads.rs`): both quads' taps on a
+/// level computed at once ([`taps2`]), each quad's texels then gathered as
+/// [`sse2::linear_quad_on`] gathers them (a level whose weight is 0 not read), an odd last
+/// quad by `linear_quad_on`. The same values: `out[i]` for `coords[i]`, `choices[i]`,
+/// `masks[i]`.
+///
+/// # Safety
+/// The CPU must have x86-64-v3 ([`crate::cpu::level`]); `choices`, `masks` and `out` at
+/// least as long as `coords` (checked).
+#[allow(clippy::too_many_arguments)]
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
+pub(super) unsafe fn quad_pairs(
+    first: Level,
+    second: Level,
+    texels: Texels,
+    s: &Sampler,
+    coords: &[QuadCoords],
+    choices: &[MipChoice],
+    masks: &[u8],
+    out: &mut [[Vec4; 4]],
+) {
+    let n = coords.len();
+    assert!(choices.len() >= n && masks.len() >= n && out.len() >= n);
+    let mut i = 0;
+    while i + 1 < n {
+        let (c, m) = (&coords[i..i + 2], &masks[i..i + 2]);
+        let wa = [
+            sse2::first_weight(choices[i]),
+            sse2::first_weight(choices[i + 1]),
+        ];
+        // The second level's weight where the quad blends two, else nothing.
+        let wb = [0, 1].map(|k| {
+            if choices[i + k].blend.is_some() && wa[k] < ONE {
+                ONE - wa[k]
+            } else {
+                0
+            }
+        });
+        let (u, v) = ([c[0].u, c[1].u], [c[0].v, c[1].v]);
+        let mut acc = [[std::arch::x86_64::_mm_setzero_si128(); 4]; 2];
+        for ((lv, data, tiles_x), w) in [(first, wa), (second, wb)] {
+            if w[0] <= 0 && w[1] <= 0 {
+                continue;
+            }
+            // SAFETY: the CPU has AVX2 (this function's contract).
+            let taps = unsafe { taps2(lv, tiles_x, s, u, v, w) };
+            for ((t, w), acc) in taps.iter().zip(w).zip(&mut acc) {
+                if w > 0 {
+                    sse2::gather(data, texels, t, acc);
+                }
+            }
+        }
+        out[i] = sse2::finish(&acc[0], m[0]);
+        out[i + 1] = sse2::finish(&acc[1], m[1]);
+        i += 2;
+    }
+    if i < n {
+        let c = &coords[i];
+        out[i] = sse2::linear_quad_on(first, second, texels, s, choices[i], c.u, c.v, masks[i]);
+    }
+}
+
+/// [`super::sse2::taps`] of level `lv` at two points, `(u[k], v[k])` weighted
+/// `level_weight[k] / ONE` in all: `[taps(u[0], v[0], w[0]), taps(u[1], v[1], w[1])]`, bit
+/// for bit. Inlined into its caller, so that in the hot loops' x86-64-v3 copy
+/// ([`crate::cpu`]) its intrinsics inline too (a `#[target_feature]` function cannot be
+/// `#[inline(always)]`, and as a call it cost a call per pair).
+///
+/// # Safety
+/// The CPU must have AVX2 ([`crate::cpu::level`] is x86-64-v3).
+#[inline(always)]
+pub(super) unsafe fn taps2(
+    lv: &LevelRef,
+    tiles_x: u32,
+    s: &Sampler,
+    u: [Vec4; 2],
+    v: [Vec4; 2],
+    level_weight: [i32; 2],
+) -> [Taps; 2] {
+    // SAFETY: the CPU has AVX2 (the caller's contract), all these intrinsics need.
+    unsafe {
+        let wide = |x: [Vec4; 2]| _mm256_set_m128(x[1].into(), x[0].into());
+        let (xa, xb, fx) = axis(s.wrap_u, wide(u), lv.w);
+        let (ya, yb, fy) = axis(s.wrap_v, wide(v), lv.h);
+        let one = _mm256_set1_ps(1.0);
+        let (gx, gy) = (_mm256_sub_ps(one, fx), _mm256_sub_ps(one, fy));
+        // Tiled index = column part + row part, as `taps` computes it.
+        let three = _mm256_set1_epi32(3);
+        let col = |x| {
+            _mm256_or_si256(
+                _mm256_slli_epi32(_mm256_srli_epi32(x, 2), 4),
+                _mm256_and_si256(x, three),
+            )
+        };
+        let stride = _mm256_set1_epi32(16 * tiles_x as i32);
+        let row = |y| {
+            let tile_row = _mm256_mullo_epi32(_mm256_srli_epi32(y, 2), stride);
+            _mm256_add_epi32(tile_row, _mm256_slli_epi32(_mm256_and_si256(y, three), 2))
+        };
+        let (ca, cb, ra, rb) = (col(xa), col(xb), row(ya), row(yb));
+        let offsets = [
+            halves(_mm256_add_epi32(ca, ra)),
+            halves(_mm256_add_epi32(cb, ra)),
+            halves(_mm256_add_epi32(ca, rb)),
+            halves(_mm256_add_epi32(cb, rb)),
+        ];
+        // Weights in 15 bits, the last one what the others leave (per half, its own total).
+        let lw = _mm256_set_m128(
+            Vec4::splat(level_weight[1] as f32).into(),
+            Vec4::splat(level_weight[0] as f32).into(),
+        );
+        let total = _mm256_set_m128i(
+            _mm_set1_epi32(level_weight[1]),
+            _mm_set1_epi32(level_weight[0]),
+        );
+        let round = |w: __m256| _mm256_cvtps_epi32(_mm256_mul_ps(w, lw));
+        let w00 = round(_mm256_mul_ps(gx, gy));
+        let w10 = round(_mm256_mul_ps(fx, gy));
+        let w01 = round(_mm256_mul_ps(gx, fy));
+        let w11 = _mm256_sub_epi32(_mm256_sub_epi32(_mm256_sub_epi32(total, w00), w10), w01);
+        let low = _mm256_set1_epi32(0xffff);
+        let pack = |a: __m256i, b: __m256i| {
+            halves(_mm256_or_si256(
+                _mm256_and_si256(a, low),
+                _mm256_slli_epi32(b, 16),
+            ))
+        };
+        let (top, bottom) = (pack(w00, w10), pack(w01, w11));
+        std::array::from_fn(|k| Taps {
+            offsets: [offsets[0][k], offsets[1][k], offsets[2][k], offsets[3][k]],
+            top: top[k],
+            bottom: bottom[k],
+        })
+    }
+}
+
+/// The two halves' lanes.
+#[inline(always)]
+fn halves(v: __m256i) -> [[i32; 4]; 2] {
+    // SAFETY: same size, every bit pattern valid for both.
+    unsafe { std::mem::transmute::<__m256i, [[i32; 4]; 2]>(v) }
+}
+
+/// [`super::sse2`]'s `axis` in eight lanes: the same operations, in the same order.
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[inline(always)]
+unsafe fn axis(wrap: Wrap, t: __m256, n: i32) -> (__m256i, __m256i, __m256) {
+    // SAFETY: the CPU has AVX2 (the caller's contract).
+    unsafe {
+        let nf = _mm256_set1_ps(n as f32);
+        let half = _mm256_set1_ps(0.5);
+        let p = if wrap == Wrap::Repeat {
+            _mm256_sub_ps(
+                _mm256_mul_ps(_mm256_sub_ps(t, _mm256_floor_ps(t)), nf),
+                half,
+            )
+        } else {
+            _mm256_sub_ps(_mm256_mul_ps(t, nf), half)
+        };
+        let i = _mm256_floor_ps(p);
+        let frac = _mm256_min_ps(
+            _mm256_max_ps(_mm256_sub_ps(p, i), _mm256_setzero_ps()),
+            _mm256_set1_ps(1.0),
+        );
+        if wrap == Wrap::Repeat {
+            let last = _mm256_set1_epi32(n - 1);
+            let lo = _mm256_cvttps_epi32(i);
+            let hi = _mm256_add_epi32(lo, _mm256_set1_epi32(1));
+            let hi = _mm256_andnot_si256(_mm256_cmpeq_epi32(hi, _mm256_set1_epi32(n)), hi);
+            (_mm256_min_epu32(lo, last), _mm256_min_epu32(hi, last), frac)
+        } else {
+            // `max` first: it returns its second operand (0) for a NaN lane.
+            let top = _mm256_set1_ps(n as f32 - 1.0);
+            let clamp = |x: __m256| _mm256_min_ps(_mm256_max_ps(x, _mm256_setzero_ps()), top);
+            (
+                _mm256_cvttps_epi32(clamp(i)),
+                _mm256_cvttps_epi32(clamp(_mm256_add_ps(i, _mm256_set1_ps(1.0)))),
+                frac,
+            )
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::sse2::taps;
+    use super::*;
+    use crate::color::ColorSpace;
+    use crate::texture::{Filter, Texture2D};
+
+    #[test]
+    fn two_probes_taps_are_the_sse2_taps_of_each() {
+        if !crate::cpu::available(crate::cpu::Level::V3) {
+            eprintln!("skipped: this CPU has no x86-64-v3 (AVX2), where the paired taps run");
+            return;
+        }
+        let mut seed = 0x2545_f491_u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f32 / u32::MAX as f32
+        };
+        let mut compared = 0;
+        for (w, h) in [(64, 64), (40, 24), (1, 1), (256, 8)] {
+            let tex =
+                Texture2D::from_rgba8(w, h, ColorSpace::Srgb, &vec![90; (w * h * 4) as usize])
+                    .unwrap();
+            for index in 0..tex.levels().len() {
+                let lv = tex.level(index);
+                let (_, tiles_x) = lv.tiled_texels(8);
+                for wrap in [Wrap::Repeat, Wrap::ClampToEdge] {
+                    let s = Sampler::new(Filter::BILINEAR, wrap);
+                    for _ in 0..200 {
+                        let mut lanes =
+                            || Vec4::new(next(), next(), next(), next()) * 6.0 - Vec4::splat(2.5);
+                        let (u, v) = ([lanes(), lanes()], [lanes(), lanes()]);
+                        let weight = [(next() * 32767.0) as i32, (next() * 32767.0) as i32];
+                        // SAFETY: the CPU has x86-64-v3 (checked above).
+                        let two = unsafe { taps2(&lv, tiles_x, &s, u, v, weight) };
+                        for k in 0..2 {
+                            let one = taps(&lv, tiles_x, &s, u[k], v[k], weight[k]);
+                            assert_eq!(two[k], one, "{w}x{h} level {index} {wrap:?} probe {k}");
+                            compared += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(compared > 1000);
+    }
+
+    #[test]
+    fn a_nan_coordinate_takes_the_sse2_indices() {
+        if !crate::cpu::available(crate::cpu::Level::V3) {
+            eprintln!("skipped: this CPU has no x86-64-v3 (AVX2)");
+            return;
+        }
+        let tex = Texture2D::from_rgba8(16, 16, ColorSpace::Srgb, &[7; 16 * 16 * 4]).unwrap();
+        let lv = tex.level(0);
+        let (_, tiles_x) = lv.tiled_texels(8);
+        let odd = Vec4::new(f32::NAN, f32::INFINITY, -f32::INFINITY, 1e30);
+        for wrap in [Wrap::Repeat, Wrap::ClampToEdge] {
+            let s = Sampler::new(Filter::BILINEAR, wrap);
+            let (u, v) = ([odd, Vec4::splat(0.3)], [Vec4::splat(0.7), odd]);
+            // SAFETY: the CPU has x86-64-v3 (checked above).
+            let two = unsafe { taps2(&lv, tiles_x, &s, u, v, [32767, 100]) };
+            for k in 0..2 {
+                assert_eq!(two[k], taps(&lv, tiles_x, &s, u[k], v[k], [32767, 100][k]));
+            }
+        }
+    }
+}
