@@ -143,6 +143,77 @@ pub(super) unsafe fn quad_pairs(
     }
 }
 
+/// [`sse2::taps`] of quads on one level, each weighted [`ONE`], two quads at a time (an odd
+/// last quad by `taps`): `out[i]` for `coords[i]`, the same taps.
+///
+/// # Safety
+/// The CPU must have x86-64-v3 ([`crate::cpu::level`]); `out` at least as long as `coords`
+/// (checked).
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
+pub(super) unsafe fn level_taps(
+    lv: &LevelRef,
+    tiles_x: u32,
+    s: &Sampler,
+    coords: &[QuadCoords],
+    out: &mut [Taps],
+) {
+    assert!(out.len() >= coords.len());
+    let mut pairs = coords.chunks_exact(2);
+    for (c, o) in (&mut pairs).zip(out.chunks_exact_mut(2)) {
+        let (u, v) = ([c[0].u, c[1].u], [c[0].v, c[1].v]);
+        // SAFETY: the CPU has AVX2 (this function's contract).
+        let [a, b] = unsafe { taps2(lv, tiles_x, s, u, v, [ONE, ONE]) };
+        (o[0], o[1]) = (a, b);
+    }
+    if let [c] = pairs.remainder() {
+        out[coords.len() - 1] = sse2::taps(lv, tiles_x, s, c.u, c.v, ONE);
+    }
+}
+
+/// [`sse2::nearest_offsets`] of quads on one level, two quads at a time (an odd last quad by
+/// `nearest_offsets`): `out[i]` for `coords[i]`, the same indices.
+///
+/// # Safety
+/// The CPU must have x86-64-v3 ([`crate::cpu::level`]); `out` at least as long as `coords`
+/// (checked).
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
+pub(super) unsafe fn level_nearest(
+    lv: &LevelRef,
+    tiles_x: u32,
+    s: &Sampler,
+    coords: &[QuadCoords],
+    out: &mut [[i32; 4]],
+) {
+    assert!(out.len() >= coords.len());
+    let wide = |a: Vec4, b: Vec4| _mm256_set_m128(b.into(), a.into());
+    let three = _mm256_set1_epi32(3);
+    let stride = _mm256_set1_epi32(16 * tiles_x as i32);
+    let mut pairs = coords.chunks_exact(2);
+    for (c, o) in (&mut pairs).zip(out.chunks_exact_mut(2)) {
+        // SAFETY: the CPU has AVX2 (this function's contract).
+        let (x, y) = unsafe {
+            (
+                nearest_axis(s.wrap_u, wide(c[0].u, c[1].u), lv.w),
+                nearest_axis(s.wrap_v, wide(c[0].v, c[1].v), lv.h),
+            )
+        };
+        // As `nearest_offsets`: column part + row part of the tiled index.
+        let col = _mm256_or_si256(
+            _mm256_slli_epi32(_mm256_srli_epi32(x, 2), 4),
+            _mm256_and_si256(x, three),
+        );
+        let row = _mm256_add_epi32(
+            _mm256_mullo_epi32(_mm256_srli_epi32(y, 2), stride),
+            _mm256_slli_epi32(_mm256_and_si256(y, three), 2),
+        );
+        let [a, b] = halves(_mm256_add_epi32(col, row));
+        (o[0], o[1]) = (a, b);
+    }
+    if let [c] = pairs.remainder() {
+        out[coords.len() - 1] = sse2::nearest_offsets(lv, tiles_x, s, c.u, c.v);
+    }
+}
+
 /// [`super::sse2::taps`] of level `lv` at two points, `(u[k], v[k])` weighted
 /// `level_weight[k] / ONE` in all: `[taps(u[0], v[0], w[0]), taps(u[1], v[1], w[1])]`, bit
 /// for bit. Inlined into its caller, so that in the hot loops' x86-64-v3 copy
@@ -222,6 +293,36 @@ pub(super) unsafe fn taps2(
 fn halves(v: __m256i) -> [[i32; 4]; 2] {
     // SAFETY: same size, every bit pattern valid for both.
     unsafe { std::mem::transmute::<__m256i, [[i32; 4]; 2]>(v) }
+}
+
+/// [`super::sse2`]'s `nearest_axis` in eight lanes: the same operations, in the same order.
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[inline(always)]
+unsafe fn nearest_axis(wrap: Wrap, t: __m256, n: i32) -> __m256i {
+    // SAFETY: the CPU has AVX2 (the caller's contract).
+    unsafe {
+        let nf = _mm256_set1_ps(n as f32);
+        if wrap == Wrap::Repeat {
+            // ⌊(t − ⌊t⌋)·n⌋ ∈ [0, n]: n wraps to 0, as a NaN lane (i32::MIN) reads 0.
+            let frac = _mm256_sub_ps(t, _mm256_floor_ps(t));
+            let i = _mm256_cvttps_epi32(_mm256_floor_ps(_mm256_mul_ps(frac, nf)));
+            let wrapped = _mm256_or_si256(
+                _mm256_cmpeq_epi32(i, _mm256_set1_epi32(n)),
+                _mm256_cmpeq_epi32(i, _mm256_set1_epi32(i32::MIN)),
+            );
+            _mm256_min_epu32(_mm256_andnot_si256(wrapped, i), _mm256_set1_epi32(n - 1))
+        } else {
+            // `max` first: it returns its second operand (0) for a NaN lane.
+            let i = _mm256_floor_ps(_mm256_mul_ps(t, nf));
+            let i = _mm256_min_ps(
+                _mm256_max_ps(i, _mm256_setzero_ps()),
+                _mm256_set1_ps(n as f32 - 1.0),
+            );
+            _mm256_cvttps_epi32(i)
+        }
+    }
 }
 
 /// [`super::sse2`]'s `axis` in eight lanes: the same operations, in the same order.
@@ -313,6 +414,51 @@ mod tests {
             }
         }
         assert!(compared > 1000);
+    }
+
+    #[test]
+    fn a_levels_quads_two_at_a_time_take_the_sse2_taps_and_indices() {
+        if !crate::cpu::available(crate::cpu::Level::V3) {
+            eprintln!("skipped: this CPU has no x86-64-v3 (AVX2), where quads pair");
+            return;
+        }
+        let mut seed = 0x9e37_79b9_u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f32 / u32::MAX as f32
+        };
+        let tex = Texture2D::from_rgba8(48, 80, ColorSpace::Srgb, &[50; 48 * 80 * 4]).unwrap();
+        for index in 0..tex.levels().len() {
+            let lv = tex.level(index);
+            let (_, tiles_x) = lv.tiled_texels(8);
+            for wrap in [Wrap::Repeat, Wrap::ClampToEdge] {
+                let s = Sampler::new(Filter::BILINEAR, wrap);
+                // Odd and even counts: the last quad of an odd batch is read alone.
+                for n in [1, 2, 7, 16] {
+                    let mut lanes = || Vec4::new(next(), next(), next(), next()) * 5.0 - 2.0;
+                    let mut coords = [QuadCoords::default(); 16];
+                    for c in &mut coords[..n] {
+                        (c.u, c.v) = (lanes(), lanes());
+                    }
+                    coords[0].u.x = f32::NAN;
+                    let coords = &coords[..n];
+                    let (mut paired, mut offsets) = ([Taps::default(); 16], [[0; 4]; 16]);
+                    // SAFETY: the CPU has x86-64-v3 (checked above).
+                    unsafe {
+                        level_taps(&lv, tiles_x, &s, coords, &mut paired);
+                        level_nearest(&lv, tiles_x, &s, coords, &mut offsets);
+                    }
+                    for (i, c) in coords.iter().enumerate() {
+                        let case = format!("level {index} {wrap:?} quad {i} of {n}");
+                        assert_eq!(paired[i], taps(&lv, tiles_x, &s, c.u, c.v, ONE), "{case}");
+                        let near = sse2::nearest_offsets(&lv, tiles_x, &s, c.u, c.v);
+                        assert_eq!(offsets[i], near, "{case}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]

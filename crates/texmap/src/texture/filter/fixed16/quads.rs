@@ -193,11 +193,21 @@ pub(in super::super) fn read_level_quads(
                 super::prefetch::prefetch_lanes(data, size, offsets, masks[i]);
             }
         };
+        let lanes = crate::cpu::level() == crate::cpu::Level::V3;
         if choice.texels == TexelFilter::Nearest {
             let mut offsets = [[0; 4]; LEVEL_QUADS];
-            for (i, (c, o)) in coords.iter().zip(&mut offsets).enumerate() {
-                *o = sse2::nearest_offsets(&lv, tiles_x, s, c.u, c.v);
-                prefetch(i, &[o]);
+            if lanes {
+                // Two quads' indices at once (the same indices).
+                // SAFETY: the CPU has x86-64-v3 (`cpu::level`).
+                unsafe { super::avx2::level_nearest(&lv, tiles_x, s, coords, &mut offsets) };
+                for (i, o) in offsets.iter().enumerate().take(n) {
+                    prefetch(i, &[o]);
+                }
+            } else {
+                for (i, (c, o)) in coords.iter().zip(&mut offsets).enumerate() {
+                    *o = sse2::nearest_offsets(&lv, tiles_x, s, c.u, c.v);
+                    prefetch(i, &[o]);
+                }
             }
             for ((o, &mask), out) in offsets.iter().zip(masks).zip(out).take(n) {
                 // SAFETY: `nearest_offsets` gave indices in range for the level `data` holds.
@@ -206,9 +216,18 @@ pub(in super::super) fn read_level_quads(
         } else {
             // `linear_quad` on one level: its taps weighted ONE in all, summed, finished.
             let mut taps = [sse2::Taps::default(); LEVEL_QUADS];
-            for (i, (c, t)) in coords.iter().zip(&mut taps).enumerate() {
-                *t = sse2::taps(&lv, tiles_x, s, c.u, c.v, super::ONE);
-                prefetch(i, &[&t.offsets[0], &t.offsets[3]]);
+            if lanes {
+                // Two quads' taps at once (the same taps).
+                // SAFETY: the CPU has x86-64-v3 (`cpu::level`).
+                unsafe { super::avx2::level_taps(&lv, tiles_x, s, coords, &mut taps) };
+                for (i, t) in taps.iter().enumerate().take(n) {
+                    prefetch(i, &[&t.offsets[0], &t.offsets[3]]);
+                }
+            } else {
+                for (i, (c, t)) in coords.iter().zip(&mut taps).enumerate() {
+                    *t = sse2::taps(&lv, tiles_x, s, c.u, c.v, super::ONE);
+                    prefetch(i, &[&t.offsets[0], &t.offsets[3]]);
+                }
             }
             for ((t, &mask), out) in taps.iter().zip(masks).zip(out).take(n) {
                 // SAFETY: SSE2 is part of x86_64.
