@@ -405,7 +405,24 @@ pub fn sample_quads_lanes_shared(
         for (group, textures) in textures.chunks(fixed16::MAX_SHARED).enumerate() {
             // The group's textures checked once for the chunk's quads.
             let mut shared = fixed16::Shared::new(textures, sampler);
-            for (k, ((c, &m), &choice)) in coords.iter().zip(masks).zip(&choices).enumerate() {
+            let mut k = 0;
+            while k < coords.len() {
+                // Two neighbours on the same levels at once, where the CPU has the lanes.
+                if let (Some(shared), true) = (shared.as_mut(), k + 1 < coords.len()) {
+                    let mut pair = [[[Vec4::ZERO; 4]; fixed16::MAX_SHARED]; 2];
+                    let both = [choices[k], choices[k + 1]];
+                    let (c, m) = ([&coords[k], &coords[k + 1]], [masks[k], masks[k + 1]]);
+                    if fixed16::read_pair_shared(shared, sampler, both, c, m, &mut pair) {
+                        for (j, quad) in pair.iter().enumerate() {
+                            for (t, q) in quad.iter().take(textures.len()).enumerate() {
+                                put(group * fixed16::MAX_SHARED + t, start * CHUNK + k + j, *q);
+                            }
+                        }
+                        k += 2;
+                        continue;
+                    }
+                }
+                let (c, m, choice) = (&coords[k], masks[k], choices[k]);
                 let quad = &mut quad[..textures.len()];
                 let read = shared.as_mut().is_some_and(|shared| {
                     fixed16::read_quad_shared(shared, sampler, choice, c.u, c.v, m, quad)
@@ -418,6 +435,7 @@ pub fn sample_quads_lanes_shared(
                 for (t, q) in quad.iter().enumerate() {
                     put(group * fixed16::MAX_SHARED + t, start * CHUNK + k, *q);
                 }
+                k += 1;
             }
         }
     }

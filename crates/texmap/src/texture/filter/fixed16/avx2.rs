@@ -143,6 +143,62 @@ pub(super) unsafe fn quad_pairs(
     }
 }
 
+/// [`super::read_pair_shared`]: two quads' reads of every texture of `shared`, both quads on
+/// the same levels, their taps on each level computed at once ([`taps2`]) and each
+/// texture's texels gathered quad by quad as [`sse2::linear_quad_shared`] gathers them (a
+/// level whose weight is 0 for a quad not read for it). The same values.
+///
+/// # Safety
+/// The CPU must have x86-64-v3 ([`crate::cpu::level`]); both `choices` must name the same
+/// levels.
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
+pub(super) unsafe fn linear_pair_shared(
+    shared: &mut super::Shared,
+    s: &Sampler,
+    choices: [MipChoice; 2],
+    coords: [&QuadCoords; 2],
+    masks: [u8; 2],
+    out: &mut [[[Vec4; 4]; super::MAX_SHARED]; 2],
+) {
+    let count = shared.len();
+    let texels = shared.texels;
+    let wa = choices.map(sse2::first_weight);
+    // The second level's weight where the quads blend two, else nothing.
+    let wb = [0, 1].map(|k| {
+        if choices[k].blend.is_some() && wa[k] < ONE {
+            ONE - wa[k]
+        } else {
+            0
+        }
+    });
+    let (u, v) = ([coords[0].u, coords[1].u], [coords[0].v, coords[1].v]);
+    let mut acc = [[[std::arch::x86_64::_mm_setzero_si128(); 4]; super::MAX_SHARED]; 2];
+    let second = choices[0].blend.map(|b| b.level);
+    for (index, w) in [(Some(choices[0].level), wa), (second, wb)] {
+        let Some(index) = index.filter(|_| w[0] > 0 || w[1] > 0) else {
+            continue;
+        };
+        let lv = shared.level(index);
+        // SAFETY: the CPU has AVX2 (this function's contract).
+        let taps = unsafe { taps2(&lv.first, lv.tiles_x, s, u, v, w) };
+        for ((t, w), acc) in taps.iter().zip(w).zip(&mut acc) {
+            if w <= 0 {
+                continue;
+            }
+            // Each texture's level is of the first one's size and tiling (checked when the
+            // level was looked up), so the first one's indices are in range for every one.
+            for ((data, &texels), acc) in lv.data.iter().zip(&texels[..count]).zip(acc.iter_mut()) {
+                sse2::gather(data, texels, t, acc);
+            }
+        }
+    }
+    for ((o, acc), &mask) in out.iter_mut().zip(&acc).zip(&masks) {
+        for (o, acc) in o.iter_mut().zip(acc).take(count) {
+            *o = sse2::finish(acc, mask);
+        }
+    }
+}
+
 /// [`sse2::taps`] of quads on one level, each weighted [`ONE`], two quads at a time (an odd
 /// last quad by `taps`): `out[i]` for `coords[i]`, the same taps.
 ///
