@@ -45,3 +45,15 @@ pub mod texture;
 pub mod volume;
 
 pub use error::{Error, Result};
+
+/// A xorshift32 generator from `seed` (not 0): the unit tests' pseudo-random grids, rays and
+/// texture coordinates.
+#[cfg(test)]
+pub(crate) fn xorshift(mut seed: u32) -> impl FnMut() -> u32 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        seed
+    }
+}

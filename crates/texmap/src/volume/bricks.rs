@@ -351,7 +351,7 @@ mod tests {
     /// samples as looking every brick up from its sample ([`EmptyBricks::step`]).
     #[test]
     fn the_cursor_follows_the_bricks_looked_up_from_each_sample() {
-        let mut r = crate::volume::xorshift(0x1234_5678);
+        let mut r = crate::xorshift(0x1234_5678);
         let dims = [50u32, 41, 33];
         let levels: Vec<u16> = (0..dims.iter().product::<u32>())
             .map(|_| r() as u16)

@@ -252,7 +252,7 @@ mod tests {
 
     /// A `n³` grid of pseudo-random levels and normals (some zero, some disagreeing).
     fn grid(n: u32) -> (Vec<u16>, Vec<[i8; 4]>) {
-        let mut r = crate::volume::xorshift(0x2545_f491);
+        let mut r = crate::xorshift(0x2545_f491);
         let count = (n * n * n) as usize;
         let levels = (0..count).map(|_| r() as u16).collect();
         let normals = (0..count)

@@ -295,7 +295,7 @@ mod tests {
             eprintln!("skipped: this CPU has no AVX2 (the lanes never run here)");
             return;
         }
-        let mut r = crate::volume::xorshift(0x9e37_79b9);
+        let mut r = crate::xorshift(0x9e37_79b9);
         // Smooth blobs with noise, some empty corners: both skipped and taken bricks.
         let dims = [37u32, 29, 23];
         let values: Vec<f32> = (0..voxel_count(dims))

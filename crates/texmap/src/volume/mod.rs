@@ -53,17 +53,6 @@ mod shade;
 pub mod slice;
 pub mod transfer;
 
-/// A xorshift32 generator from `seed` (not 0): the volume tests' pseudo-random grids and rays.
-#[cfg(test)]
-pub(crate) fn xorshift(mut seed: u32) -> impl FnMut() -> u32 {
-    move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 17;
-        seed ^= seed << 5;
-        seed
-    }
-}
-
 pub use bricks::{Bricks, BRICK};
 pub use framing::vtk_camera_for_bounds;
 pub use grid::Volume;

@@ -436,13 +436,8 @@ mod tests {
             eprintln!("skipped: this CPU has no x86-64-v3 (AVX2), where the paired taps run");
             return;
         }
-        let mut seed = 0x2545_f491_u32;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed as f32 / u32::MAX as f32
-        };
+        let mut r = crate::xorshift(0x2545_f491);
+        let mut next = move || r() as f32 / u32::MAX as f32;
         let mut compared = 0;
         for (w, h) in [(64, 64), (40, 24), (1, 1), (256, 8)] {
             let tex =
@@ -478,13 +473,8 @@ mod tests {
             eprintln!("skipped: this CPU has no x86-64-v3 (AVX2), where quads pair");
             return;
         }
-        let mut seed = 0x9e37_79b9_u32;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed as f32 / u32::MAX as f32
-        };
+        let mut r = crate::xorshift(0x9e37_79b9);
+        let mut next = move || r() as f32 / u32::MAX as f32;
         let tex = Texture2D::from_rgba8(48, 80, ColorSpace::Srgb, &[50; 48 * 80 * 4]).unwrap();
         for index in 0..tex.levels().len() {
             let lv = tex.level(index);
