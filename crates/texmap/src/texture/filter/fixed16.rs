@@ -246,16 +246,15 @@ pub(super) fn read_pair_shared(
     out: &mut [[[Vec4; 4]; MAX_SHARED]; 2],
 ) -> bool {
     let levels = |c: &MipChoice| (c.texels, c.level, c.blend.map(|b| b.level));
-    if choices[0].texels != TexelFilter::Linear || levels(&choices[0]) != levels(&choices[1]) {
-        return false;
-    }
+    let same =
+        choices[0].texels == TexelFilter::Linear && levels(&choices[0]) == levels(&choices[1]);
     #[cfg(target_arch = "x86_64")]
-    if crate::cpu::level() == crate::cpu::Level::V3 {
-        // SAFETY: the CPU has x86-64-v3 (`cpu::level`).
+    if same && crate::cpu::level() == crate::cpu::Level::V3 {
+        // SAFETY: the CPU has x86-64-v3 (`cpu::level`); both quads read the same levels.
         unsafe { avx2::linear_pair_shared(shared, s, choices, coords, masks, out) };
         return true;
     }
-    let _ = (shared, s, coords, masks, out);
+    let _ = (same, shared, s, coords, masks, out);
     false
 }
 

@@ -111,14 +111,7 @@ pub(super) unsafe fn quad_pairs(
             sse2::first_weight(choices[i]),
             sse2::first_weight(choices[i + 1]),
         ];
-        // The second level's weight where the quad blends two, else nothing.
-        let wb = [0, 1].map(|k| {
-            if choices[i + k].blend.is_some() && wa[k] < ONE {
-                ONE - wa[k]
-            } else {
-                0
-            }
-        });
+        let wb = [0, 1].map(|k| sse2::second_weight(choices[i + k], wa[k]));
         let (u, v) = ([c[0].u, c[1].u], [c[0].v, c[1].v]);
         let mut acc = [[std::arch::x86_64::_mm_setzero_si128(); 4]; 2];
         for ((lv, data, tiles_x), w) in [(first, wa), (second, wb)] {
@@ -163,14 +156,7 @@ pub(super) unsafe fn linear_pair_shared(
     let count = shared.len();
     let texels = shared.texels;
     let wa = choices.map(sse2::first_weight);
-    // The second level's weight where the quads blend two, else nothing.
-    let wb = [0, 1].map(|k| {
-        if choices[k].blend.is_some() && wa[k] < ONE {
-            ONE - wa[k]
-        } else {
-            0
-        }
-    });
+    let wb = [0, 1].map(|k| sse2::second_weight(choices[k], wa[k]));
     let (u, v) = ([coords[0].u, coords[1].u], [coords[0].v, coords[1].v]);
     let mut acc = [[[std::arch::x86_64::_mm_setzero_si128(); 4]; super::MAX_SHARED]; 2];
     let second = choices[0].blend.map(|b| b.level);

@@ -51,6 +51,17 @@ pub(super) fn first_weight(choice: MipChoice) -> i32 {
     ((1.0 - f.clamp(0.0, 1.0)) * ONE as f32).round() as i32
 }
 
+/// The weight of `choice`'s second level in 15 bits, its first level's being `wa`: what
+/// `ONE` leaves where the read blends two levels, else 0 (the second level not read).
+#[inline(always)]
+pub(super) fn second_weight(choice: MipChoice, wa: i32) -> i32 {
+    if choice.blend.is_some() && wa < ONE {
+        ONE - wa
+    } else {
+        0
+    }
+}
+
 /// [`linear_quad`] on levels whose views, tiled texels and tiles per row are given (as
 /// `tiled_texels` gives them): `first` for `choice.level`, `second` for its blend's level
 /// (read only when `choice` blends). The same values.
