@@ -400,6 +400,8 @@ pub fn sample_quads_lanes_shared(
         return;
     };
     let mut quad = [[Vec4::ZERO; 4]; fixed16::MAX_SHARED];
+    // Two quads' reads (each pair's textures written before they are handed out).
+    let mut pair = [[[Vec4::ZERO; 4]; fixed16::MAX_SHARED]; 2];
     for (start, (coords, masks)) in coords.chunks(CHUNK).zip(masks.chunks(CHUNK)).enumerate() {
         let (choices, _) = gl_choices::<CHUNK>(first, sampler, coords, mag, min);
         for (group, textures) in textures.chunks(fixed16::MAX_SHARED).enumerate() {
@@ -409,7 +411,6 @@ pub fn sample_quads_lanes_shared(
             while k < coords.len() {
                 // Two neighbours on the same levels at once, where the CPU has the lanes.
                 if let (Some(shared), true) = (shared.as_mut(), k + 1 < coords.len()) {
-                    let mut pair = [[[Vec4::ZERO; 4]; fixed16::MAX_SHARED]; 2];
                     let both = [choices[k], choices[k + 1]];
                     let (c, m) = ([&coords[k], &coords[k + 1]], [masks[k], masks[k + 1]]);
                     if fixed16::read_pair_shared(shared, sampler, both, c, m, &mut pair) {

@@ -27,9 +27,6 @@ use crate::texture::{MipChoice, QuadCoords, Sampler, Wrap};
 /// A level's view, tiled texels and tiles per row (as `tiled_texels` gives them).
 type Level<'a> = (&'a LevelRef<'a>, &'a [u8], u32);
 
-/// [`Level`] with the view held.
-type HeldLevel<'a> = (LevelRef<'a>, &'a [u8], u32);
-
 /// [`sse2::probes_quad`]'s probes two at a time, while two are left: both probes' taps on a
 /// level computed at once ([`taps2`]), each probe's texels then gathered into `acc` as the
 /// SSE2 loop gathers them (a probe whose weight on a level is 0 not read there). Returns the
@@ -41,7 +38,7 @@ type HeldLevel<'a> = (LevelRef<'a>, &'a [u8], u32);
 #[allow(clippy::too_many_arguments)]
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
 pub(super) unsafe fn probe_pairs<'p>(
-    levels: (&HeldLevel, Option<&HeldLevel>),
+    levels: (Level, Option<Level>),
     texels: Texels,
     s: &Sampler,
     fa: f32,
@@ -50,17 +47,11 @@ pub(super) unsafe fn probe_pairs<'p>(
     probes: &'p [Probe],
     acc: &mut [std::arch::x86_64::__m128i; 4],
 ) -> &'p [Probe] {
-    // `x.round() as i32` for an `x` in [−ONE, ONE], as `probes_quad` rounds.
-    let round = |x: f32| {
-        debug_assert!((-ONE as f32..=ONE as f32).contains(&x));
-        // SAFETY: `x` is finite and within ±ONE (a weight within ±ONE times `fa` in [0, 1]).
-        unsafe { x.round().to_int_unchecked::<i32>() }
-    };
     let mut rest = probes;
     while let [p, q, tail @ ..] = rest {
         rest = tail;
         let weight = [p.weight, q.weight];
-        let wa = weight.map(|w| round(fa * w as f32));
+        let wa = weight.map(|w| sse2::probe_first_weight(fa, w));
         let pu = [p.t, q.t].map(|t| u + Vec4::splat(step.x * t));
         let pv = [p.t, q.t].map(|t| v + Vec4::splat(step.y * t));
         let wb = [weight[0] - wa[0], weight[1] - wa[1]];
@@ -70,7 +61,7 @@ pub(super) unsafe fn probe_pairs<'p>(
                 continue;
             }
             // SAFETY: the CPU has AVX2 (this function's contract).
-            let taps = unsafe { taps2(lv, *tiles_x, s, pu, pv, w) };
+            let taps = unsafe { taps2(lv, tiles_x, s, pu, pv, w) };
             for (t, w) in taps.iter().zip(w) {
                 if w > 0 {
                     sse2::gather(data, texels, t, acc);

@@ -51,6 +51,18 @@ pub(super) fn first_weight(choice: MipChoice) -> i32 {
     ((1.0 - f.clamp(0.0, 1.0)) * ONE as f32).round() as i32
 }
 
+/// A probe's 15-bit weight on the first level: `fa·weight` rounded, `fa` in [0, 1] (the
+/// first level's share) and `weight` within ±ONE (a probe's weight, `weights::fixed`),
+/// without the saturating cast's compares and branches (the value is finite and in range).
+#[inline(always)]
+pub(super) fn probe_first_weight(fa: f32, weight: i32) -> i32 {
+    let x = fa * weight as f32;
+    debug_assert!((-ONE as f32..=ONE as f32).contains(&x));
+    // SAFETY: `x` is finite and within ±ONE (asserted in debug builds): `fa` in [0, 1] and
+    // `weight` within ±ONE, as the callers give them.
+    unsafe { x.round().to_int_unchecked::<i32>() }
+}
+
 /// The weight of `choice`'s second level in 15 bits, its first level's being `wa`: what
 /// `ONE` leaves where the read blends two levels, else 0 (the second level not read).
 #[inline(always)]
@@ -163,13 +175,6 @@ pub(super) fn probes_quad(
     let fa = 1.0 - f.clamp(0.0, 1.0);
     // A NaN level weight gives the first level nothing, as the saturating cast did.
     let fa = if fa.is_nan() { 0.0 } else { fa };
-    // `x.round() as i32` for an `x` in [−ONE, ONE] (no NaN): the same value without the
-    // saturating cast's compares and branches, once a probe.
-    let round = |x: f32| {
-        debug_assert!((-ONE as f32..=ONE as f32).contains(&x));
-        // SAFETY: `x` is finite and within ±ONE (asserted in debug builds; see the callers).
-        unsafe { x.round().to_int_unchecked::<i32>() }
-    };
     // Each level's tiled texels looked up (and checked) once for all the probes.
     let level = |index: usize| {
         let lv = tex.level(index);
@@ -187,7 +192,12 @@ pub(super) fn probes_quad(
         // SAFETY: the CPU has x86-64-v3 (`cpu::level`).
         rest = unsafe {
             super::avx2::probe_pairs(
-                (&first, second.as_ref()),
+                (
+                    (&first.0, first.1, first.2),
+                    second
+                        .as_ref()
+                        .map(|(lv, data, tiles_x)| (lv, *data, *tiles_x)),
+                ),
                 texels,
                 s,
                 fa,
@@ -199,9 +209,7 @@ pub(super) fn probes_quad(
         };
     }
     for &super::Probe { t, weight } in rest {
-        // `weight` is within ±ONE (the difference of two sums in [0, ONE], `weights::fixed`)
-        // and `fa` in [0, 1].
-        let wa = round(fa * weight as f32);
+        let wa = probe_first_weight(fa, weight);
         let (pu, pv) = (u + Vec4::splat(step.x * t), v + Vec4::splat(step.y * t));
         if wa > 0 {
             let (lv, data, tiles_x) = &first;
