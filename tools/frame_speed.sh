@@ -9,6 +9,11 @@
 # texture and an sRGB framebuffer: texels decoded to linear light before they are
 # filtered, as texmap filters them). The second draws the image texmap draws.
 #
+# texmap runs twice a round too: with --discard, its frames back to back as gl_render.py
+# times llvmpipe's (which reads back and writes only the last), and writing a PNG after each
+# frame (its encoding and file between the frames, not in their times, but in the caches the
+# next frame finds).
+#
 #   bash tools/frame_speed.sh [FRAMES] [ROUNDS]   (needs bash ../shared/peers/setup.sh once)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,7 +27,7 @@ OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
 median() { "$PY" -c 'import json,sys; d=json.load(sys.stdin); print("%.2f" % d["frame_ms"]["median"])'; }
 # One case: its name, texmap's arguments, then `--` and gl_render.py's (none: texmap alone).
-# Prints "name texmap gl gl_srgb" for each round (— where llvmpipe does not run).
+# Prints "name texmap texmap_writing gl gl_srgb" for each round (— where llvmpipe does not run).
 run() {
     local name=$1; shift
     local targs=() gargs=()
@@ -30,12 +35,14 @@ run() {
     [ $# -gt 0 ] && shift
     gargs=("$@")
     for r in $(seq 1 "$ROUNDS"); do
-        local order="texmap gl gls"
-        [ $((r % 2)) -eq 0 ] && order="gls gl texmap"
-        local t="—" g="—" s="—"
+        local order="texmap gl texw gls"
+        [ $((r % 2)) -eq 0 ] && order="gls texw gl texmap"
+        local t="—" w="—" g="—" s="—"
         for who in $order; do
             case $who in
             texmap) t=$("$TEXMAP" render "${targs[@]}" --size 1920x1080 --threads 2 --frames "$N" \
+                        --stats --discard | median) ;;
+            texw) w=$("$TEXMAP" render "${targs[@]}" --size 1920x1080 --threads 2 --frames "$N" \
                         --stats -o "$OUT/t_{frame}.png" | median) ;;
             gl) [ ${#gargs[@]} -gt 0 ] && g=$(LP_NUM_THREADS=2 "$PY" "$P/gl_render.py" "${gargs[@]}" \
                         --size 1920x1080 --threads 2 --frames "$N" --json -o "$OUT/g.png" | median) ;;
@@ -43,7 +50,7 @@ run() {
                         --srgb --size 1920x1080 --threads 2 --frames "$N" --json -o "$OUT/s.png" | median) ;;
             esac
         done
-        echo "$name $t $g $s"
+        echo "$name $t $w $g $s"
     done
 }
 {
@@ -60,21 +67,23 @@ run() {
 import statistics, sys
 rows = {}
 for line in open(sys.argv[1]):
-    name, t, g, s = line.split()
-    rows.setdefault(name, []).append((t, g, s))
+    name, t, w, g, s = line.split()
+    rows.setdefault(name, []).append((t, g, s, w))
 def med(xs):
     xs = [float(x) for x in xs if x != "—"]
     return "%.1f" % statistics.median(xs) if xs else "—"
-def ratio(rounds, k):
-    rs = [float(r[0]) / float(r[k]) for r in rounds if r[k] != "—"]
+def ratio(rounds, k, mine=0):
+    rs = [float(r[mine]) / float(r[k]) for r in rounds if r[k] != "—"]
     if not rs:
         return "—"
     return "%.2f (%.2f–%.2f)" % (statistics.median(rs), min(rs), max(rs))
-print("| scene | filter | texmap ms | llvmpipe ms | texmap / llvmpipe | llvmpipe --srgb ms | texmap / llvmpipe --srgb |")
-print("|---|---|---|---|---|---|---|")
+print("| scene | filter | texmap ms | llvmpipe ms | texmap / llvmpipe | llvmpipe --srgb ms "
+      "| texmap / llvmpipe --srgb | texmap writing each frame ms | … / llvmpipe |")
+print("|---|---|---|---|---|---|---|---|---|")
 for name, rounds in rows.items():
     scene, filt = name.split("|")
     scene = "sphere (199,200 tris)" if scene == "sphere" else scene
     print(f"| {scene} | {filt} | {med(r[0] for r in rounds)} | {med(r[1] for r in rounds)} | "
-          f"{ratio(rounds, 1)} | {med(r[2] for r in rounds)} | {ratio(rounds, 2)} |")
+          f"{ratio(rounds, 1)} | {med(r[2] for r in rounds)} | {ratio(rounds, 2)} | "
+          f"{med(r[3] for r in rounds)} | {ratio(rounds, 1, 3)} |")
 PY

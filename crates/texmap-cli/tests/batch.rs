@@ -537,3 +537,67 @@ fn bad_batches_are_one_line_before_rendering() {
         assert!(files(&d).is_empty(), "{extra:?} wrote nothing");
     }
 }
+
+#[test]
+fn discard_renders_every_frame_back_to_back_and_writes_nothing() {
+    let d = dir("discard");
+    let run = |args: &[&str]| texmap_cmd(args).current_dir(&d).output().unwrap();
+    // The default output names (texmap-{scene}-{frame}.png) would land in `d`.
+    let r = run(&[
+        "render",
+        "builtin:plane",
+        "--frames",
+        "3",
+        "--discard",
+        "--stats",
+        "--size",
+        SIZE,
+    ]);
+    ok(&r);
+    let json: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
+    assert_eq!(json["frames"], 3, "{json}");
+    assert_eq!(json["frame_ms_all"].as_array().unwrap().len(), 3, "{json}");
+    assert!(json["output"].is_null(), "{json}");
+    assert!(json["pixels_shaded"].as_u64().unwrap() > 0, "{json}");
+    // Several inputs: each rendered, the summary says so.
+    let r = run(&[
+        "render",
+        "builtin:demo",
+        "builtin:plane",
+        "--discard",
+        "--size",
+        SIZE,
+    ]);
+    ok(&r);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(err.contains("2 rendered and discarded"), "{err}");
+    assert!(err.contains("wrote nothing (--discard)"), "{err}");
+    assert!(
+        files(&d).is_empty(),
+        "--discard wrote {:?}",
+        files(&d).keys()
+    );
+    // The output's options are refused with it: one line naming the option, nothing written.
+    let manifest = d.join("m.jsonl");
+    for (extra, needle) in [
+        (vec!["-o", "x.png"], "-o"),
+        (vec!["--format", "exr"], "--format"),
+        (vec!["--manifest", s(&manifest)], "--manifest"),
+        (vec!["--skip-existing"], "--skip-existing"),
+        (vec!["--bit-depth", "16"], "--bit-depth"),
+        (vec!["--quality", "80"], "--quality"),
+        (vec!["--fps", "10"], "--fps"),
+    ] {
+        let mut args = vec!["render", "--size", "8x8", "--discard"];
+        args.extend_from_slice(&extra);
+        let r = run(&args);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{extra:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{extra:?}: {err}");
+        assert!(
+            err.contains(needle) && err.contains("--discard"),
+            "{extra:?}: {err}"
+        );
+        assert!(!manifest.exists() && files(&d).is_empty(), "{extra:?}");
+    }
+}

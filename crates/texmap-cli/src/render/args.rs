@@ -276,6 +276,12 @@ pub struct RenderArgs {
     /// Print statistics as JSON on stdout.
     #[arg(long)]
     pub(crate) stats: bool,
+    /// Render and time every frame, and write no image: the frames run back to back, as a
+    /// benchmark times them (with --stats, their times; without, a line with the median).
+    /// The output's options (-o, --format, --manifest, --skip-existing, --bit-depth,
+    /// --quality, --fps) are refused with it.
+    #[arg(long)]
+    pub(crate) discard: bool,
     /// Print nothing but errors.
     #[arg(long, short)]
     pub(crate) quiet: bool,

@@ -29,6 +29,8 @@ use crate::signals::Stop;
 #[derive(Default)]
 struct Tally {
     written: u64,
+    /// Outputs rendered and not written (`--discard`).
+    rendered: u64,
     skipped: u64,
     failed: Vec<String>,
 }
@@ -36,6 +38,9 @@ struct Tally {
 /// Runs `texmap render`.
 pub fn run(mut args: RenderArgs) -> Result<ExitCode, Error> {
     let threads = limits::frames_and_threads(args.frames, args.threads)?;
+    if args.discard {
+        check_discard(&args)?;
+    }
     if let Some(out) = &args.output {
         let mut inputs: Vec<&Path> = args.inputs.iter().map(Path::new).collect();
         inputs.extend(inputs_of(&args));
@@ -152,13 +157,18 @@ pub fn run(mut args: RenderArgs) -> Result<ExitCode, Error> {
         return Ok(ExitCode::from((128 + number).clamp(1, 255) as u8));
     }
     let summary = format!(
-        "{shard}{outputs} output{} of {} input{}: {} written, {} skipped (complete), {} input{} \
+        "{shard}{outputs} output{} of {} input{}: {} written, {} skipped (complete), {}{} input{} \
          failed",
         if outputs == 1 { "" } else { "s" },
         plan.inputs.len(),
         if plan.inputs.len() == 1 { "" } else { "s" },
         tally.written,
         tally.skipped,
+        if args.discard {
+            format!("{} rendered and discarded, ", tally.rendered)
+        } else {
+            String::new()
+        },
         tally.failed.len(),
         if tally.failed.len() == 1 { "" } else { "s" },
     );
@@ -187,8 +197,10 @@ fn render_input(
     frame: &mut Frame,
     tally: &mut Tally,
 ) -> Result<(), Error> {
-    for job in jobs {
-        limits::check_output(&job.path, &inputs_of(args))?;
+    if !args.discard {
+        for job in jobs {
+            limits::check_output(&job.path, &inputs_of(args))?;
+        }
     }
     let prepared = prepare(args, common)?;
     let mut times = Vec::new();
@@ -196,6 +208,20 @@ fn render_input(
     for job in jobs {
         if stop.asked().is_some() {
             break;
+        }
+        if args.discard {
+            // The frames back to back, nothing between them.
+            for k in job.frames.clone() {
+                if stop.asked().is_some() {
+                    break;
+                }
+                let t = Instant::now();
+                prepared.render(&common.pool, k, plan.frames, frame)?;
+                times.push(t.elapsed().as_secs_f64() * 1e3);
+                progress.advance(1);
+            }
+            tally.rendered += 1;
+            continue;
         }
         let start = Instant::now();
         if image.format.is_animated() {
@@ -281,22 +307,47 @@ fn render_input(
     } else {
         last_path
     };
+    let shown = (!args.discard).then_some(shown.as_path());
     if args.stats {
-        let json = prepared.stats(args, common, &times, frame, &shown);
+        let json = prepared.stats(args, common, &times, frame, shown);
         crate::output::stdout(&format!("{json}\n"))?;
     } else if !args.quiet {
         let (_, median, _) = super::spread(&times);
         progress.suspend(|| {
-            crate::output::stderr_line(&format!(
-                "wrote {} ({}x{}, {} frame{}, median {:.1} ms/frame)",
-                shown.display(),
-                frame.width,
-                frame.height,
-                times.len(),
-                if times.len() == 1 { "" } else { "s" },
-                median
-            ))
+            let (w, h, n) = (frame.width, frame.height, times.len());
+            let frames = format!("{n} frame{}", if n == 1 { "" } else { "s" });
+            crate::output::stderr_line(&match shown {
+                Some(p) => format!(
+                    "wrote {} ({w}x{h}, {frames}, median {median:.1} ms/frame)",
+                    p.display()
+                ),
+                None => format!(
+                    "rendered {frames} ({w}x{h}, median {median:.1} ms/frame), wrote nothing \
+                     (--discard)"
+                ),
+            })
         });
+    }
+    Ok(())
+}
+
+/// `--discard` writes nothing: the options that say how or where an output is written are
+/// refused with it, rather than left without effect.
+fn check_discard(args: &RenderArgs) -> Result<(), Error> {
+    for (flag, given) in [
+        ("-o", args.output.is_some()),
+        ("--format", args.format.is_some()),
+        ("--manifest", args.manifest.is_some()),
+        ("--skip-existing", args.skip_existing),
+        ("--bit-depth", args.bit_depth != 8),
+        ("--quality", args.quality.is_some()),
+        ("--fps", args.fps.is_some()),
+    ] {
+        if given {
+            return Err(Error::parameter(format!(
+                "{flag}: --discard writes no image (leave out one or the other)"
+            )));
+        }
     }
     Ok(())
 }

@@ -321,7 +321,7 @@ impl Prepared {
         common: &Common,
         times: &[f64],
         frame: &Frame,
-        output: &Path,
+        output: Option<&Path>,
     ) -> serde_json::Value {
         let (min, median, max) = spread(times);
         let s = &frame.stats;
@@ -341,7 +341,7 @@ impl Prepared {
             "pixels_shaded": s.pixels_shaded,
             "texture_samples": s.texture_samples,
             "output": output,
-            "format": common.format.extension(),
+            "format": output.map(|_| common.format.extension()),
         });
         if let Some(ms) = self.prefilter_ms {
             json["env_prefilter_ms"] = serde_json::json!(round2(ms));

@@ -550,7 +550,7 @@ impl Viewer<'_> {
             self.common,
             &self.times,
             &self.frames[0],
-            &output,
+            Some(&output),
         );
         let (min, median, max) = crate::render::spread(&self.preview_times);
         let r = |v: f64| (v * 100.0).round() / 100.0;
