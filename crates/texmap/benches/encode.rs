@@ -1,10 +1,12 @@
 //! Writing a frame as 8-bit sRGB: ns per pixel of [`Frame::to_srgb8`]'s encoding, one thread
-//! (`cargo bench --bench encode`). The pixels are a rendered frame's kind of values: smooth
+//! (`cargo bench --bench encode`): the scalar encoder's loop (`srgb8`), and the rows as the
+//! frame encodes them (`encode_srgb8`, `encode_srgba8`: in AVX2 lanes on x86-64-v3, the scalar
+//! loop elsewhere or with `TEXMAP_CPU=baseline`). The pixels are a rendered frame's kind of values: smooth
 //! shading with texture detail, a share of black background and a few highlights over 1.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use glam::Vec4;
-use texmap::color::Srgb8Encoder;
+use texmap::color::{encode_srgb8, encode_srgba8, Srgb8Encoder};
 
 const W: usize = 1920;
 const H: usize = 64;
@@ -42,6 +44,20 @@ fn encode(c: &mut Criterion) {
             for (o, c) in out.chunks_exact_mut(3).zip(black_box(&px)) {
                 o.copy_from_slice(&[e.encode(c.x), e.encode(c.y), e.encode(c.z)]);
             }
+            black_box(&out);
+        });
+    });
+    g.bench_function("encode_srgb8", |b| {
+        let mut out = vec![0u8; px.len() * 3];
+        b.iter(|| {
+            encode_srgb8(black_box(&px), &mut out);
+            black_box(&out);
+        });
+    });
+    g.bench_function("encode_srgba8", |b| {
+        let mut out = vec![0u8; px.len() * 4];
+        b.iter(|| {
+            encode_srgba8(black_box(&px), &mut out);
             black_box(&out);
         });
     });

@@ -9,7 +9,7 @@
 use glam::Vec4;
 use rayon::prelude::*;
 
-use crate::color::{linear_to_unorm8, Srgb8Encoder};
+use crate::color::{encode_srgb8, encode_srgba8};
 
 /// Pixels per parallel task of the 8-bit encodings (the order of the bytes does not depend on
 /// it: every pixel is encoded on its own).
@@ -108,35 +108,20 @@ impl Frame {
 /// [`Frame::to_srgb8`] of some pixels (a band of a frame's rows, say).
 #[must_use]
 pub fn srgb8(color: &[Vec4]) -> Vec<u8> {
-    let e = Srgb8Encoder::new();
     let mut out = vec![0; color.len() * 3];
     out.par_chunks_mut(3 * CHUNK)
         .zip(color.par_chunks(CHUNK))
-        .for_each(|(out, color)| {
-            for (o, c) in out.chunks_exact_mut(3).zip(color) {
-                o.copy_from_slice(&[e.encode(c.x), e.encode(c.y), e.encode(c.z)]);
-            }
-        });
+        .for_each(|(out, color)| encode_srgb8(color, out));
     out
 }
 
 /// [`Frame::to_srgba8`] of some pixels (a band of a frame's rows, say).
 #[must_use]
 pub fn srgba8(color: &[Vec4]) -> Vec<u8> {
-    let e = Srgb8Encoder::new();
     let mut out = vec![0; color.len() * 4];
     out.par_chunks_mut(4 * CHUNK)
         .zip(color.par_chunks(CHUNK))
-        .for_each(|(out, color)| {
-            for (o, c) in out.chunks_exact_mut(4).zip(color) {
-                // Also NaN: nothing to divide by (the pixel stays zero).
-                if c.w > 0.0 {
-                    let s = c.truncate() / c.w.min(1.0);
-                    let a = linear_to_unorm8(c.w);
-                    o.copy_from_slice(&[e.encode(s.x), e.encode(s.y), e.encode(s.z), a]);
-                }
-            }
-        });
+        .for_each(|(out, color)| encode_srgba8(color, out));
     out
 }
 

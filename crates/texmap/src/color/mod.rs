@@ -5,6 +5,8 @@
 
 use std::sync::OnceLock;
 
+use glam::Vec4;
+
 /// The sRGB electro-optical transfer function: encoded value in [0, 1] → linear light.
 #[must_use]
 pub fn srgb_to_linear(c: f32) -> f32 {
@@ -57,7 +59,15 @@ const SLOTS: usize = (KEY_HI - KEY_LO) as usize + 2;
 /// Slot `i`: the threshold inside it (NaN when none: no value is at or above it) and the
 /// code at its start.
 struct Srgb8Table {
-    slots: [(f32, u32); SLOTS],
+    slots: [Slot; SLOTS],
+}
+
+/// A slot of [`Srgb8Table`], laid out as the lanes' gathers read it (`lanes.rs`).
+#[derive(Clone, Copy)]
+#[repr(C)]
+struct Slot {
+    threshold: f32,
+    start: u32,
 }
 
 impl Default for Srgb8Encoder {
@@ -75,9 +85,10 @@ impl Srgb8Encoder {
             let thresholds: [f32; 255] =
                 std::array::from_fn(|k| srgb_to_linear((k as f32 + 0.5) / 255.0));
             let code_at = |v: f32| thresholds.partition_point(|&t| t <= v);
+            let slot = |threshold, start| Slot { threshold, start };
             let slots = std::array::from_fn(|i| match i {
-                0 => (f32::NAN, 0),
-                _ if i == SLOTS - 1 => (f32::NAN, 255),
+                0 => slot(f32::NAN, 0),
+                _ if i == SLOTS - 1 => slot(f32::NAN, 255),
                 _ => {
                     let key = KEY_LO + i as u32 - 1;
                     let start = f32::from_bits(key << 16);
@@ -86,7 +97,7 @@ impl Srgb8Encoder {
                     // At most one threshold inside a slot (the encoding's premise).
                     assert!(k + 2 > 255 || thresholds[k + 1] >= end, "slot {key:#x}");
                     let inside = thresholds.get(k).copied().filter(|&t| t < end);
-                    (inside.unwrap_or(f32::NAN), k as u32)
+                    slot(inside.unwrap_or(f32::NAN), k as u32)
                 }
             });
             Srgb8Table { slots }
@@ -101,7 +112,7 @@ impl Srgb8Encoder {
         let key = c.to_bits() >> 16;
         // Below the span: slot 0; from 1 up (and negative values, NaN): the last slot.
         let slot = ((key + 1).saturating_sub(KEY_LO) as usize).min(SLOTS - 1);
-        let (threshold, start) = self.table.slots[slot];
+        let Slot { threshold, start } = self.table.slots[slot];
         let code = start + u32::from(c >= threshold);
         // NaN, zero and negative values encode to 0.
         if c > 0.0 {
@@ -111,6 +122,75 @@ impl Srgb8Encoder {
         }
     }
 }
+
+/// [`linear_to_srgb8`] of each pixel's colour, composited over black (the premultiplied
+/// colour as it is): three bytes a pixel in `out` (RGB), alpha dropped. Eight pixels at a
+/// time in AVX2 lanes where the CPU has them (`lanes.rs`: the same table, the same codes).
+///
+/// # Panics
+/// If `out` does not hold three bytes a pixel.
+pub fn encode_srgb8(color: &[Vec4], out: &mut [u8]) {
+    assert_eq!(
+        out.len(),
+        3 * color.len(),
+        "encode_srgb8: three bytes a pixel"
+    );
+    let e = Srgb8Encoder::new();
+    let mut done = 0;
+    #[cfg(target_arch = "x86_64")]
+    if crate::cpu::level() == crate::cpu::Level::V3 {
+        // SAFETY: the CPU has x86-64-v3 (`cpu::level`).
+        done = unsafe { lanes::srgb8(e, color, out) };
+    }
+    for (o, c) in out[3 * done..].chunks_exact_mut(3).zip(&color[done..]) {
+        o.copy_from_slice(&[e.encode(c.x), e.encode(c.y), e.encode(c.z)]);
+    }
+}
+
+/// Each pixel with straight (un-premultiplied) alpha, as PNG stores it: four bytes a pixel in
+/// `out`, the colour the sRGB code of `rgb / a` ([`linear_to_srgb8`]), alpha
+/// [`linear_to_unorm8`] of `a`; a pixel whose alpha is not above 0 (NaN too) is all zero.
+/// In AVX2 lanes where the CPU has them, as [`encode_srgb8`].
+///
+/// # Panics
+/// If `out` does not hold four bytes a pixel.
+pub fn encode_srgba8(color: &[Vec4], out: &mut [u8]) {
+    assert_eq!(
+        out.len(),
+        4 * color.len(),
+        "encode_srgba8: four bytes a pixel"
+    );
+    let e = Srgb8Encoder::new();
+    let mut done = 0;
+    #[cfg(target_arch = "x86_64")]
+    if crate::cpu::level() == crate::cpu::Level::V3 {
+        // SAFETY: the CPU has x86-64-v3 (`cpu::level`).
+        done = unsafe { lanes::srgba8(e, color, out) };
+    }
+    for (o, c) in out[4 * done..].chunks_exact_mut(4).zip(&color[done..]) {
+        o.copy_from_slice(&straight8(e, *c));
+    }
+}
+
+/// One pixel of [`encode_srgba8`].
+#[inline]
+fn straight8(e: Srgb8Encoder, c: Vec4) -> [u8; 4] {
+    // Also NaN: nothing to divide by (the pixel stays zero).
+    if c.w > 0.0 {
+        let s = c.truncate() / c.w.min(1.0);
+        [
+            e.encode(s.x),
+            e.encode(s.y),
+            e.encode(s.z),
+            linear_to_unorm8(c.w),
+        ]
+    } else {
+        [0; 4]
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+mod lanes;
 
 /// Encodes a linear value to an 8-bit code without a transfer function (round to nearest).
 #[must_use]
