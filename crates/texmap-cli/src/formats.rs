@@ -428,10 +428,20 @@ fn png_bands(w: impl Write, path: &Path, frame: &Frame, store: Store) -> Result<
     let mut writer = e.write_header().map_err(err)?;
     let mut stream = writer.stream_writer().map_err(err)?;
     let band = PNG_BAND_ROWS * frame.width as usize;
-    for pixels in frame.color.chunks(band.max(1)) {
-        stream
-            .write_all(&store.png_pixels(pixels, true))
-            .map_err(|e| Error::io(path, e))?;
+    let bands: Vec<&[Vec4]> = frame.color.chunks(band.max(1)).collect();
+    let mut next = bands.first().map(|b| store.png_pixels(b, true));
+    for i in 0..bands.len() {
+        let rows = next.take().unwrap_or_default();
+        // The next band encoded by the pool while this thread compresses this one (the
+        // compressor runs on one thread: the encoding no longer waits for it, nor it for
+        // the encoding).
+        let written = rayon::in_place_scope(|s| {
+            if let Some(b) = bands.get(i + 1) {
+                s.spawn(|_| next = Some(store.png_pixels(b, true)));
+            }
+            stream.write_all(&rows)
+        });
+        written.map_err(|e| Error::io(path, e))?;
     }
     stream.finish().map_err(err)?;
     writer.finish().map_err(err)
