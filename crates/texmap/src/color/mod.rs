@@ -130,21 +130,13 @@ impl Srgb8Encoder {
 /// # Panics
 /// If `out` does not hold three bytes a pixel.
 pub fn encode_srgb8(color: &[Vec4], out: &mut [u8]) {
-    assert_eq!(
-        out.len(),
-        3 * color.len(),
-        "encode_srgb8: three bytes a pixel"
+    encode_rows(
+        color,
+        out,
+        #[cfg(target_arch = "x86_64")]
+        lanes::srgb8,
+        |e, c| [e.encode(c.x), e.encode(c.y), e.encode(c.z)],
     );
-    let e = Srgb8Encoder::new();
-    let mut done = 0;
-    #[cfg(target_arch = "x86_64")]
-    if crate::cpu::level() == crate::cpu::Level::V3 {
-        // SAFETY: the CPU has x86-64-v3 (`cpu::level`).
-        done = unsafe { lanes::srgb8(e, color, out) };
-    }
-    for (o, c) in out[3 * done..].chunks_exact_mut(3).zip(&color[done..]) {
-        o.copy_from_slice(&[e.encode(c.x), e.encode(c.y), e.encode(c.z)]);
-    }
 }
 
 /// Each pixel with straight (un-premultiplied) alpha, as PNG stores it: four bytes a pixel in
@@ -155,20 +147,33 @@ pub fn encode_srgb8(color: &[Vec4], out: &mut [u8]) {
 /// # Panics
 /// If `out` does not hold four bytes a pixel.
 pub fn encode_srgba8(color: &[Vec4], out: &mut [u8]) {
-    assert_eq!(
-        out.len(),
-        4 * color.len(),
-        "encode_srgba8: four bytes a pixel"
+    encode_rows(
+        color,
+        out,
+        #[cfg(target_arch = "x86_64")]
+        lanes::srgba8,
+        straight8,
     );
+}
+
+/// The pixels of `color` encoded `N` bytes each into `out`: whole blocks by `lanes` where
+/// the CPU has x86-64-v3 (it returns how many pixels it encoded), the rest by `pixel`.
+fn encode_rows<const N: usize>(
+    color: &[Vec4],
+    out: &mut [u8],
+    #[cfg(target_arch = "x86_64")] lanes: unsafe fn(Srgb8Encoder, &[Vec4], &mut [u8]) -> usize,
+    pixel: impl Fn(Srgb8Encoder, Vec4) -> [u8; N],
+) {
+    assert_eq!(out.len(), N * color.len(), "{N} bytes a pixel");
     let e = Srgb8Encoder::new();
     let mut done = 0;
     #[cfg(target_arch = "x86_64")]
     if crate::cpu::level() == crate::cpu::Level::V3 {
-        // SAFETY: the CPU has x86-64-v3 (`cpu::level`).
-        done = unsafe { lanes::srgba8(e, color, out) };
+        // SAFETY: the CPU has x86-64-v3 (`cpu::level`), and `out` holds `N` bytes a pixel.
+        done = unsafe { lanes(e, color, out) };
     }
-    for (o, c) in out[4 * done..].chunks_exact_mut(4).zip(&color[done..]) {
-        o.copy_from_slice(&straight8(e, *c));
+    for (o, c) in out[N * done..].chunks_exact_mut(N).zip(&color[done..]) {
+        o.copy_from_slice(&pixel(e, *c));
     }
 }
 
