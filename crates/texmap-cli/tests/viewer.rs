@@ -237,10 +237,14 @@ fn render_flags_that_write_files_or_batches_are_refused() {
         &["view", "builtin:demo", "-o", "x.png"][..],
         &["view", "builtin:demo", "--frames", "4"],
         &["view", "builtin:demo", "builtin:plane"],
+        &["view", "builtin:demo", "--discard"],
+        &["view", "builtin:demo", "--manifest", "m.jsonl"],
     ] {
         let r = texmap(args).env("DISPLAY", ":9999").output().unwrap();
         let err = String::from_utf8_lossy(&r.stderr);
         assert_eq!(r.status.code(), Some(1), "{args:?}: {err}");
         assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        // Refused before any window is asked for.
+        assert!(!err.contains("window"), "{args:?}: {err}");
     }
 }

@@ -295,6 +295,22 @@ pub struct RenderArgs {
     pub section: Box<crate::section::SectionArgs>,
 }
 
+impl RenderArgs {
+    /// The options that say how or where an output is written, each with whether it was
+    /// given: refused where nothing is written (`--discard`, the viewer).
+    pub(crate) fn output_options(&self) -> [(&'static str, bool); 7] {
+        [
+            ("-o", self.output.is_some()),
+            ("--format", self.format.is_some()),
+            ("--bit-depth", self.bit_depth != 8),
+            ("--quality", self.quality.is_some()),
+            ("--fps", self.fps.is_some()),
+            ("--skip-existing", self.skip_existing),
+            ("--manifest", self.manifest.is_some()),
+        ]
+    }
+}
+
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum BackgroundArg {
     Env,

@@ -334,15 +334,7 @@ fn render_input(
 /// `--discard` writes nothing: the options that say how or where an output is written are
 /// refused with it, rather than left without effect.
 fn check_discard(args: &RenderArgs) -> Result<(), Error> {
-    for (flag, given) in [
-        ("-o", args.output.is_some()),
-        ("--format", args.format.is_some()),
-        ("--manifest", args.manifest.is_some()),
-        ("--skip-existing", args.skip_existing),
-        ("--bit-depth", args.bit_depth != 8),
-        ("--quality", args.quality.is_some()),
-        ("--fps", args.fps.is_some()),
-    ] {
+    for (flag, given) in args.output_options() {
         if given {
             return Err(Error::parameter(format!(
                 "{flag}: --discard writes no image (leave out one or the other)"

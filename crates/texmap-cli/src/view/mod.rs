@@ -61,20 +61,15 @@ fn check_flags(args: &RenderArgs) -> Result<(), Error> {
     }
     let refused: Vec<&str> = [
         ("--list", args.list.is_some()),
-        ("-o", args.output.is_some()),
-        ("--format", args.format.is_some()),
         ("--alpha", args.alpha),
-        ("--bit-depth", args.bit_depth != 8),
-        ("--quality", args.quality.is_some()),
-        ("--fps", args.fps.is_some()),
         ("--frames", args.frames != 1),
         ("--frame-range", args.frame_range.is_some()),
         ("--shard", args.shard.is_some()),
         ("--shard-count", args.shard_count.is_some()),
-        ("--skip-existing", args.skip_existing),
-        ("--manifest", args.manifest.is_some()),
+        ("--discard", args.discard),
     ]
     .into_iter()
+    .chain(args.output_options())
     .filter_map(|(f, given)| given.then_some(f))
     .collect();
     if !refused.is_empty() {
