@@ -45,6 +45,8 @@ pub(crate) struct Prepared {
 /// Loads `args.scene` and makes everything its frames share.
 pub(crate) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Error> {
     let setup_start = Instant::now();
+    // A batch's next scene: its load's freed buffers go back as it goes.
+    super::heap::frames_keep_freed_memory(false);
     let pool = &common.pool;
     let Built {
         mut scene,
