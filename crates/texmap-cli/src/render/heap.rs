@@ -1,5 +1,6 @@
-//! Handing the allocator's free memory back to the system once a scene is loaded, and
-//! keeping the largest blocks out of its arenas from the start.
+//! Handing the allocator's free memory back to the system once a scene is loaded, keeping
+//! the largest blocks out of its arenas from the start, and keeping what a turntable's
+//! frames free for the next frame ([`frames_keep_freed_memory`]).
 //!
 //! Loading decodes each image and builds its mip chain through buffers as large as the
 //! image, freed as soon as each texture is made. glibc's allocator keeps such freed blocks
