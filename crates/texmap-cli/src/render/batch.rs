@@ -203,13 +203,6 @@ fn render_input(
         }
     }
     let prepared = prepare(args, common)?;
-    // Several frames: each one's freed memory kept for the next (one frame has no next, and
-    // its image's encoding would grow the peak beside it).
-    let frames: u32 = jobs
-        .iter()
-        .map(|j| j.frames.end() - j.frames.start() + 1)
-        .sum();
-    super::heap::frames_keep_freed_memory(frames > 1);
     let mut times = Vec::new();
     let mut last_path = PathBuf::new();
     for job in jobs {

@@ -39,16 +39,14 @@ const FRAMES_TRIM_THRESHOLD: libc::c_int = 256 << 20;
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 const LOAD_TRIM_THRESHOLD: libc::c_int = 128 << 10;
 
-/// With `true` (a scene is set up and several frames follow), the memory a frame frees stays
-/// with the allocator for the next frame; with `false` (a scene is about to load, or one
-/// frame follows), the heap's freed top goes back to the system past 128 KiB again. A frame
-/// of a large mesh allocates and frees tens of megabytes (transformed vertices, assembled
-/// triangles, their bins): at 128 KiB the freed tops went back to the system and every
-/// frame faulted them in again (2,200 page faults a frame on the 199,200-triangle sphere at
-/// 1080p). The load's peak is untouched (its buffers are freed and returned by
-/// [`release_free_memory`] before); a single frame keeps the low threshold, since its
-/// image's encoding would otherwise grow the peak beside the frame's freed buffers
-/// (DamagedHelmet: 8 MB).
+/// With `true` (a scene is set up, its frames follow), the memory a frame frees stays with
+/// the allocator for the next frame; with `false` (a scene is about to load), the heap's
+/// freed top goes back to the system past 128 KiB again. A frame of a large mesh allocates
+/// and frees tens of megabytes (transformed vertices, assembled triangles, their bins): at
+/// 128 KiB the freed tops went back to the system and every frame faulted them in again
+/// (2,200 page faults a frame on the 199,200-triangle sphere at 1080p). The load's peak is
+/// untouched (its buffers are freed and returned by [`release_free_memory`] before), and so
+/// was DamagedHelmet's one-frame peak (five alternated runs each: 189–194 MB either way).
 pub(crate) fn frames_keep_freed_memory(keep: bool) {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: `mallopt` only sets an allocator parameter under the allocator's lock; it takes

@@ -228,6 +228,7 @@ pub(crate) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
     let prefiltered = pool.install(|| prefilter_environment(&scene, &settings));
     let prefilter_ms = prefilter_start.elapsed().as_secs_f64() * 1e3;
     super::heap::release_free_memory();
+    super::heap::frames_keep_freed_memory(true);
     Ok(Prepared {
         scene,
         volumes,
