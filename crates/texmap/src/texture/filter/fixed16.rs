@@ -20,7 +20,9 @@
 //! 8-bit weights; these are 15-bit. A pair of taps costs two loads, an interleave, a shift, a
 //! multiply-add and an add, where the float filter converts, scales and interpolates each tap.
 //!
-//! The levels and their weights come from [`MipChoice::gl`] like every other OpenGL read.
+//! The levels and their weights come from [`MipChoice::gl`] like every other OpenGL read;
+//! a trilinear batch takes them straight from each quad's λ, the same operations without
+//! the choice made (`trilinear.rs`).
 //!
 //! Anisotropic filtering's taps ([`read_probes`]) are such trilinear reads at several points
 //! of a quad's major axis, all summed into the same 32-bit accumulators: each probe's share of
@@ -78,6 +80,9 @@ pub(super) use quads::{read_level_quads, read_quad, read_quads, LEVEL_QUADS};
 
 mod prefetch;
 pub(super) use prefetch::prefetch_quads;
+
+mod trilinear;
+pub(super) use trilinear::read_trilinear;
 
 mod weights;
 pub(super) use weights::{Probe, ProbeSets, MAX_PROBES};

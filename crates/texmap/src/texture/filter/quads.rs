@@ -85,11 +85,23 @@ fn sample_quads_in(
         }
         return;
     };
-    for ((coords, masks), out) in coords
+    let chunks = coords
         .chunks(CHUNK)
         .zip(masks.chunks(CHUNK))
-        .zip(out.chunks_mut(CHUNK))
+        .zip(out.chunks_mut(CHUNK));
+    // Trilinear on the fixed-point storage: each quad's level and weights straight from its
+    // λ (`fixed16/trilinear.rs`), no level choices made.
+    if (mag, min) == (MagFilter::Linear, MinFilter::LinearMipmapLinear)
+        && fixed16::serves(texture, sampler)
     {
+        for ((coords, masks), out) in chunks {
+            let lods = adjusted_lods::<CHUNK>(texture, sampler, coords);
+            let read = fixed16::read_trilinear(texture, sampler, coords, &lods, masks, out);
+            debug_assert!(read, "served, so read");
+        }
+        return;
+    }
+    for ((coords, masks), out) in chunks {
         // A rasterizer's batch (most calls) chooses into a smaller array.
         if coords.len() <= QUADS_STAGED {
             let choices = gl_begin::<QUADS_STAGED>(texture, sampler, coords, masks, mag, min);
@@ -282,7 +294,8 @@ fn staged_end_in(
 /// The quads [`sample_quads_lanes`] and [`sample_quads_lanes_shared`] choose levels for at a
 /// time.
 const CHUNK: usize = 16;
-const _: () = assert!(CHUNK <= fixed16::LEVEL_QUADS);
+const _: () = assert!(CHUNK <= fixed16::LEVEL_QUADS && CHUNK.is_multiple_of(4));
+const _: () = assert!(QUADS_STAGED <= fixed16::LEVEL_QUADS);
 
 /// λ above which a quad's neighbouring pixels read texels more than two apart, so that on
 /// level 0 their texels leave the cache lines already read (fixed16/prefetch.rs).
@@ -318,6 +331,29 @@ fn gl_choices<const N: usize>(
         }
     }
     (choices, far)
+}
+
+/// λ of up to `N` quads (a multiple of 4, at least `coords.len()`) after the sampler's bias
+/// and clamps: [`gl_choices`]' λ, four quads at a time, the same values (lanes past
+/// `coords` hold λ of zero derivatives).
+#[inline(always)]
+fn adjusted_lods<const N: usize>(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    coords: &[QuadCoords],
+) -> [f32; N] {
+    let size = Vec2::new(texture.width() as f32, texture.height() as f32);
+    let (lo, hi) = (Vec4::splat(sampler.min_lod), Vec4::splat(sampler.max_lod));
+    let mut lods = [0.0; N];
+    for (lods, coords) in lods.chunks_mut(4).zip(coords.chunks(4)) {
+        let lod = lod4(size, sampler, coords) + Vec4::splat(sampler.lod_bias);
+        // `Sampler::adjust_lod`'s clamp lane by lane: below the least to it, above the
+        // greatest to it, NaN left NaN.
+        let lod = Vec4::select(lod.cmplt(lo), lo, lod);
+        let lod = Vec4::select(lod.cmpgt(hi), hi, lod);
+        lods.copy_from_slice(&lod.to_array()[..lods.len()]);
+    }
+    lods
 }
 
 /// λ of up to four quads on a texture of `size`, one per lane (before the sampler's bias and

@@ -371,14 +371,20 @@ proptest! {
     }
 
     #[test]
-    fn batched_quads_equal_quads_read_one_by_one(fps in proptest::collection::vec(footprint_strategy(), 1..40), f in 0usize..22, w in 0usize..5, storage in 0usize..4) {
+    fn batched_quads_equal_quads_read_one_by_one(fps in proptest::collection::vec(footprint_strategy(), 1..40), f in 0usize..22, w in 0usize..5, storage in 0usize..4, lod in 0usize..3) {
         // The default storage, or 8-bit RGBA (sRGB or linear, opaque or not); batches longer
-        // than one chunk of level choices too.
+        // than one chunk of level choices too; the sampler's λ as it is, biased, or biased
+        // and clamped.
         let tex = match storage {
             0 => noisy(13, 9),
             k => noisy8(13, 9, if k == 1 { ColorSpace::Srgb } else { ColorSpace::Linear }, k != 3),
         };
-        let s = Sampler::new(every_filter()[f], WRAPS[w]);
+        let mut s = Sampler::new(every_filter()[f], WRAPS[w]);
+        (s.lod_bias, s.min_lod, s.max_lod) = [
+            (s.lod_bias, s.min_lod, s.max_lod),
+            (0.7, s.min_lod, s.max_lod),
+            (-0.4, 0.5, 2.25),
+        ][lod];
         let coords: Vec<crate::texture::QuadCoords> = fps
             .iter()
             .map(|fp| crate::texture::QuadCoords {

@@ -72,14 +72,15 @@ pub(super) unsafe fn probe_pairs<'p>(
     rest
 }
 
-/// `linear_on_one_pair`'s reads two quads at a time (`quads.rs`): both quads' taps on a
-/// level computed at once ([`taps2`]), each quad's texels then gathered as
-/// [`sse2::linear_quad_on`] gathers them (a level whose weight is 0 not read), an odd last
-/// quad by `linear_quad_on`. The same values: `out[i]` for `coords[i]`, `choices[i]`,
+/// Bilinear reads of quads on a pair of levels, two quads at a time (`quads.rs`,
+/// `trilinear.rs`): both quads' taps on a level computed at once ([`taps2`]), each quad's
+/// texels then gathered as [`sse2::linear_weighted_on`] gathers them (a level weighted 0
+/// not read), an odd last quad by `linear_weighted_on`. The same values: `out[i]` for
+/// `coords[i]`, `weights[i]` (the first level's and the second's 15-bit weights) and
 /// `masks[i]`.
 ///
 /// # Safety
-/// The CPU must have x86-64-v3 ([`crate::cpu::level`]); `choices`, `masks` and `out` at
+/// The CPU must have x86-64-v3 ([`crate::cpu::level`]); `weights`, `masks` and `out` at
 /// least as long as `coords` (checked).
 #[allow(clippy::too_many_arguments)]
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
@@ -89,33 +90,26 @@ pub(super) unsafe fn quad_pairs(
     texels: Texels,
     s: &Sampler,
     coords: &[QuadCoords],
-    choices: &[MipChoice],
+    weights: &[[i32; 2]],
     masks: &[u8],
     out: &mut [[Vec4; 4]],
 ) {
     let n = coords.len();
-    assert!(choices.len() >= n && masks.len() >= n && out.len() >= n);
+    assert!(weights.len() >= n && masks.len() >= n && out.len() >= n);
     let mut i = 0;
     while i + 1 < n {
         let (c, m) = (&coords[i..i + 2], &masks[i..i + 2]);
-        let wa = [
-            sse2::first_weight(choices[i]),
-            sse2::first_weight(choices[i + 1]),
-        ];
-        let wb = [0, 1].map(|k| sse2::second_weight(choices[i + k], wa[k]));
+        let wa = [weights[i][0], weights[i + 1][0]];
+        let wb = [weights[i][1], weights[i + 1][1]];
         let (u, v) = ([c[0].u, c[1].u], [c[0].v, c[1].v]);
         let mut acc = [[std::arch::x86_64::_mm_setzero_si128(); 4]; 2];
-        for ((lv, data, tiles_x), w) in [(first, wa), (second, wb)] {
-            if w[0] <= 0 && w[1] <= 0 {
-                continue;
-            }
-            // SAFETY: the CPU has AVX2 (this function's contract).
-            let taps = unsafe { taps2(lv, tiles_x, s, u, v, w) };
-            for ((t, w), acc) in taps.iter().zip(w).zip(&mut acc) {
-                if w > 0 {
-                    sse2::gather(data, texels, t, acc);
-                }
-            }
+        // Each level by its own call (not a loop over an array of the two: the weights,
+        // just stored as two halves, were loaded back whole, a store the load could not
+        // take its value from).
+        // SAFETY: the CPU has AVX2 (this function's contract).
+        unsafe {
+            level_pair(first, texels, s, (u, v), wa, &mut acc);
+            level_pair(second, texels, s, (u, v), wb, &mut acc);
         }
         out[i] = sse2::finish(&acc[0], m[0]);
         out[i + 1] = sse2::finish(&acc[1], m[1]);
@@ -123,7 +117,33 @@ pub(super) unsafe fn quad_pairs(
     }
     if i < n {
         let c = &coords[i];
-        out[i] = sse2::linear_quad_on(first, second, texels, s, choices[i], c.u, c.v, masks[i]);
+        out[i] = sse2::linear_weighted_on(first, second, texels, s, weights[i], c.u, c.v, masks[i]);
+    }
+}
+
+/// [`quad_pairs`]' reads of two quads (`u`, `v`) on one level, weighted `w` (a quad whose
+/// weight is 0 not read, neither quad when both are 0), summed into `acc`.
+///
+/// # Safety
+/// The CPU must have AVX2 ([`crate::cpu::level`] is x86-64-v3).
+#[inline(always)]
+unsafe fn level_pair(
+    (lv, data, tiles_x): Level,
+    texels: Texels,
+    s: &Sampler,
+    (u, v): ([Vec4; 2], [Vec4; 2]),
+    w: [i32; 2],
+    acc: &mut [[std::arch::x86_64::__m128i; 4]; 2],
+) {
+    if w[0] <= 0 && w[1] <= 0 {
+        return;
+    }
+    // SAFETY: the CPU has AVX2 (this function's contract).
+    let taps = unsafe { taps2(lv, tiles_x, s, u, v, w) };
+    for ((t, w), acc) in taps.iter().zip(w).zip(acc) {
+        if w > 0 {
+            sse2::gather(data, texels, t, acc);
+        }
     }
 }
 

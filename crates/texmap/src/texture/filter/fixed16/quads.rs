@@ -91,10 +91,10 @@ pub(in super::super) fn read_quads(
     }
 }
 
-/// [`read_quads`] of a batch whose quads all read bilinear texels on the same level, or the
-/// same pair of levels (a trilinear batch at one level of detail's integer part, most
-/// are): the two levels' views and storage checks once for the batch, not per quad. The
-/// same values; `false`, and nothing read, for any other batch.
+/// [`read_quads`] of a batch (at most [`LEVEL_QUADS`] quads) whose quads all read bilinear
+/// texels on the same level, or the same pair of levels: the two levels' views and storage
+/// checks once for the batch, not per quad. The same values; `false`, and nothing read,
+/// for any other batch. (Trilinear batches take `trilinear.rs`'s path.)
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn linear_on_one_pair(
@@ -112,6 +112,7 @@ fn linear_on_one_pair(
     };
     let (texel_filter, a, b) = pair(first);
     let n = coords.len();
+    assert!(n <= LEVEL_QUADS);
     if texel_filter != TexelFilter::Linear || choices[..n].iter().any(|c| pair(c) != pair(first)) {
         return false;
     }
@@ -122,6 +123,12 @@ fn linear_on_one_pair(
     let lb = tex.level(b.unwrap_or(a));
     let (db, tb) = lb.tiled_texels(size);
     if crate::cpu::level() == crate::cpu::Level::V3 {
+        // Each quad's two weights (`read_quads` takes a chunk of at most LEVEL_QUADS).
+        let mut weights = [[0; 2]; LEVEL_QUADS];
+        for (w, &choice) in weights.iter_mut().zip(&choices[..n]) {
+            let wa = sse2::first_weight(choice);
+            *w = [wa, sse2::second_weight(choice, wa)];
+        }
         // SAFETY: the CPU has x86-64-v3 (`cpu::level`).
         unsafe {
             super::avx2::quad_pairs(
@@ -130,7 +137,7 @@ fn linear_on_one_pair(
                 texels,
                 s,
                 coords,
-                choices,
+                &weights[..n],
                 masks,
                 out,
             );

@@ -89,14 +89,33 @@ pub(super) fn linear_quad_on(
     v: Vec4,
     mask: u8,
 ) -> [Vec4; 4] {
+    let wa = first_weight(choice);
+    let weights = [wa, second_weight(choice, wa)];
+    linear_weighted_on(first, second, texels, s, weights, u, v, mask)
+}
+
+/// [`linear_quad_on`] with the two levels' 15-bit weights given (`weights[0]` the first
+/// level's, `weights[1]` the second's; a level weighted 0 is not read). The same values as
+/// `linear_quad_on` of a choice whose [`first_weight`] and [`second_weight`] they are.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(super) fn linear_weighted_on(
+    first: (&LevelRef, &[u8], u32),
+    second: (&LevelRef, &[u8], u32),
+    texels: Texels,
+    s: &Sampler,
+    weights: [i32; 2],
+    u: Vec4,
+    v: Vec4,
+    mask: u8,
+) -> [Vec4; 4] {
     // SAFETY: SSE2 is part of x86_64.
     let mut acc = [unsafe { _mm_setzero_si128() }; 4];
-    let wa = first_weight(choice);
-    if wa > 0 {
-        accumulate_on(first, texels, s, u, v, wa, &mut acc);
+    if weights[0] > 0 {
+        accumulate_on(first, texels, s, u, v, weights[0], &mut acc);
     }
-    if choice.blend.is_some() && wa < ONE {
-        accumulate_on(second, texels, s, u, v, ONE - wa, &mut acc);
+    if weights[1] > 0 {
+        accumulate_on(second, texels, s, u, v, weights[1], &mut acc);
     }
     finish(&acc, mask)
 }
