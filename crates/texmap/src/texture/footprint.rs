@@ -151,8 +151,10 @@ impl LodRule {
 
 impl LodRule {
     /// [`LodRule::lod`] of four footprints at once, one per lane: `dxu` holds the four
-    /// `dx.x`, and so on. The same operations lane by lane, so the same values.
-    #[inline]
+    /// `dx.x`, and so on. The same operations lane by lane, so the same values. (Always
+    /// inlined: a batch's λ are taken in a loop compiled for the CPU's level, which a call
+    /// would leave for the baseline copy.)
+    #[inline(always)]
     #[must_use]
     pub fn lod4(self, dxu: Vec4, dxv: Vec4, dyu: Vec4, dyv: Vec4) -> Vec4 {
         let (lx, ly) = (dxu * dxu + dxv * dxv, dyu * dyu + dyv * dyv);
