@@ -11,15 +11,20 @@
 //! storage; [`sample_quad`] reads a rasterizer quad's four pixels (which share their
 //! derivatives, so their tap count, level and axis) in lanes on the default 16-bit storage,
 //! each tap a fixed-point trilinear read ([`super::fixed16::read_probes`]) — as many taps as the
-//! quad's eccentricity needs, one for an isotropic footprint.
+//! quad's eccentricity needs, one for an isotropic footprint. A batch of quads plans four
+//! quads at a time in lanes ([`quad_plans4`], the same plans) and reads them after: the
+//! plans' square roots, divisions and logarithms no longer wait one after another between
+//! the reads.
 
 use glam::{Vec2, Vec4};
 
 use std::sync::OnceLock;
 
 use super::fixed16::{ProbeSets, MAX_PROBES};
-use super::{bilinear, ellipse_axes, fixed16, texel_derivatives, trilinear_at, Codec};
-use crate::texture::{Footprint, MipChoice, Sampler, Texture2D};
+use super::{
+    bilinear, ellipse_axes, ellipse_axes4, fixed16, texel_derivatives, trilinear_at, Codec,
+};
+use crate::texture::{Footprint, MipChoice, QuadCoords, Sampler, Texture2D};
 
 /// What a footprint's anisotropic read takes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -114,6 +119,44 @@ pub(crate) fn sample_quad(
     mask: u8,
     max_aniso: u32,
 ) -> Option<[Vec4; 4]> {
+    read_quad(
+        tex,
+        s,
+        uv,
+        &quad_plan(tex, s, duv_dx, duv_dy, max_aniso),
+        mask,
+    )
+}
+
+/// A quad's plan for [`read_quad`]: the levels its taps read, the major axis (end to end, in
+/// texture coordinates) and the tap count.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct QuadPlan {
+    choice: MipChoice,
+    axis_uv: Vec2,
+    taps: u32,
+}
+
+impl QuadPlan {
+    /// A placeholder, for arrays of plans.
+    pub(crate) const NONE: QuadPlan = QuadPlan {
+        choice: MipChoice::LEVEL0,
+        axis_uv: Vec2::ZERO,
+        taps: 1,
+    };
+}
+
+/// The plan of a quad whose pixels share the derivatives `duv_dx`, `duv_dy` ([`sample_quad`]'s
+/// first half: a batch plans every quad before it reads any, so the plans' chains of
+/// dependent steps — square roots, divisions, a logarithm — overlap one another).
+#[inline(always)]
+pub(crate) fn quad_plan(
+    tex: &Texture2D,
+    s: &Sampler,
+    duv_dx: Vec2,
+    duv_dy: Vec2,
+    max_aniso: u32,
+) -> QuadPlan {
     let fp = Footprint::new(Vec2::ZERO, duv_dx, duv_dy);
     let (choice, axis_uv, taps) = match plan(tex, s, &fp, max_aniso) {
         Plan::Bilinear => (MipChoice::trilinear(0.0, 1), Vec2::ZERO, 1),
@@ -124,10 +167,75 @@ pub(crate) fn sample_quad(
             taps,
         } => (choice, axis_uv, taps),
     };
+    QuadPlan {
+        choice,
+        axis_uv,
+        taps,
+    }
+}
+
+/// [`quad_plan`] of up to four quads at once, one per lane (plan `k` for `coords[k]`; lanes
+/// past `coords` plan zero derivatives): the ellipse's square roots, the ratio's and the
+/// axis's divisions and λ's logarithm four at a time, the same operations lane by lane, so
+/// the same plans (tested against `quad_plan`).
+#[inline(always)]
+pub(crate) fn quad_plans4(
+    tex: &Texture2D,
+    s: &Sampler,
+    coords: &[QuadCoords],
+    max_aniso: u32,
+) -> [QuadPlan; 4] {
+    let size = Vec2::new(tex.width() as f32, tex.height() as f32);
+    let [dir_x, dir_y, major, minor] = ellipse_axes4(size, coords);
+    // `plan`'s count and λ.
+    let max_aniso = max_aniso.clamp(1, 16) as f32;
+    let ratio = Vec4::select(minor.cmpgt(Vec4::ZERO), major / minor, Vec4::INFINITY);
+    let n = ratio.ceil().to_array().map(|r| r.clamp(1.0, max_aniso));
+    let n = Vec4::from_array(n);
+    let lod = crate::texture::footprint::fast_log2_4(major / n) + Vec4::splat(s.lod_bias);
+    let (lo, hi) = (Vec4::splat(s.min_lod), Vec4::splat(s.max_lod));
+    let lod = Vec4::select(lod.cmplt(lo), lo, lod);
+    let lod = Vec4::select(lod.cmpgt(hi), hi, lod);
+    let (axis_x, axis_y) = (dir_x * major / size.x, dir_y * major / size.y);
+    let levels = tex.levels().len();
+    std::array::from_fn(|k| {
+        let (major, n, lod) = (major[k], n[k], lod[k]);
+        if !(major > 1.0) || !(lod > 0.0) && n == 1.0 {
+            QuadPlan {
+                choice: MipChoice::trilinear(0.0, 1),
+                axis_uv: Vec2::ZERO,
+                taps: 1,
+            }
+        } else if !major.is_finite() {
+            QuadPlan {
+                choice: MipChoice::trilinear(lod, levels),
+                axis_uv: Vec2::ZERO,
+                taps: 1,
+            }
+        } else {
+            QuadPlan {
+                choice: MipChoice::trilinear(lod, levels),
+                axis_uv: Vec2::new(axis_x[k], axis_y[k]),
+                taps: n as u32,
+            }
+        }
+    })
+}
+
+/// [`sample_quad`]'s second half: the reads of quad `uv` as `plan` says.
+#[inline(always)]
+pub(crate) fn read_quad(
+    tex: &Texture2D,
+    s: &Sampler,
+    uv: (Vec4, Vec4),
+    plan: &QuadPlan,
+    mask: u8,
+) -> Option<[Vec4; 4]> {
     // The taps' places and 15-bit weights depend on their count alone: made once.
     static PROBES: OnceLock<ProbeSets> = OnceLock::new();
     let probes = PROBES.get_or_init(|| ProbeSets::new(layout));
-    fixed16::read_probes_inlined(tex, s, choice, uv, axis_uv, probes.get(taps as usize), mask)
+    let taps = probes.get(plan.taps as usize);
+    fixed16::read_probes_inlined(tex, s, plan.choice, uv, plan.axis_uv, taps, mask)
 }
 
 /// The places along the axis and the weights of `n` taps (the first `n` of the array), as
@@ -139,4 +247,79 @@ fn layout(n: usize) -> [(f32, f32); MAX_PROBES] {
         *p = (offset(i as u32, count), 1.0 / count);
     }
     probes
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::texture::{Filter, Wrap};
+
+    /// Four quads' plans at once are each quad's own plan, for derivatives of every kind:
+    /// zero, tiny, huge, infinite, NaN, isotropic, degenerate along an axis, and many random
+    /// ones, under biased and clamped samplers and every anisotropy limit's neighbourhood.
+    #[test]
+    fn four_plans_at_once_are_each_quads_plan() {
+        let rgba: Vec<u8> = (0..64 * 32 * 4).map(|i| (i * 7 % 256) as u8).collect();
+        let tex = Texture2D::from_rgba8(64, 32, crate::texture::ColorSpace::Srgb, &rgba).unwrap();
+        let special = [
+            0.0,
+            -0.0,
+            1e-30,
+            1e-6,
+            0.001,
+            0.01,
+            0.05,
+            0.3,
+            1.0,
+            1e30,
+            f32::INFINITY,
+            f32::NAN,
+            -0.02,
+        ];
+        let mut derivs = Vec::new();
+        for &p in &special {
+            for &q in &special {
+                derivs.push((Vec2::new(p, 0.0), Vec2::new(0.0, q)));
+                derivs.push((Vec2::new(p, q), Vec2::new(-q, p)));
+                derivs.push((Vec2::new(p, q), Vec2::new(p, q)));
+            }
+        }
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            ((state >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * 0.2
+        };
+        for _ in 0..20_000 {
+            derivs.push((Vec2::new(next(), next()), Vec2::new(next(), next())));
+        }
+        let coords: Vec<QuadCoords> = derivs
+            .iter()
+            .map(|&(dx, dy)| QuadCoords {
+                duv_dx: dx,
+                duv_dy: dy,
+                ..Default::default()
+            })
+            .collect();
+        for (bias, min_lod, max_lod) in [(0.0, -1000.0, 1000.0), (0.6, 0.25, 3.5)] {
+            for max_aniso in [1, 2, 6, 16, 40] {
+                let mut s = Sampler::new(Filter::Anisotropic { max_aniso }, Wrap::Repeat);
+                (s.lod_bias, s.min_lod, s.max_lod) = (bias, min_lod, max_lod);
+                for quads in coords.chunks(4) {
+                    let plans = quad_plans4(&tex, &s, quads, max_aniso);
+                    for (c, plan) in quads.iter().zip(&plans) {
+                        let want = quad_plan(&tex, &s, c.duv_dx, c.duv_dy, max_aniso);
+                        assert_eq!(
+                            format!("{plan:?}"),
+                            format!("{want:?}"),
+                            "{:?} {:?}",
+                            c.duv_dx,
+                            c.duv_dy
+                        );
+                    }
+                }
+            }
+        }
+    }
 }

@@ -24,16 +24,19 @@
 //! storage; [`sample_quad`] reads a quad's four pixels (which share their derivatives, so
 //! their plan) on the default 16-bit storage, the probes in lanes in fixed point
 //! ([`super::fixed16::read_probes`], as anisotropic filtering does), the exact reads by
-//! [`super::ewa_lanes`].
+//! [`super::ewa_lanes`]. A batch of quads plans four at a time in lanes ([`quad_plans4`],
+//! the same plans) before it reads any, as anisotropic filtering's batches do.
 
 use std::sync::OnceLock;
 
 use glam::{Vec2, Vec4};
 
 use super::fixed16::ProbeSets;
-use super::{bilinear, ellipse_axes, ewa, ewa_lanes, fixed16, texel_derivatives, Codec};
+use super::{
+    bilinear, ellipse_axes, ellipse_axes4, ewa, ewa_lanes, fixed16, texel_derivatives, Codec,
+};
 use crate::texture::format::with_texture_codec;
-use crate::texture::{Footprint, MipChoice, Sampler, Texture2D};
+use crate::texture::{Footprint, MipChoice, QuadCoords, Sampler, Texture2D};
 
 /// The most probes a footprint takes; longer footprints space them wider, a level coarser.
 pub(super) use super::fixed16::MAX_PROBES;
@@ -45,8 +48,8 @@ const EXACT_RATIO: f32 = 3.0;
 const REACH: f32 = 0.6;
 
 /// What a footprint's read takes.
-#[derive(Clone, Copy, Debug)]
-pub(super) enum Plan {
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Plan {
     /// Magnification: one bilinear read of level 0.
     Bilinear,
     /// A nearly round footprint: `ewa-exact`'s read.
@@ -62,7 +65,7 @@ pub(super) enum Plan {
 
 /// The read a footprint with derivatives `duv_dx`, `duv_dy` takes (its `uv` is not used).
 #[inline(always)]
-pub(super) fn plan(tex: &Texture2D, s: &Sampler, fp: &Footprint, max_ecc: f32) -> Plan {
+pub(crate) fn plan(tex: &Texture2D, s: &Sampler, fp: &Footprint, max_ecc: f32) -> Plan {
     let (dx, dy) = texel_derivatives(tex, fp);
     let (dir, major, mut minor) = ellipse_axes(dx, dy);
     if !(major > 1.0) || !major.is_finite() {
@@ -151,8 +154,77 @@ pub(crate) fn sample_quad(
     mask: u8,
     max_ecc: f32,
 ) -> Option<[Vec4; 4]> {
-    let fp = Footprint::new(Vec2::ZERO, duv_dx, duv_dy);
-    match plan(tex, s, &fp, max_ecc) {
+    let plan = quad_plan(tex, s, duv_dx, duv_dy, max_ecc);
+    read_quad(tex, s, uv, (duv_dx, duv_dy), &plan, mask, max_ecc)
+}
+
+/// The plan of a quad whose pixels share the derivatives `duv_dx`, `duv_dy` ([`sample_quad`]'s
+/// first half: a batch plans every quad before it reads any, so the plans' chains of
+/// dependent steps overlap one another).
+#[inline(always)]
+pub(crate) fn quad_plan(
+    tex: &Texture2D,
+    s: &Sampler,
+    duv_dx: Vec2,
+    duv_dy: Vec2,
+    max_ecc: f32,
+) -> Plan {
+    plan(tex, s, &Footprint::new(Vec2::ZERO, duv_dx, duv_dy), max_ecc)
+}
+
+/// [`quad_plan`] of up to four quads at once, one per lane (plan `k` for `coords[k]`): the
+/// ellipse ([`ellipse_axes4`]), the clamp, the count's and λ's divisions and logarithm four
+/// at a time, the same operations lane by lane, so the same plans (tested against
+/// `quad_plan`).
+#[inline(always)]
+pub(crate) fn quad_plans4(
+    tex: &Texture2D,
+    s: &Sampler,
+    coords: &[QuadCoords],
+    max_ecc: f32,
+) -> [Plan; 4] {
+    let size = Vec2::new(tex.width() as f32, tex.height() as f32);
+    let [dir_x, dir_y, major, minor] = ellipse_axes4(size, coords);
+    // The eccentricity clamp.
+    let max_ecc = Vec4::splat(max_ecc.max(1.0));
+    let minor = Vec4::select((minor * max_ecc).cmplt(major), major / max_ecc, minor);
+    let reach = REACH * major;
+    let n = (2.0 * reach / minor.max(Vec4::ONE)).ceil().to_array();
+    let n = Vec4::from_array(n.map(|n| n.clamp(1.0, MAX_PROBES as f32)));
+    let lod = crate::texture::footprint::fast_log2_4(2.0 * reach / n) + Vec4::splat(s.lod_bias);
+    let (lo, hi) = (Vec4::splat(s.min_lod), Vec4::splat(s.max_lod));
+    let lod = Vec4::select(lod.cmplt(lo), lo, lod);
+    let lod = Vec4::select(lod.cmpgt(hi), hi, lod);
+    let (axis_x, axis_y) = (dir_x * reach / size.x, dir_y * reach / size.y);
+    let levels = tex.levels().len();
+    std::array::from_fn(|k| {
+        let major = major[k];
+        if !(major > 1.0) || !major.is_finite() {
+            Plan::Bilinear
+        } else if major < EXACT_RATIO * minor[k] {
+            Plan::Exact
+        } else {
+            Plan::Probes {
+                choice: MipChoice::trilinear(lod[k], levels),
+                axis_uv: Vec2::new(axis_x[k], axis_y[k]),
+                count: n[k] as usize,
+            }
+        }
+    })
+}
+
+/// [`sample_quad`]'s second half: the reads of quad `uv` (derivatives `duv`) as `plan` says.
+#[inline(always)]
+pub(crate) fn read_quad(
+    tex: &Texture2D,
+    s: &Sampler,
+    uv: (Vec4, Vec4),
+    (duv_dx, duv_dy): (Vec2, Vec2),
+    plan: &Plan,
+    mask: u8,
+    max_ecc: f32,
+) -> Option<[Vec4; 4]> {
+    match *plan {
         Plan::Bilinear => fixed16::read_probes(
             tex,
             s,
@@ -174,6 +246,86 @@ pub(crate) fn sample_quad(
             static PROBES: OnceLock<ProbeSets> = OnceLock::new();
             let probes = PROBES.get_or_init(|| ProbeSets::new(layout)).get(count);
             fixed16::read_probes(tex, s, choice, uv, axis_uv, probes, mask)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::texture::{Filter, Wrap};
+
+    /// Four quads' plans at once are each quad's own plan, for derivatives of every kind
+    /// (zero, tiny, huge, infinite, NaN, round, long, random), under biased and clamped
+    /// samplers and several eccentricity limits.
+    #[test]
+    fn four_plans_at_once_are_each_quads_plan() {
+        let rgba: Vec<u8> = (0..64 * 32 * 4).map(|i| (i * 7 % 256) as u8).collect();
+        let tex = Texture2D::from_rgba8(64, 32, crate::texture::ColorSpace::Srgb, &rgba).unwrap();
+        let special = [
+            0.0,
+            -0.0,
+            1e-30,
+            1e-6,
+            0.001,
+            0.01,
+            0.05,
+            0.3,
+            1.0,
+            1e30,
+            f32::INFINITY,
+            f32::NAN,
+            -0.02,
+        ];
+        let mut derivs = Vec::new();
+        for &p in &special {
+            for &q in &special {
+                derivs.push((Vec2::new(p, 0.0), Vec2::new(0.0, q)));
+                derivs.push((Vec2::new(p, q), Vec2::new(-q, p)));
+                derivs.push((Vec2::new(p, q), Vec2::new(p, q)));
+            }
+        }
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            ((state >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * 0.2
+        };
+        for _ in 0..20_000 {
+            derivs.push((Vec2::new(next(), next()), Vec2::new(next(), next())));
+        }
+        let coords: Vec<QuadCoords> = derivs
+            .iter()
+            .map(|&(dx, dy)| QuadCoords {
+                duv_dx: dx,
+                duv_dy: dy,
+                ..Default::default()
+            })
+            .collect();
+        for (bias, min_lod, max_lod) in [(0.0, -1000.0, 1000.0), (0.6, 0.25, 3.5)] {
+            for max_ecc in [0.5, 4.0, 16.0, 1000.0] {
+                let mut s = Sampler::new(
+                    Filter::Ewa {
+                        max_eccentricity: max_ecc,
+                    },
+                    Wrap::Repeat,
+                );
+                (s.lod_bias, s.min_lod, s.max_lod) = (bias, min_lod, max_lod);
+                for quads in coords.chunks(4) {
+                    let plans = quad_plans4(&tex, &s, quads, max_ecc);
+                    for (c, plan) in quads.iter().zip(&plans) {
+                        let want = quad_plan(&tex, &s, c.duv_dx, c.duv_dy, max_ecc);
+                        assert_eq!(
+                            format!("{plan:?}"),
+                            format!("{want:?}"),
+                            "{:?} {:?}",
+                            c.duv_dx,
+                            c.duv_dy
+                        );
+                    }
+                }
+            }
         }
     }
 }

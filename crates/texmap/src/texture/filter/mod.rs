@@ -561,5 +561,53 @@ pub(crate) fn ellipse_axes(dx: Vec2, dy: Vec2) -> (Vec2, f32, f32) {
     (v.normalize_or(Vec2::X), l1.sqrt(), l2.sqrt())
 }
 
+/// [`ellipse_axes`] of up to four quads' footprints at once, one per lane (lane `k` for
+/// `coords[k]`'s derivatives scaled to texels by `size`, as [`texel_derivatives`] scales
+/// them; lanes past `coords` zero derivatives): `[dir_x, dir_y, major, minor]`, the same
+/// operations lane by lane, so the same values (the callers' plans are tested equal).
+#[inline(always)]
+pub(crate) fn ellipse_axes4(size: Vec2, coords: &[QuadCoords]) -> [Vec4; 4] {
+    let lane = |f: &dyn Fn(&QuadCoords) -> f32| {
+        Vec4::from_array(std::array::from_fn(|k| coords.get(k).map_or(0.0, f)))
+    };
+    let (dxx, dxy) = (
+        lane(&|c| c.duv_dx.x) * size.x,
+        lane(&|c| c.duv_dx.y) * size.y,
+    );
+    let (dyx, dyy) = (
+        lane(&|c| c.duv_dy.x) * size.x,
+        lane(&|c| c.duv_dy.y) * size.y,
+    );
+    let a = dxx * dxx + dyx * dyx;
+    let b = dxx * dxy + dyx * dyy;
+    let c = dxy * dxy + dyy * dyy;
+    let mean = 0.5 * (a + c);
+    let d = sqrt4(0.25 * (a - c) * (a - c) + b * b);
+    let (l1, l2) = (mean + d, (mean - d).max(Vec4::ZERO));
+    // The eigenvector of l1, the better-conditioned form (x = 1 where there is none).
+    let round = ((a - c).abs() + b.abs()).cmplt(Vec4::splat(1e-20));
+    let wide = a.cmpge(c);
+    let vx = Vec4::select(round, Vec4::ONE, Vec4::select(wide, l1 - c, b));
+    let vy = Vec4::select(round, Vec4::ZERO, Vec4::select(wide, b, l1 - a));
+    // `normalize_or(Vec2::X)`: times the reciprocal length where it is finite and positive.
+    let rcp = Vec4::ONE / sqrt4(vx * vx + vy * vy);
+    let normal = rcp.abs().cmplt(Vec4::INFINITY) & rcp.cmpgt(Vec4::ZERO);
+    let dir_x = Vec4::select(normal, vx * rcp, Vec4::ONE);
+    let dir_y = Vec4::select(normal, vy * rcp, Vec4::ZERO);
+    [dir_x, dir_y, sqrt4(l1), sqrt4(l2)]
+}
+
+/// The square root of each lane (correctly rounded, as `f32::sqrt`).
+#[inline(always)]
+fn sqrt4(v: Vec4) -> Vec4 {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: SSE is part of x86_64.
+    unsafe {
+        Vec4::from(std::arch::x86_64::_mm_sqrt_ps(v.into()))
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    Vec4::from_array(v.to_array().map(f32::sqrt))
+}
+
 #[cfg(test)]
 mod tests;

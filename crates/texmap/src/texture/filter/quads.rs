@@ -6,7 +6,7 @@
 use glam::{Vec2, Vec4};
 
 use super::super::{Filter, LodRule, MagFilter, MinFilter, MipChoice, Sampler, Texture2D};
-use super::{anisotropic, fixed16, gl_read, sample_quad_lanes};
+use super::{anisotropic, ewa_probes, fixed16, gl_read, sample_quad_lanes};
 
 /// One quad's coordinates for [`sample_quads_lanes`]: pixel `j`'s `(u, v)` in lane `j`, and the
 /// derivatives the quad shares.
@@ -71,12 +71,48 @@ fn sample_quads_in(
         if let (Filter::Anisotropic { max_aniso }, true) =
             (sampler.filter, fixed16::serves(texture, sampler))
         {
-            for ((c, &m), o) in quads {
-                let uv = (c.u, c.v);
-                *o = anisotropic::sample_quad(
-                    texture, sampler, uv, c.duv_dx, c.duv_dy, m, max_aniso,
-                )
-                .unwrap_or_else(|| sample_quad_lanes(texture, sampler, uv, c.duv_dx, c.duv_dy, m));
+            // Every quad of a chunk planned before any is read (`anisotropic::quad_plan`).
+            let mut plans = [anisotropic::QuadPlan::NONE; CHUNK];
+            for ((coords, masks), out) in coords
+                .chunks(CHUNK)
+                .zip(masks.chunks(CHUNK))
+                .zip(out.chunks_mut(CHUNK))
+            {
+                for (plans, coords) in plans.chunks_mut(4).zip(coords.chunks(4)) {
+                    let four = anisotropic::quad_plans4(texture, sampler, coords, max_aniso);
+                    plans.copy_from_slice(&four[..plans.len()]);
+                }
+                for (((c, &m), o), plan) in coords.iter().zip(masks).zip(out).zip(&plans) {
+                    let uv = (c.u, c.v);
+                    *o = anisotropic::read_quad(texture, sampler, uv, plan, m).unwrap_or_else(
+                        || sample_quad_lanes(texture, sampler, uv, c.duv_dx, c.duv_dy, m),
+                    );
+                }
+            }
+            return;
+        }
+        if let (Filter::Ewa { max_eccentricity }, true) =
+            (sampler.filter, fixed16::serves(texture, sampler))
+        {
+            // As anisotropic filtering: every quad of a chunk planned before any is read.
+            let mut plans = [ewa_probes::Plan::Bilinear; CHUNK];
+            for ((coords, masks), out) in coords
+                .chunks(CHUNK)
+                .zip(masks.chunks(CHUNK))
+                .zip(out.chunks_mut(CHUNK))
+            {
+                for (plans, coords) in plans.chunks_mut(4).zip(coords.chunks(4)) {
+                    let four = ewa_probes::quad_plans4(texture, sampler, coords, max_eccentricity);
+                    plans.copy_from_slice(&four[..plans.len()]);
+                }
+                for (((c, &m), o), plan) in coords.iter().zip(masks).zip(out).zip(&plans) {
+                    let (uv, duv) = ((c.u, c.v), (c.duv_dx, c.duv_dy));
+                    *o =
+                        ewa_probes::read_quad(texture, sampler, uv, duv, plan, m, max_eccentricity)
+                            .unwrap_or_else(|| {
+                                sample_quad_lanes(texture, sampler, uv, c.duv_dx, c.duv_dy, m)
+                            });
+                }
             }
             return;
         }
