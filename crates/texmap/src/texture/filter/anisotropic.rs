@@ -259,49 +259,8 @@ mod tests {
     /// ones, under biased and clamped samplers and every anisotropy limit's neighbourhood.
     #[test]
     fn four_plans_at_once_are_each_quads_plan() {
-        let rgba: Vec<u8> = (0..64 * 32 * 4).map(|i| (i * 7 % 256) as u8).collect();
-        let tex = Texture2D::from_rgba8(64, 32, crate::texture::ColorSpace::Srgb, &rgba).unwrap();
-        let special = [
-            0.0,
-            -0.0,
-            1e-30,
-            1e-6,
-            0.001,
-            0.01,
-            0.05,
-            0.3,
-            1.0,
-            1e30,
-            f32::INFINITY,
-            f32::NAN,
-            -0.02,
-        ];
-        let mut derivs = Vec::new();
-        for &p in &special {
-            for &q in &special {
-                derivs.push((Vec2::new(p, 0.0), Vec2::new(0.0, q)));
-                derivs.push((Vec2::new(p, q), Vec2::new(-q, p)));
-                derivs.push((Vec2::new(p, q), Vec2::new(p, q)));
-            }
-        }
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            ((state >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * 0.2
-        };
-        for _ in 0..20_000 {
-            derivs.push((Vec2::new(next(), next()), Vec2::new(next(), next())));
-        }
-        let coords: Vec<QuadCoords> = derivs
-            .iter()
-            .map(|&(dx, dy)| QuadCoords {
-                duv_dx: dx,
-                duv_dy: dy,
-                ..Default::default()
-            })
-            .collect();
+        let tex = super::super::tests::noisy(64, 32);
+        let coords = super::super::tests::derivatives_of_every_kind();
         for (bias, min_lod, max_lod) in [(0.0, -1000.0, 1000.0), (0.6, 0.25, 3.5)] {
             for max_aniso in [1, 2, 6, 16, 40] {
                 let mut s = Sampler::new(Filter::Anisotropic { max_aniso }, Wrap::Repeat);

@@ -68,52 +68,16 @@ fn sample_quads_in(
         // The fixed-point probes inline here, so that they are compiled at this copy's level
         // too; the textures they do not serve read as `sample_quad_lanes` reads (which would
         // otherwise plan each quad twice).
-        if let (Filter::Anisotropic { max_aniso }, true) =
-            (sampler.filter, fixed16::serves(texture, sampler))
-        {
-            // Every quad of a chunk planned before any is read (`anisotropic::quad_plan`).
-            let mut plans = [anisotropic::QuadPlan::NONE; CHUNK];
-            for ((coords, masks), out) in coords
-                .chunks(CHUNK)
-                .zip(masks.chunks(CHUNK))
-                .zip(out.chunks_mut(CHUNK))
-            {
-                for (plans, coords) in plans.chunks_mut(4).zip(coords.chunks(4)) {
-                    let four = anisotropic::quad_plans4(texture, sampler, coords, max_aniso);
-                    plans.copy_from_slice(&four[..plans.len()]);
-                }
-                for (((c, &m), o), plan) in coords.iter().zip(masks).zip(out).zip(&plans) {
-                    let uv = (c.u, c.v);
-                    *o = anisotropic::read_quad(texture, sampler, uv, plan, m).unwrap_or_else(
-                        || sample_quad_lanes(texture, sampler, uv, c.duv_dx, c.duv_dy, m),
-                    );
-                }
-            }
+        let served = fixed16::serves(texture, sampler);
+        // Anisotropic and `ewa` quads: planned four at a time, then read (`staged_plans`).
+        if let (Filter::Anisotropic { max_aniso }, true) = (sampler.filter, served) {
+            let planner = AnisotropicPlans(max_aniso);
+            staged_plans(texture, sampler, &planner, (coords, masks, out));
             return;
         }
-        if let (Filter::Ewa { max_eccentricity }, true) =
-            (sampler.filter, fixed16::serves(texture, sampler))
-        {
-            // As anisotropic filtering: every quad of a chunk planned before any is read.
-            let mut plans = [ewa_probes::Plan::Bilinear; CHUNK];
-            for ((coords, masks), out) in coords
-                .chunks(CHUNK)
-                .zip(masks.chunks(CHUNK))
-                .zip(out.chunks_mut(CHUNK))
-            {
-                for (plans, coords) in plans.chunks_mut(4).zip(coords.chunks(4)) {
-                    let four = ewa_probes::quad_plans4(texture, sampler, coords, max_eccentricity);
-                    plans.copy_from_slice(&four[..plans.len()]);
-                }
-                for (((c, &m), o), plan) in coords.iter().zip(masks).zip(out).zip(&plans) {
-                    let (uv, duv) = ((c.u, c.v), (c.duv_dx, c.duv_dy));
-                    *o =
-                        ewa_probes::read_quad(texture, sampler, uv, duv, plan, m, max_eccentricity)
-                            .unwrap_or_else(|| {
-                                sample_quad_lanes(texture, sampler, uv, c.duv_dx, c.duv_dy, m)
-                            });
-                }
-            }
+        if let (Filter::Ewa { max_eccentricity }, true) = (sampler.filter, served) {
+            let planner = EwaPlans(max_eccentricity);
+            staged_plans(texture, sampler, &planner, (coords, masks, out));
             return;
         }
         for ((c, &m), o) in quads {
@@ -145,6 +109,104 @@ fn sample_quads_in(
         } else {
             let choices = gl_begin::<CHUNK>(texture, sampler, coords, masks, mag, min);
             gl_end(texture, sampler, coords, masks, &choices, out);
+        }
+    }
+}
+
+/// A filter whose quads' reads follow a plan made from their derivatives, for
+/// [`staged_plans`]. (Methods, always inlined, rather than closures: a closure is compiled
+/// on its own, at the baseline level, even when the batch that calls it runs at x86-64-v3.)
+trait Plans {
+    type Plan: Copy;
+    /// A placeholder, for arrays of plans.
+    const NONE: Self::Plan;
+    /// The plans of up to four quads (plan `k` for `coords[k]`).
+    fn plan4(&self, tex: &Texture2D, s: &Sampler, coords: &[QuadCoords]) -> [Self::Plan; 4];
+    /// Quad `c`'s reads as `plan` says; `None` where the fixed-point path does not serve it.
+    fn read(
+        &self,
+        tex: &Texture2D,
+        s: &Sampler,
+        c: &QuadCoords,
+        plan: &Self::Plan,
+        mask: u8,
+    ) -> Option<[Vec4; 4]>;
+}
+
+/// Anisotropic filtering's plans, at most this many taps.
+struct AnisotropicPlans(u32);
+
+impl Plans for AnisotropicPlans {
+    type Plan = anisotropic::QuadPlan;
+    const NONE: Self::Plan = anisotropic::QuadPlan::NONE;
+    #[inline(always)]
+    fn plan4(&self, tex: &Texture2D, s: &Sampler, coords: &[QuadCoords]) -> [Self::Plan; 4] {
+        anisotropic::quad_plans4(tex, s, coords, self.0)
+    }
+    #[inline(always)]
+    fn read(
+        &self,
+        tex: &Texture2D,
+        s: &Sampler,
+        c: &QuadCoords,
+        plan: &Self::Plan,
+        mask: u8,
+    ) -> Option<[Vec4; 4]> {
+        anisotropic::read_quad(tex, s, (c.u, c.v), plan, mask)
+    }
+}
+
+/// `ewa`'s plans, at most this eccentricity.
+struct EwaPlans(f32);
+
+impl Plans for EwaPlans {
+    type Plan = ewa_probes::Plan;
+    const NONE: Self::Plan = ewa_probes::Plan::Bilinear;
+    #[inline(always)]
+    fn plan4(&self, tex: &Texture2D, s: &Sampler, coords: &[QuadCoords]) -> [Self::Plan; 4] {
+        ewa_probes::quad_plans4(tex, s, coords, self.0)
+    }
+    #[inline(always)]
+    fn read(
+        &self,
+        tex: &Texture2D,
+        s: &Sampler,
+        c: &QuadCoords,
+        plan: &Self::Plan,
+        mask: u8,
+    ) -> Option<[Vec4; 4]> {
+        let duv = (c.duv_dx, c.duv_dy);
+        ewa_probes::read_quad(tex, s, (c.u, c.v), duv, plan, mask, self.0)
+    }
+}
+
+/// Quads whose reads follow a plan made from their derivatives (anisotropic filtering,
+/// `ewa`): each chunk's plans first, four quads at a time, then each quad read (`None`,
+/// where the fixed-point path does not serve it, read as [`sample_quad_lanes`] reads).
+/// Every quad's plan waits on square roots, divisions and a logarithm; made before any
+/// read, they no longer wait one after another between reads.
+#[inline(always)]
+fn staged_plans<P: Plans>(
+    texture: &Texture2D,
+    sampler: &Sampler,
+    planner: &P,
+    (coords, masks, out): (&[QuadCoords], &[u8], &mut [[Vec4; 4]]),
+) {
+    let mut plans = [P::NONE; CHUNK];
+    for ((coords, masks), out) in coords
+        .chunks(CHUNK)
+        .zip(masks.chunks(CHUNK))
+        .zip(out.chunks_mut(CHUNK))
+    {
+        for (plans, coords) in plans.chunks_mut(4).zip(coords.chunks(4)) {
+            plans.copy_from_slice(&planner.plan4(texture, sampler, coords)[..plans.len()]);
+        }
+        for (((c, &m), o), plan) in coords.iter().zip(masks).zip(out).zip(&plans) {
+            *o = planner
+                .read(texture, sampler, c, plan, m)
+                .unwrap_or_else(|| {
+                    sample_quad_lanes(texture, sampler, (c.u, c.v), c.duv_dx, c.duv_dy, m)
+                });
         }
     }
 }
