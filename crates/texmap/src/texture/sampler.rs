@@ -345,6 +345,17 @@ impl Sampler {
     pub fn adjust_lod(&self, lod: f32) -> f32 {
         (lod + self.lod_bias).clamp(self.min_lod, self.max_lod)
     }
+
+    /// [`Sampler::adjust_lod`] of four λ, one per lane: the same values (the clamp by
+    /// selects: below the least to it, above the greatest to it, NaN left NaN).
+    #[inline(always)]
+    #[must_use]
+    pub fn adjust_lod4(&self, lod: Vec4) -> Vec4 {
+        let (lo, hi) = (Vec4::splat(self.min_lod), Vec4::splat(self.max_lod));
+        let lod = lod + Vec4::splat(self.lod_bias);
+        let lod = Vec4::select(lod.cmplt(lo), lo, lod);
+        Vec4::select(lod.cmpgt(hi), hi, lod)
+    }
 }
 
 #[cfg(test)]

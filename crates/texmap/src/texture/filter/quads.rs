@@ -441,14 +441,9 @@ fn adjusted_lods<const N: usize>(
     coords: &[QuadCoords],
 ) -> [f32; N] {
     let size = Vec2::new(texture.width() as f32, texture.height() as f32);
-    let (lo, hi) = (Vec4::splat(sampler.min_lod), Vec4::splat(sampler.max_lod));
     let mut lods = [0.0; N];
     for (lods, coords) in lods.chunks_mut(4).zip(coords.chunks(4)) {
-        let lod = lod4(size, sampler, coords) + Vec4::splat(sampler.lod_bias);
-        // `Sampler::adjust_lod`'s clamp lane by lane: below the least to it, above the
-        // greatest to it, NaN left NaN.
-        let lod = Vec4::select(lod.cmplt(lo), lo, lod);
-        let lod = Vec4::select(lod.cmpgt(hi), hi, lod);
+        let lod = sampler.adjust_lod4(lod4(size, sampler, coords));
         lods.copy_from_slice(&lod.to_array()[..lods.len()]);
     }
     lods
