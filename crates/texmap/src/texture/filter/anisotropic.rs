@@ -257,7 +257,7 @@ mod tests {
     #[test]
     fn four_plans_at_once_are_each_quads_plan() {
         for max_aniso in [1, 2, 6, 16, 40] {
-            super::super::tests::assert_four_plans_are_each_quads(
+            super::super::plan_checks::assert_four_plans_are_each_quads(
                 Sampler::new(Filter::Anisotropic { max_aniso }, Wrap::Repeat),
                 |tex, s, quads| quad_plans4(tex, s, quads, max_aniso),
                 |tex, s, dx, dy| quad_plan(tex, s, dx, dy, max_aniso),

@@ -261,7 +261,7 @@ mod tests {
             let filter = Filter::Ewa {
                 max_eccentricity: max_ecc,
             };
-            super::super::tests::assert_four_plans_are_each_quads(
+            super::super::plan_checks::assert_four_plans_are_each_quads(
                 Sampler::new(filter, Wrap::Repeat),
                 |tex, s, quads| quad_plans4(tex, s, quads, max_ecc),
                 |tex, s, dx, dy| quad_plan(tex, s, dx, dy, max_ecc),

@@ -610,4 +610,6 @@ fn sqrt4(v: Vec4) -> Vec4 {
 }
 
 #[cfg(test)]
+mod plan_checks;
+#[cfg(test)]
 mod tests;
