@@ -85,23 +85,22 @@ fn sample_quads_in(
         }
         return;
     };
-    let chunks = coords
+    // Trilinear on the fixed-point storage: each quad's level and weights straight from its
+    // λ (`fixed16/trilinear.rs`), no level choices made (where that path does not run, the
+    // chunk is read as any other).
+    let trilinear = (mag, min) == (MagFilter::Linear, MinFilter::LinearMipmapLinear)
+        && fixed16::serves(texture, sampler);
+    for ((coords, masks), out) in coords
         .chunks(CHUNK)
         .zip(masks.chunks(CHUNK))
-        .zip(out.chunks_mut(CHUNK));
-    // Trilinear on the fixed-point storage: each quad's level and weights straight from its
-    // λ (`fixed16/trilinear.rs`), no level choices made.
-    if (mag, min) == (MagFilter::Linear, MinFilter::LinearMipmapLinear)
-        && fixed16::serves(texture, sampler)
+        .zip(out.chunks_mut(CHUNK))
     {
-        for ((coords, masks), out) in chunks {
+        if trilinear {
             let lods = adjusted_lods::<CHUNK>(texture, sampler, coords);
-            let read = fixed16::read_trilinear(texture, sampler, coords, &lods, masks, out);
-            debug_assert!(read, "served, so read");
+            if fixed16::read_trilinear(texture, sampler, coords, &lods, masks, out) {
+                continue;
+            }
         }
-        return;
-    }
-    for ((coords, masks), out) in chunks {
         // A rasterizer's batch (most calls) chooses into a smaller array.
         if coords.len() <= QUADS_STAGED {
             let choices = gl_begin::<QUADS_STAGED>(texture, sampler, coords, masks, mag, min);
