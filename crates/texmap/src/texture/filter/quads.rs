@@ -64,12 +64,11 @@ fn sample_quads_in(
 ) {
     assert!(masks.len() >= coords.len() && out.len() >= coords.len());
     let Filter::Gl { mag, min } = sampler.filter else {
-        let quads = coords.iter().zip(masks).zip(out.iter_mut());
-        // The fixed-point probes inline here, so that they are compiled at this copy's level
-        // too; the textures they do not serve read as `sample_quad_lanes` reads (which would
-        // otherwise plan each quad twice).
+        // Anisotropic and `ewa` quads on the storage the fixed-point probes serve: planned
+        // four at a time, then read (`staged_plans`, inlined here so that it is compiled at
+        // this copy's level too); other textures and filters read as `sample_quad_lanes`
+        // reads.
         let served = fixed16::serves(texture, sampler);
-        // Anisotropic and `ewa` quads: planned four at a time, then read (`staged_plans`).
         if let (Filter::Anisotropic { max_aniso }, true) = (sampler.filter, served) {
             let planner = AnisotropicPlans(max_aniso);
             staged_plans(texture, sampler, &planner, (coords, masks, out));
@@ -80,7 +79,7 @@ fn sample_quads_in(
             staged_plans(texture, sampler, &planner, (coords, masks, out));
             return;
         }
-        for ((c, &m), o) in quads {
+        for ((c, &m), o) in coords.iter().zip(masks).zip(out.iter_mut()) {
             *o = sample_quad_lanes(texture, sampler, (c.u, c.v), c.duv_dx, c.duv_dy, m);
         }
         return;
