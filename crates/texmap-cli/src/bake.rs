@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use glam::{DVec3, Vec3, Vec4};
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use texmap::frame::Frame;
 use texmap::texture::procedural::Solid;
@@ -157,7 +157,7 @@ pub fn run(args: BakeArgs) -> Result<(), Error> {
         };
         crate::output::write_image(&args.output, format, &picture)?;
     } else {
-        let mut color = vec![Vec4::ZERO; w as usize * h as usize];
+        let mut color = texmap::frame::Pixels::zeroed(w as usize * h as usize);
         color
             .par_chunks_mut(w as usize)
             .enumerate()

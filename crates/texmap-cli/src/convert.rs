@@ -224,7 +224,7 @@ fn write_exr(path: &Path, width: u32, height: u32, color: Vec<Vec4>) -> Result<(
     let frame = Frame {
         width,
         height,
-        color,
+        color: color.into(),
         ..Frame::default()
     };
     crate::output::write_image(

@@ -10,6 +10,7 @@ use glam::Vec4;
 use rayon::prelude::*;
 
 use crate::color::{encode_srgb8, encode_srgba8};
+pub use crate::pixels::Pixels;
 
 /// Pixels per parallel task of the 8-bit encodings (the order of the bytes does not depend on
 /// it: every pixel is encoded on its own).
@@ -68,7 +69,7 @@ pub struct Frame {
     pub width: u32,
     pub height: u32,
     /// Linear, premultiplied RGBA, row-major, top row first.
-    pub color: Vec<Vec4>,
+    pub color: Pixels,
     pub stats: FrameStats,
 }
 
@@ -94,7 +95,7 @@ impl Frame {
     /// let frame = Frame {
     ///     width: 2,
     ///     height: 1,
-    ///     color: vec![Vec4::new(0.5, 0.5, 0.5, 0.5), Vec4::ZERO],
+    ///     color: vec![Vec4::new(0.5, 0.5, 0.5, 0.5), Vec4::ZERO].into(),
     ///     ..Frame::default()
     /// };
     /// assert_eq!(frame.to_srgba8(), [255, 255, 255, 128, 0, 0, 0, 0]);
@@ -134,7 +135,7 @@ mod tests {
         Frame {
             width: color.len() as u32,
             height: 1,
-            color,
+            color: color.into(),
             ..Frame::default()
         }
     }

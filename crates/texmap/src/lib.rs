@@ -38,6 +38,7 @@ pub mod frame;
 pub mod geometry;
 pub mod metrics;
 pub mod pipeline;
+pub mod pixels;
 pub mod render;
 pub mod scene;
 pub mod shading;

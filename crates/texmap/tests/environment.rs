@@ -228,7 +228,7 @@ fn cube_faces_meet_without_a_seam() {
         let mut expected = Frame {
             width: size,
             height: size,
-            color: vec![Vec4::ZERO; (size * size) as usize],
+            color: texmap::frame::Pixels::zeroed((size * size) as usize),
             ..Frame::default()
         };
         for y in 0..size {

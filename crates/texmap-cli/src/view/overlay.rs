@@ -127,7 +127,7 @@ mod tests {
         let frame = Frame {
             width: 2,
             height: 1,
-            color: vec![Vec4::new(1.0, 0.0, 0.0, 1.0), Vec4::new(0.0, 0.0, 1.0, 1.0)],
+            color: vec![Vec4::new(1.0, 0.0, 0.0, 1.0), Vec4::new(0.0, 0.0, 1.0, 1.0)].into(),
             ..Frame::default()
         };
         let mut pixels = vec![7; 8 * 2];

@@ -8,6 +8,7 @@
 use glam::Vec4;
 
 use super::bin::TILE;
+use crate::pixels::Pixels;
 
 /// The colour and depth samples of one tile, in local arrays.
 ///
@@ -116,28 +117,6 @@ pub fn stream_fence() {
     }
 }
 
-/// A frame of `n` pixels of zero straight from the allocator's zeroed memory: for a frame's
-/// size the system's fresh pages, which nothing writes until the tiles write their pixels,
-/// in parallel (a 1080p frame written with zeros first took 33 MB of stores, and its page
-/// faults, on one thread).
-#[must_use]
-pub fn zeroed_frame(n: usize) -> Vec<Vec4> {
-    let layout = match std::alloc::Layout::array::<Vec4>(n) {
-        Ok(layout) if layout.size() > 0 => layout,
-        _ => return vec![Vec4::ZERO; n],
-    };
-    // SAFETY: the layout's size is not zero; the memory is zeroed, and four zero `f32`s are
-    // `Vec4::ZERO`, a valid value; it comes from the global allocator with the layout a
-    // `Vec<Vec4>` of capacity `n` frees it with.
-    unsafe {
-        let p = std::alloc::alloc_zeroed(layout).cast::<Vec4>();
-        if p.is_null() {
-            std::alloc::handle_alloc_error(layout);
-        }
-        Vec::from_raw_parts(p, n, n)
-    }
-}
-
 /// Writes `src` to `dst`: premultiplied "over" when blending, else replace.
 #[inline(always)]
 pub fn over(dst: &mut Vec4, src: Vec4, blend: bool) {
@@ -150,13 +129,13 @@ pub fn over(dst: &mut Vec4, src: Vec4, blend: bool) {
 
 /// Box-filters an image of `(w·n) × (h·n)` pixels down to `w × h` (SSAA resolve).
 #[must_use]
-pub fn downsample_box(src: Vec<Vec4>, w: usize, h: usize, n: usize) -> Vec<Vec4> {
+pub fn downsample_box(src: Pixels, w: usize, h: usize, n: usize) -> Pixels {
     if n <= 1 {
         return src;
     }
     let sw = w * n;
     let inv = 1.0 / (n * n) as f32;
-    let mut out = vec![Vec4::ZERO; w * h];
+    let mut out = Pixels::zeroed(w * h);
     for (y, row) in out.chunks_exact_mut(w).enumerate() {
         for (x, o) in row.iter_mut().enumerate() {
             let mut sum = Vec4::ZERO;
@@ -186,22 +165,13 @@ mod tests {
     }
 
     #[test]
-    fn zeroed_frames_are_zero() {
-        for n in [0, 1, 3, 1000, 1 << 20] {
-            let f = zeroed_frame(n);
-            assert_eq!(f.len(), n);
-            assert!(f.iter().all(|&c| c == Vec4::ZERO), "{n}");
-        }
-    }
-
-    #[test]
     fn resolve_and_downsample_average() {
         let mut t = TileBuffer::new(4, Vec4::ZERO);
         t.color[0] = Vec4::ONE;
         let mut out = [Vec4::ZERO];
         t.resolve_row(0, &mut out);
         assert_eq!(out[0], Vec4::splat(0.25));
-        let src = vec![Vec4::ONE, Vec4::ZERO, Vec4::ZERO, Vec4::ZERO];
+        let src = Pixels::from(vec![Vec4::ONE, Vec4::ZERO, Vec4::ZERO, Vec4::ZERO]);
         assert_eq!(downsample_box(src, 1, 1, 2)[0], Vec4::splat(0.25));
     }
 }

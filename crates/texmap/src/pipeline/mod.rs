@@ -39,6 +39,7 @@ pub mod raster;
 pub mod setup;
 pub mod transform;
 
+use crate::pixels::Pixels;
 use glam::Vec4;
 use rayon::prelude::*;
 
@@ -244,8 +245,8 @@ pub fn draw(
     calls: &[DrawCall],
     shader: &dyn FragmentShader,
     target: &Target,
-) -> (Vec<Vec4>, DrawStats) {
-    let mut color = Vec::new();
+) -> (Pixels, DrawStats) {
+    let mut color = Pixels::default();
     let stats = draw_into(calls, shader, target, &mut color);
     (color, stats)
 }
@@ -256,7 +257,7 @@ pub fn draw_into(
     calls: &[DrawCall],
     shader: &dyn FragmentShader,
     target: &Target,
-    color: &mut Vec<Vec4>,
+    color: &mut Pixels,
 ) -> DrawStats {
     // The frame's one viewport: the vertex stage and clipping both project through it.
     let viewport = Viewport::new(target.width, target.height);
@@ -331,7 +332,7 @@ pub fn draw_into(
     let (w, h) = (target.width as usize, target.height as usize);
     if color.len() != w * h {
         // Every tile writes all its pixels: a new frame needs no clearing pass.
-        *color = framebuffer::zeroed_frame(w * h);
+        *color = Pixels::zeroed(w * h);
     }
     let tile = TILE as usize;
     let mut tiles: Vec<Vec<&mut [Vec4]>> = (0..bins.tile_count())

@@ -29,6 +29,7 @@ use crate::pipeline::{
     self, ClipVertex, DrawCall, DrawState, FragmentShader, Interpolation, Quad, Target,
     VertexShader, MAX_VARYINGS,
 };
+use crate::pixels::Pixels;
 use crate::scene::{Mesh, Scene};
 use crate::shading::shadow::{
     LightExtent, LightMaps, LightShadow, MapView, ShadowFilter, ShadowMap, ShadowMaps,
@@ -216,7 +217,7 @@ pub(super) fn shadow_maps_with(
                 .map(|&p| m.world_from_object.transform_point3(p))
         })
         .fold(scene.bounds(), |(lo, hi), p| (lo.min(p), hi.max(p)));
-    let mut target = Vec::new();
+    let mut target = Pixels::default();
     let lights = scene
         .lights
         .iter()
@@ -325,7 +326,7 @@ fn light_maps(
     bounds: (Vec3, Vec3),
     params: &ShadowParams,
     (casting, drawn): (&[&Mesh], &[&Mesh]),
-    target: &mut Vec<Vec4>,
+    target: &mut Pixels,
     add: &(dyn Fn(&mut ShadowMap) + Sync),
 ) -> LightMaps {
     let n = params.map_size.clamp(1, MAX_SHADOW_MAP_SIZE);
@@ -554,7 +555,7 @@ impl FragmentShader for DepthShader {
 
 /// Draws `map`'s depth pass over `casting` into `target` (reused between maps) and keeps the
 /// depths.
-fn draw_map(mut map: ShadowMap, casting: &[&Mesh], target: &mut Vec<Vec4>) -> ShadowMap {
+fn draw_map(mut map: ShadowMap, casting: &[&Mesh], target: &mut Pixels) -> ShadowMap {
     let clip_from_world = map.clip_from_world();
     let vertices: Vec<LightVertices> = casting
         .iter()

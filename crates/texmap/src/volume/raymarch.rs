@@ -28,6 +28,7 @@ use super::rays::{clip_to_box, pixel_hash, CameraRays, RaySamples, VoxelRay};
 use super::transfer::TransferFunction;
 use crate::camera::Camera;
 use crate::frame::{Frame, FrameStats};
+use crate::pixels::Pixels;
 use crate::Result;
 
 /// Pixels per tile side.
@@ -128,7 +129,7 @@ pub(crate) fn tiled_frame(
     width: u32,
     height: u32,
     pixel: impl Fn(u32, u32) -> (Vec4, u64) + Sync,
-) -> (Vec<Vec4>, u64) {
+) -> (Pixels, u64) {
     tiled_rows(width, height, |y, xs, color| {
         let mut samples = 0;
         for x in xs {
@@ -146,7 +147,7 @@ pub(crate) fn tiled_rows(
     width: u32,
     height: u32,
     row: impl Fn(u32, std::ops::Range<u32>, &mut Vec<Vec4>) -> u64 + Sync,
-) -> (Vec<Vec4>, u64) {
+) -> (Pixels, u64) {
     let (w, h) = (width as usize, height as usize);
     let (tx, ty) = (w.div_ceil(TILE), h.div_ceil(TILE));
     let tiles: Vec<TilePixels> = (0..tx * ty)
@@ -162,7 +163,7 @@ pub(crate) fn tiled_rows(
             TilePixels { color, samples }
         })
         .collect();
-    let mut color = vec![Vec4::ZERO; w * h];
+    let mut color = Pixels::zeroed(w * h);
     let mut samples = 0u64;
     for (t, tile) in tiles.iter().enumerate() {
         let (x0, y0) = ((t % tx) * TILE, (t / tx) * TILE);

@@ -21,6 +21,7 @@ use super::grid::Volume;
 use super::output::display_to_frame;
 use super::transfer::TransferFunction;
 use crate::frame::{Frame, FrameStats};
+use crate::pixels::Pixels;
 use crate::{Error, Result};
 
 /// Which plane a [`render_section`] shows.
@@ -181,7 +182,7 @@ pub fn render_section(
         let top = at(ra, ub) * (1.0 - fr) + at(rb, ub) * fr;
         bottom * (1.0 - fu) + top * fu
     };
-    let mut color = vec![Vec4::ZERO; width as usize * height as usize];
+    let mut color = Pixels::zeroed(width as usize * height as usize);
     for (y, row) in color.chunks_mut(width as usize).enumerate() {
         for (x, out) in row.iter_mut().enumerate() {
             // The pixel's centre in the plane's physical frame (right, up from its corner).

@@ -275,7 +275,7 @@ pub fn render_slices_until(
         depth_sort: false,
     };
     let (color, st) = pipeline::draw(&[call], &shader, &target);
-    let color = color.into_iter().map(display_to_frame).collect();
+    let color = color.iter().copied().map(display_to_frame).collect();
     Ok(Frame {
         width,
         height,
