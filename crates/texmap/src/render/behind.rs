@@ -15,11 +15,13 @@
 use glam::{Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 
+use crate::pixels::Pixels;
+
 /// One level of the chain: `w × h` premultiplied linear RGBA, rows top to bottom.
 struct Level {
     w: usize,
     h: usize,
-    texels: Vec<Vec4>,
+    texels: Pixels,
 }
 
 /// The opaque scene's image and its chain, with the projection that made it.
@@ -31,7 +33,7 @@ pub(super) struct SceneBehind {
 impl SceneBehind {
     /// The chain of `color` (`w × h`, as drawn with `clip_from_world`): each level the 2×2
     /// box average of the one above (an odd last row or column repeated), down to 1×1.
-    pub fn new(color: Vec<Vec4>, w: usize, h: usize, clip_from_world: Mat4) -> Self {
+    pub fn new(color: Pixels, w: usize, h: usize, clip_from_world: Mat4) -> Self {
         assert_eq!(color.len(), w * h, "the image is w × h");
         let mut levels = vec![Level {
             w,
@@ -78,7 +80,7 @@ impl SceneBehind {
 /// The next level of `l`: 2×2 box averages, rows in parallel.
 fn halve(l: &Level) -> Level {
     let (w, h) = (l.w.div_ceil(2), l.h.div_ceil(2));
-    let mut texels = vec![Vec4::ZERO; w * h];
+    let mut texels = Pixels::zeroed(w * h);
     texels.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
         let (y0, y1) = (2 * y, (2 * y + 1).min(l.h - 1));
         for (x, out) in row.iter_mut().enumerate() {
@@ -121,7 +123,7 @@ mod tests {
     #[test]
     fn a_pixel_centre_reads_its_own_texel() {
         let (w, h) = (4, 2);
-        let color: Vec<Vec4> = (0..w * h).map(|i| Vec4::splat(i as f32)).collect();
+        let color: Pixels = (0..w * h).map(|i| Vec4::splat(i as f32)).collect();
         let b = SceneBehind::new(color, w, h, ortho());
         // Pixel (1, 0)'s centre: x = (1.5 / 4) · 2 − 1, y = 1 − (0.5 / 2) · 2.
         let p = Vec3::new(1.5 / 4.0 * 2.0 - 1.0, 1.0 - 0.5, -1.0);
@@ -133,7 +135,7 @@ mod tests {
     #[test]
     fn the_chain_keeps_the_mean_and_ends_in_one_texel() {
         let (w, h) = (8, 4);
-        let color: Vec<Vec4> = (0..w * h).map(|i| Vec4::splat((i % 5) as f32)).collect();
+        let color: Pixels = (0..w * h).map(|i| Vec4::splat((i % 5) as f32)).collect();
         let mean = color.iter().copied().sum::<Vec4>() / (w * h) as f32;
         let b = SceneBehind::new(color, w, h, ortho());
         let last = b.levels.last().unwrap();
@@ -152,7 +154,12 @@ mod tests {
     #[test]
     fn behind_the_camera_is_nothing_and_outside_reads_the_edge() {
         let color = vec![Vec4::ONE; 4];
-        let b = SceneBehind::new(color, 2, 2, Mat4::perspective_rh(1.0, 1.0, 0.1, 10.0));
+        let b = SceneBehind::new(
+            color.into(),
+            2,
+            2,
+            Mat4::perspective_rh(1.0, 1.0, 0.1, 10.0),
+        );
         assert_eq!(b.read(Vec3::new(0.0, 0.0, 1.0), 0.0), Vec4::ZERO);
         assert_eq!(b.read(Vec3::new(50.0, 0.0, -1.0), 0.0), Vec4::ONE);
     }

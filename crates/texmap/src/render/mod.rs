@@ -360,7 +360,7 @@ fn scene_behind(
     let stats = pipeline::draw_into(&opaque, shader, &target, &mut color);
     let (w, h) = (target.width as usize, target.height as usize);
     Some((
-        behind::SceneBehind::new(color.to_vec(), w, h, clip_from_world),
+        behind::SceneBehind::new(color, w, h, clip_from_world),
         stats,
     ))
 }
