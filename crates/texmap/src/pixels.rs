@@ -36,7 +36,9 @@ impl Pixels {
         let lines = n.div_ceil(4);
         let layout = match std::alloc::Layout::array::<Line>(lines) {
             Ok(layout) if layout.size() > 0 => layout,
-            _ => return Pixels::default(),
+            Ok(_) => return Pixels::default(),
+            // As `Vec` does for a capacity beyond the address space.
+            Err(_) => panic!("{n} pixels: capacity overflow"),
         };
         // SAFETY: the layout's size is not zero; zero bytes are four `Vec4::ZERO`s, a valid
         // `Line`; the memory comes from the global allocator with the layout a `Vec<Line>`
@@ -113,6 +115,7 @@ impl From<Vec<Vec4>> for Pixels {
 }
 
 impl FromIterator<Vec4> for Pixels {
+    /// The pixels collected into a `Vec`, then copied onto a line boundary.
     fn from_iter<I: IntoIterator<Item = Vec4>>(iter: I) -> Self {
         Pixels::from(iter.into_iter().collect::<Vec<Vec4>>())
     }

@@ -274,8 +274,10 @@ pub fn render_slices_until(
         interpolation: Interpolation::Perspective,
         depth_sort: false,
     };
-    let (color, st) = pipeline::draw(&[call], &shader, &target);
-    let color = color.iter().copied().map(display_to_frame).collect();
+    let (mut color, st) = pipeline::draw(&[call], &shader, &target);
+    for c in color.iter_mut() {
+        *c = display_to_frame(*c);
+    }
     Ok(Frame {
         width,
         height,
