@@ -11,46 +11,51 @@ use std::ops::{Deref, DerefMut};
 
 use glam::Vec4;
 
-/// Four pixels: one 64-byte line, on its boundary.
-#[derive(Clone, Copy)]
-#[repr(C, align(64))]
-struct Line([Vec4; 4]);
-
-const _: () = assert!(std::mem::size_of::<Line>() == 64 && std::mem::align_of::<Line>() == 64);
+/// Pixels a cache line holds.
+const LINE: usize = 4;
 
 /// A frame's pixels: a slice of [`Vec4`] (it dereferences to one) whose first element is
-/// on a 64-byte boundary; the last line's unused lanes are zero.
-#[derive(Clone, Default)]
+/// on a 64-byte boundary.
+///
+/// They are held in a `Vec<Vec4>` three pixels longer than asked, from the first of its
+/// pixels on a line: a `Vec4`'s own 16-byte alignment is what the system allocator zeroes
+/// for free (`calloc`: a frame's size is the system's fresh pages, which nothing writes until
+/// the tiles write their pixels, in parallel), where a 64-byte alignment is allocated and
+/// then zeroed on one thread (33 MB of stores, and their page faults, for a 1080p frame).
+#[derive(Default)]
 pub struct Pixels {
-    lines: Vec<Line>,
+    buf: Vec<Vec4>,
+    /// The index in `buf` of the first pixel, the first on a line.
+    start: usize,
     len: usize,
 }
 
 impl Pixels {
-    /// `n` pixels of zero, straight from the allocator's zeroed memory: for a frame's size the
-    /// system's fresh pages, which nothing writes until the tiles write their pixels, in
-    /// parallel (a 1080p frame written with zeros first took 33 MB of stores, and its page
-    /// faults, on one thread).
+    /// `n` pixels of zero, straight from the allocator's zeroed memory.
     #[must_use]
     pub fn zeroed(n: usize) -> Self {
-        let lines = n.div_ceil(4);
-        let layout = match std::alloc::Layout::array::<Line>(lines) {
-            Ok(layout) if layout.size() > 0 => layout,
-            Ok(_) => return Pixels::default(),
+        if n == 0 {
+            return Pixels::default();
+        }
+        let cap = n.saturating_add(LINE - 1);
+        let layout = match std::alloc::Layout::array::<Vec4>(cap) {
+            Ok(layout) if cap < usize::MAX => layout,
             // As `Vec` does for a capacity beyond the address space.
-            Err(_) => panic!("{n} pixels: capacity overflow"),
+            _ => panic!("{n} pixels: capacity overflow"),
         };
-        // SAFETY: the layout's size is not zero; zero bytes are four `Vec4::ZERO`s, a valid
-        // `Line`; the memory comes from the global allocator with the layout a `Vec<Line>`
-        // of capacity `lines` frees it with.
-        let lines = unsafe {
-            let p = std::alloc::alloc_zeroed(layout).cast::<Line>();
+        // SAFETY: the layout's size is not zero; zero bytes are `Vec4::ZERO`s; the memory
+        // comes from the global allocator with the layout a `Vec<Vec4>` of capacity `cap`
+        // frees it with.
+        let buf = unsafe {
+            let p = std::alloc::alloc_zeroed(layout).cast::<Vec4>();
             if p.is_null() {
                 std::alloc::handle_alloc_error(layout);
             }
-            Vec::from_raw_parts(p, lines, lines)
+            Vec::from_raw_parts(p, cap, cap)
         };
-        Pixels { lines, len: n }
+        // `Vec4`s are 16-byte aligned: the first line boundary is at most three pixels on.
+        let start = (buf.as_ptr() as usize).wrapping_neg() % 64 / 16;
+        Pixels { buf, start, len: n }
     }
 
     /// `n` pixels of `c`.
@@ -62,14 +67,21 @@ impl Pixels {
     }
 }
 
+impl Clone for Pixels {
+    /// A copy on a line boundary of its own.
+    fn clone(&self) -> Self {
+        Pixels::from(&self[..])
+    }
+}
+
 impl Deref for Pixels {
     type Target = [Vec4];
 
     #[inline(always)]
     fn deref(&self) -> &[Vec4] {
-        // SAFETY: the lines hold at least `len` pixels, contiguous (`Line` is four `Vec4`s
-        // with no padding), borrowed with `self`.
-        unsafe { std::slice::from_raw_parts(self.lines.as_ptr().cast::<Vec4>(), self.len) }
+        // SAFETY: `buf` holds `start + len` pixels (`zeroed`; empty: 0 + 0), borrowed with
+        // `self`.
+        unsafe { std::slice::from_raw_parts(self.buf.as_ptr().add(self.start), self.len) }
     }
 }
 
@@ -77,7 +89,7 @@ impl DerefMut for Pixels {
     #[inline(always)]
     fn deref_mut(&mut self) -> &mut [Vec4] {
         // SAFETY: as in `deref`, borrowed mutably with `self`.
-        unsafe { std::slice::from_raw_parts_mut(self.lines.as_mut_ptr().cast::<Vec4>(), self.len) }
+        unsafe { std::slice::from_raw_parts_mut(self.buf.as_mut_ptr().add(self.start), self.len) }
     }
 }
 
@@ -163,6 +175,10 @@ mod tests {
             }
             let q = p.clone();
             assert_eq!(q, p);
+            assert!(
+                n == 0 || (q.as_ptr() as usize).is_multiple_of(64),
+                "{n} pixels, cloned"
+            );
             assert_eq!(Pixels::from(p.to_vec()), p);
             assert_eq!(p.iter().copied().collect::<Pixels>(), p);
         }
