@@ -543,6 +543,12 @@ pub(crate) struct LevelRef<'a> {
 }
 
 impl<'a> LevelRef<'a> {
+    /// The table its 8- and 16-bit codes decode through (the codecs' `lut`).
+    #[inline(always)]
+    pub(crate) fn lut(&self) -> &'a [f32] {
+        self.lut
+    }
+
     /// The 2×2 texels with top-left `(x, y)` (all in range): ((x,y), (x+1,y)), ((x,y+1), (x+1,y+1)).
     #[inline(always)]
     pub fn quad<C: Codec>(&self, x: i32, y: i32) -> ((Vec4, Vec4), (Vec4, Vec4)) {

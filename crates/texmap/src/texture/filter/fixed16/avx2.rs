@@ -4,10 +4,12 @@
 //! of levels. The same operations lane for lane as the SSE2 taps, so the same indices and
 //! weights; the texels are then gathered by the SSE2 code, probe by probe or quad by quad.
 //! Each probe's or quad's chain of dependent steps (coordinates, indices, weights) runs
-//! beside its neighbour's.
+//! beside its neighbour's. Nearest reads of the 8-bit storage decode a quad's four texels
+//! here too ([`nearest_rgba8`]: the level's table gathered, two texels a vector).
 //!
 //! Runs where [`crate::cpu::level`] is x86-64-v3 (the callers check): the entry points
-//! ([`probe_pairs`], [`quad_pairs`]) are compiled for it, whatever copy calls them.
+//! ([`probe_pairs`], [`quad_pairs`], [`nearest_rgba8`]) are compiled for it, whatever copy
+//! calls them.
 
 use std::arch::x86_64::{
     __m256, __m256i, _mm256_add_epi32, _mm256_add_ps, _mm256_and_si256, _mm256_andnot_si256,
@@ -270,6 +272,69 @@ pub(super) unsafe fn level_nearest(
     }
 }
 
+/// [`sse2::nearest_texels`] of an RGBA8 level ([`Texels::Rgba8`]) for quads of a batch,
+/// `out[i]` for `offsets[i]` and `masks[i]`: each quad's four texels gathered at once and
+/// decoded in lanes, two texels a vector, with the codec's operations lane for lane (the
+/// level's table for the colour, `a · (1/255)` for alpha, the colour times alpha), so the
+/// same values as its scalar decode, texel by texel.
+///
+/// # Safety
+/// The CPU must have x86-64-v3 ([`crate::cpu::level`]); every index in `offsets` must be in
+/// range for the level (4 bytes a texel), as [`level_nearest`] gives them, pixels outside
+/// the mask too.
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
+pub(super) unsafe fn nearest_rgba8(
+    lv: &LevelRef,
+    data: &[u8],
+    offsets: &[[i32; 4]],
+    masks: &[u8],
+    out: &mut [[Vec4; 4]],
+) {
+    use std::arch::x86_64::{
+        _mm256_blend_ps, _mm256_castps256_ps128, _mm256_cvtepi32_ps, _mm256_cvtepu8_epi32,
+        _mm256_extractf128_ps, _mm256_i32gather_ps, _mm256_permute_ps, _mm_i32gather_epi32,
+        _mm_loadu_si128, _mm_unpackhi_epi64,
+    };
+    let lut = lv.lut();
+    assert!(lut.len() >= 256 && masks.len() >= offsets.len() && out.len() >= offsets.len());
+    let (texels, table) = (data.as_ptr().cast::<i32>(), lut.as_ptr());
+    let scale = _mm256_set1_ps(1.0 / 255.0);
+    // Two texels' channels (8 codes as 32-bit lanes) decoded and premultiplied.
+    let decode = |codes: __m256i| {
+        // SAFETY: the CPU has AVX2 (this function's contract); every code is below 256,
+        // the table's length (checked).
+        unsafe {
+            let colour = _mm256_i32gather_ps::<4>(table, codes);
+            let alpha = _mm256_mul_ps(_mm256_cvtepi32_ps(codes), scale);
+            let v = _mm256_blend_ps::<0b1000_1000>(colour, alpha);
+            let a = _mm256_permute_ps::<0b1111_1111>(v);
+            _mm256_blend_ps::<0b1000_1000>(_mm256_mul_ps(v, a), v)
+        }
+    };
+    for ((o, &mask), out) in offsets.iter().zip(masks).zip(out) {
+        // SAFETY: as above; the indices are in range (this function's contract).
+        let [t0, t1, t2, t3] = unsafe {
+            let quad = _mm_i32gather_epi32::<4>(texels, _mm_loadu_si128(o.as_ptr().cast()));
+            let first = decode(_mm256_cvtepu8_epi32(quad));
+            let last = decode(_mm256_cvtepu8_epi32(_mm_unpackhi_epi64(quad, quad)));
+            [
+                _mm256_castps256_ps128(first),
+                _mm256_extractf128_ps::<1>(first),
+                _mm256_castps256_ps128(last),
+                _mm256_extractf128_ps::<1>(last),
+            ]
+        };
+        let texel = [t0, t1, t2, t3].map(Vec4::from);
+        *out = std::array::from_fn(|j| {
+            if mask & (1 << j) == 0 {
+                Vec4::ZERO
+            } else {
+                texel[j]
+            }
+        });
+    }
+}
+
 /// [`super::sse2::taps`] of level `lv` at two points, `(u[k], v[k])` weighted
 /// `level_weight[k] / ONE` in all: `[taps(u[0], v[0], w[0]), taps(u[1], v[1], w[1])]`, bit
 /// for bit. Inlined into its caller, so that in the hot loops' x86-64-v3 copy
@@ -465,6 +530,60 @@ mod tests {
             }
         }
         assert!(compared > 1000);
+    }
+
+    #[test]
+    fn rgba8_nearest_texels_in_lanes_are_the_scalar_decode() {
+        use crate::texture::{Format, Storage, TextureOptions};
+        if !crate::cpu::available(crate::cpu::Level::V3) {
+            eprintln!(
+                "skipped: this CPU has no x86-64-v3 (AVX2), where RGBA8 texels decode in lanes"
+            );
+            return;
+        }
+        let mut r = crate::xorshift(0x5bd1_e995);
+        let (w, h) = (37u32, 22u32);
+        // Every code, translucent texels among them (the premultiplied decode), sRGB and
+        // linear colour (the level's two tables).
+        let bytes: Vec<u8> = (0..w * h * 4).map(|_| r() as u8).collect();
+        let mut compared = 0;
+        for cs in [ColorSpace::Srgb, ColorSpace::Linear] {
+            let options = TextureOptions::default().with_storage(Storage::Rgba8);
+            let tex = Texture2D::from_texels(w, h, Format::Rgba8, cs, &bytes, options).unwrap();
+            assert!(tex.rgba8_texels().is_some(), "{cs:?}: held as RGBA8");
+            for index in 0..tex.levels().len() {
+                let lv = tex.level(index);
+                let (data, _) = lv.tiled_texels(4);
+                let count = (data.len() / 4) as u32;
+                let mut offsets = [[0; 4]; 16];
+                for o in offsets.iter_mut().flatten() {
+                    *o = (r() % count) as i32;
+                }
+                let masks: Vec<u8> = (0..16)
+                    .map(|i| [0b1111, 0b0110, 0, 0b1001][i % 4])
+                    .collect();
+                let mut out = [[Vec4::splat(7.0); 4]; 16];
+                // SAFETY: the CPU has x86-64-v3 (checked above); the indices are below the
+                // level's texel count.
+                unsafe { nearest_rgba8(&lv, data, &offsets, &masks, &mut out) };
+                for ((o, &mask), got) in offsets.iter().zip(&masks).zip(&out) {
+                    for j in 0..4 {
+                        let want = if mask & (1 << j) == 0 {
+                            Vec4::ZERO
+                        } else {
+                            lv.texel_at::<crate::texture::format::CodecRgba8>(o[j] as usize)
+                        };
+                        assert_eq!(
+                            got[j].to_array().map(f32::to_bits),
+                            want.to_array().map(f32::to_bits),
+                            "{cs:?} level {index}"
+                        );
+                        compared += 1;
+                    }
+                }
+            }
+        }
+        assert!(compared >= 128);
     }
 
     #[test]

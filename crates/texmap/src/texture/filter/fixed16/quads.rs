@@ -216,6 +216,14 @@ pub(in super::super) fn read_level_quads(
                     prefetch(i, &[o]);
                 }
             }
+            if lanes && matches!(texels, Texels::Rgba8(_)) {
+                // SAFETY: the CPU has x86-64-v3 (`cpu::level`); `level_nearest` gave indices
+                // in range for the level `data` holds.
+                unsafe {
+                    super::avx2::nearest_rgba8(&lv, data, &offsets[..n], &masks[..n], out);
+                }
+                return true;
+            }
             for ((o, &mask), out) in offsets.iter().zip(masks).zip(out).take(n) {
                 // SAFETY: `nearest_offsets` gave indices in range for the level `data` holds.
                 *out = unsafe { sse2::nearest_texels(&lv, data, texels, *o, mask) };
