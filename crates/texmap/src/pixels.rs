@@ -7,6 +7,7 @@
 //! times, each piece a partial line the memory system has to merge. On a line boundary a
 //! tile row is 16 whole lines (the 1080p plane's frames 1.03–1.05× faster; DESIGN.md's log).
 
+use std::alloc::Layout;
 use std::ops::{Deref, DerefMut};
 
 use glam::Vec4;
@@ -37,11 +38,11 @@ impl Pixels {
         if n == 0 {
             return Pixels::default();
         }
-        let cap = n.saturating_add(LINE - 1);
-        let layout = match std::alloc::Layout::array::<Vec4>(cap) {
-            Ok(layout) if cap < usize::MAX => layout,
+        let cap = n.checked_add(LINE - 1);
+        let Some((cap, layout)) = cap.and_then(|c| Some((c, Layout::array::<Vec4>(c).ok()?)))
+        else {
             // As `Vec` does for a capacity beyond the address space.
-            _ => panic!("{n} pixels: capacity overflow"),
+            panic!("{n} pixels: capacity overflow");
         };
         // SAFETY: the layout's size is not zero; zero bytes are `Vec4::ZERO`s; the memory
         // comes from the global allocator with the layout a `Vec<Vec4>` of capacity `cap`

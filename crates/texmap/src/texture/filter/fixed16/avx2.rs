@@ -324,14 +324,7 @@ pub(super) unsafe fn nearest_rgba8(
                 _mm256_extractf128_ps::<1>(last),
             ]
         };
-        let texel = [t0, t1, t2, t3].map(Vec4::from);
-        *out = std::array::from_fn(|j| {
-            if mask & (1 << j) == 0 {
-                Vec4::ZERO
-            } else {
-                texel[j]
-            }
-        });
+        *out = sse2::masked([t0, t1, t2, t3].map(Vec4::from), mask);
     }
 }
 

@@ -330,7 +330,12 @@ pub(super) unsafe fn nearest_texels(
             Vec4::from(f) * (1.0 / 65535.0)
         }
     };
-    let texel = [load(0), load(1), load(2), load(3)];
+    masked([load(0), load(1), load(2), load(3)], mask)
+}
+
+/// A quad's four texels with the pixels outside `mask` zero.
+#[inline(always)]
+pub(super) fn masked(texel: [Vec4; 4], mask: u8) -> [Vec4; 4] {
     if mask == 0b1111 {
         return texel;
     }
