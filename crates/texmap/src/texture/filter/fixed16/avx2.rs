@@ -12,11 +12,14 @@
 //! calls them.
 
 use std::arch::x86_64::{
-    __m256, __m256i, _mm256_add_epi32, _mm256_add_ps, _mm256_and_si256, _mm256_andnot_si256,
-    _mm256_cmpeq_epi32, _mm256_cvtps_epi32, _mm256_cvttps_epi32, _mm256_floor_ps, _mm256_max_ps,
-    _mm256_min_epu32, _mm256_min_ps, _mm256_mul_ps, _mm256_mullo_epi32, _mm256_or_si256,
-    _mm256_set1_epi32, _mm256_set1_ps, _mm256_set_m128, _mm256_set_m128i, _mm256_setzero_ps,
-    _mm256_slli_epi32, _mm256_srli_epi32, _mm256_sub_epi32, _mm256_sub_ps, _mm_set1_epi32,
+    __m128i, __m256, __m256i, _mm256_add_epi32, _mm256_add_ps, _mm256_and_si256,
+    _mm256_andnot_si256, _mm256_castsi128_si256, _mm256_castsi256_si128, _mm256_cmpeq_epi32,
+    _mm256_cvtps_epi32, _mm256_cvttps_epi32, _mm256_extracti128_si256, _mm256_floor_ps,
+    _mm256_madd_epi16, _mm256_max_ps, _mm256_min_epu32, _mm256_min_ps, _mm256_mul_ps,
+    _mm256_mullo_epi32, _mm256_or_si256, _mm256_permutevar8x32_epi32, _mm256_set1_epi32,
+    _mm256_set1_ps, _mm256_set_m128, _mm256_set_m128i, _mm256_setr_epi32, _mm256_setzero_ps,
+    _mm256_slli_epi32, _mm256_srli_epi16, _mm256_srli_epi32, _mm256_sub_epi32, _mm256_sub_ps,
+    _mm_add_epi32, _mm_loadl_epi64, _mm_loadu_si128, _mm_set1_epi32, _mm_unpacklo_epi16,
 };
 
 use glam::{Vec2, Vec4};
@@ -66,12 +69,60 @@ pub(super) unsafe fn probe_pairs<'p>(
             let taps = unsafe { taps2(lv, tiles_x, s, pu, pv, w) };
             for (t, w) in taps.iter().zip(w) {
                 if w > 0 {
-                    sse2::gather(data, texels, t, acc);
+                    unsafe { gather(data, texels, t, acc) };
                 }
             }
         }
     }
     rest
+}
+
+/// [`sse2::gather`]: the 16-bit storage's texels two pixels to a 256-bit vector (each pixel's
+/// top pair in one half, its bottom pair in the other, as the SSE2 loop interleaves them; one
+/// shift and one multiply-add for two pixels' pairs), other storages by `sse2::gather`. The
+/// same sums: each pixel's four products added into its accumulator.
+///
+/// # Safety
+/// The CPU must have AVX2 ([`crate::cpu::level`] is x86-64-v3).
+#[inline(always)]
+unsafe fn gather(data: &[u8], texels: Texels, t: &Taps, acc: &mut [__m128i; 4]) {
+    if !matches!(texels, Texels::Linear16) {
+        sse2::gather(data, texels, t, acc);
+        return;
+    }
+    let base = data.as_ptr();
+    // SAFETY (the loads): each reads one 8-byte texel at an index below `data.len() / 8`
+    // (the offsets' level has this size, see `sse2::taps`); the CPU has AVX2.
+    unsafe {
+        let q = |i: i32| _mm_loadl_epi64(base.add(i as usize * 8).cast());
+        let top = _mm256_castsi128_si256(_mm_loadu_si128(t.top.as_ptr().cast()));
+        let bottom = _mm256_castsi128_si256(_mm_loadu_si128(t.bottom.as_ptr().cast()));
+        for j in [0, 2] {
+            // Taps `k0` and `k1` of pixels `j` and `j + 1`, interleaved, as 15 bits.
+            let pair = |k0: usize, k1: usize| {
+                let o = (&t.offsets[k0], &t.offsets[k1]);
+                let lo = _mm_unpacklo_epi16(q(o.0[j]), q(o.1[j]));
+                let hi = _mm_unpacklo_epi16(q(o.0[j + 1]), q(o.1[j + 1]));
+                _mm256_srli_epi16::<1>(_mm256_set_m128i(hi, lo))
+            };
+            let lanes = _mm256_setr_epi32(
+                j as i32,
+                j as i32,
+                j as i32,
+                j as i32,
+                j as i32 + 1,
+                j as i32 + 1,
+                j as i32 + 1,
+                j as i32 + 1,
+            );
+            let sum = _mm256_add_epi32(
+                _mm256_madd_epi16(pair(0, 1), _mm256_permutevar8x32_epi32(top, lanes)),
+                _mm256_madd_epi16(pair(2, 3), _mm256_permutevar8x32_epi32(bottom, lanes)),
+            );
+            acc[j] = _mm_add_epi32(acc[j], _mm256_castsi256_si128(sum));
+            acc[j + 1] = _mm_add_epi32(acc[j + 1], _mm256_extracti128_si256::<1>(sum));
+        }
+    }
 }
 
 /// Bilinear reads of quads on a pair of levels, two quads at a time (`quads.rs`,
@@ -145,10 +196,10 @@ unsafe fn level_pair(
     // Spelled out for the two quads (as a loop it stayed one, its sums kept in memory).
     let [acc0, acc1] = acc;
     if w[0] > 0 {
-        sse2::gather(data, texels, &taps[0], acc0);
+        unsafe { gather(data, texels, &taps[0], acc0) };
     }
     if w[1] > 0 {
-        sse2::gather(data, texels, &taps[1], acc1);
+        unsafe { gather(data, texels, &taps[1], acc1) };
     }
 }
 
@@ -190,7 +241,7 @@ pub(super) unsafe fn linear_pair_shared(
             // Each texture's level is of the first one's size and tiling (checked when the
             // level was looked up), so the first one's indices are in range for every one.
             for ((data, &texels), acc) in lv.data.iter().zip(&texels[..count]).zip(acc.iter_mut()) {
-                sse2::gather(data, texels, t, acc);
+                unsafe { gather(data, texels, t, acc) };
             }
         }
     }
