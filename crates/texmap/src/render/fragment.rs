@@ -122,6 +122,9 @@ impl SceneShader<'_> {
             // Every texture read of the batch first, map by map, then each quad's colours.
             None => {
                 let mut reads = [QuadReads::default(); BATCH];
+                // Parallax self-shadowing asked for once a batch (most draws have none).
+                let self_shadows = d.path == LightingPath::PerPixel
+                    && d.parallax.as_ref().is_some_and(|p| p.shadows);
                 // Parallax's moved copies of a batch (only for draws with parallax).
                 let mut moved = quads
                     .first()
@@ -142,7 +145,9 @@ impl SceneShader<'_> {
                         .zip(&reads)
                         .zip(quads)
                     {
-                        let ss = self.self_shadow(d, orig, quad);
+                        let ss = self_shadows
+                            .then(|| self.self_shadow(d, orig, quad))
+                            .flatten();
                         *k = self.shade_read(d, quad, r, o, ss.as_ref());
                     }
                 }
@@ -500,14 +505,17 @@ fn plain_colors(d: &DrawInfo, f: &QuadFactors, texels: Option<&[Vec4; 4]>, out: 
 fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
     for (o, quad) in out.iter_mut().zip(quads) {
         // Read only for draws with such maps: a plain draw pays one test per quad.
-        *o = QuadReads {
-            maps: d.surface_maps.then(|| QuadMaps {
-                bumps: d.bump_map.as_ref().map(|t| t.height_slopes(quad)),
-                lobes: d.lobe_maps.any().then(Default::default),
-                ..QuadMaps::default()
-            }),
-            ..QuadReads::default()
-        };
+        o.clear();
+        if d.surface_maps {
+            let maps = o.maps.get_or_insert_with(QuadMaps::default);
+            maps.clear();
+            maps.bumps = d.bump_map.as_ref().map(|t| t.height_slopes(quad));
+            if d.lobe_maps.any() {
+                maps.lobes = Some(Default::default());
+            }
+        } else {
+            o.maps = None;
+        }
     }
     let mut buf = [[Vec4::ZERO; 4]; BATCH];
     // The maps read at one set of coordinates, together.

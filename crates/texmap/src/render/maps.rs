@@ -379,6 +379,48 @@ pub(super) struct QuadMaps {
     pub lobes: Option<LobeTexels>,
 }
 
+impl QuadReads {
+    /// Every read `None` but the maps' (left for [`QuadMaps::clear`]): the fields set one by
+    /// one, so only their tags are written, not a whole empty value's bytes.
+    #[inline(always)]
+    pub(super) fn clear(&mut self) {
+        let QuadReads {
+            texels,
+            opacity,
+            maps: _,
+            layered,
+            light,
+        } = self;
+        (*texels, *opacity, *layered, *light) = (None, None, None, None);
+    }
+}
+
+impl QuadMaps {
+    /// Every read `None`, field by field (as [`QuadReads::clear`]).
+    #[inline(always)]
+    pub(super) fn clear(&mut self) {
+        let QuadMaps {
+            normals,
+            object_normals,
+            occlusion,
+            emission,
+            metal_rough,
+            bumps,
+            ambient,
+            specular,
+            shininess,
+            lobes,
+        } = self;
+        for m in [normals, object_normals, occlusion, emission, metal_rough] {
+            *m = None;
+        }
+        for m in [ambient, specular, shininess] {
+            *m = None;
+        }
+        (*bumps, *lobes) = (None, None);
+    }
+}
+
 /// A quad's reads of glTF's extension maps, in [`LobeTexels`]' index order.
 pub(super) type LobeTexels = [Option<[Vec4; 4]>; 8];
 

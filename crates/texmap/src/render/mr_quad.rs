@@ -12,9 +12,9 @@ use super::fragment::SceneShader;
 use super::layers::surface_color;
 use super::maps::QuadReads;
 use crate::pipeline::Quad;
-use crate::shading::combine;
-use crate::shading::lanes::{normalize_or_zero, Lanes3};
-use crate::shading::mr_lanes::{metallic_roughness_quad, MrQuad};
+use crate::shading::lanes::{normalize_or_zero, Lanes3, QuadFactors};
+use crate::shading::mr_lanes::{metallic_roughness_lanes, opaque_colors, straight_lanes, MrQuad};
+use crate::shading::{combine, AlphaMode};
 
 impl SceneShader<'_> {
     /// The colours of one quad of a [`DrawInfo::mr_lanes`] draw (no projectors, no parallax
@@ -29,8 +29,20 @@ impl SceneShader<'_> {
         let color = |j: usize| surface_color(d, quad, reads, j);
         let colors = [color(0), color(1), color(2), color(3)];
         let q = d.mr_surface(quad, reads, &colors);
-        let f = metallic_roughness_quad(&d.surface, &q, &self.lighting, self.viewer);
+        let (df, sp) = metallic_roughness_lanes(&d.surface, &q, &self.lighting, self.viewer);
         let alpha_mode = d.material.alpha_mode;
+        if alpha_mode == AlphaMode::Opaque && reads.light.is_none() {
+            // `combine` in lanes (the model's base colour is the straight colour); every
+            // pixel kept.
+            let colors = opaque_colors(q.base_color, df, sp);
+            for (j, (o, c)) in out.iter_mut().zip(colors).enumerate() {
+                if quad.mask & (1 << j) != 0 {
+                    *o = c;
+                }
+            }
+            return quad.mask;
+        }
+        let f = QuadFactors::from_lanes(df, sp);
         let mut kept = quad.mask;
         for j in 0..4 {
             if quad.mask & (1 << j) == 0 {
@@ -91,10 +103,7 @@ impl DrawInfo<'_> {
             roughness *= t[1];
             metallic *= t[2];
         }
-        // The straight-alpha base colour (`straight`).
-        let [r, g, b, a] = to_lanes(colors);
-        let divide = a.cmpgt(Vec4::ZERO) & a.cmpne(Vec4::ONE);
-        let base_color = [r, g, b].map(|c| Vec4::select(divide, c / a, c));
+        let base_color = straight_lanes(colors);
         // Double-sided back faces are lit from their side, after the tilt.
         if self.material.double_sided && !quad.front_facing {
             n = n.map(|c| -c);

@@ -47,6 +47,19 @@ pub fn metallic_roughness_quad(
     lighting: &Lighting,
     viewer: Viewer,
 ) -> QuadFactors {
+    let (d, sp) = metallic_roughness_lanes(s, q, lighting, viewer);
+    QuadFactors::from_lanes(d, sp)
+}
+
+/// [`metallic_roughness_quad`]'s factors `(D, S)` as lanes (R, G and B, one pixel per lane).
+#[inline(always)]
+#[must_use]
+pub fn metallic_roughness_lanes(
+    s: &Surface,
+    q: &MrQuad,
+    lighting: &Lighting,
+    viewer: Viewer,
+) -> (Lanes3, Lanes3) {
     debug_assert!(!s.lobes.layered());
     let (one, zero) = (Vec4::ONE, Vec4::ZERO);
     // The lobe (`MrLobe::new`): F0 and F90 with the metal's base colour blended in, α, V, N·V.
@@ -138,7 +151,33 @@ pub fn metallic_roughness_quad(
             sp[c] = Vec4::select(mask, sp[c] + intensity[c] * f * spec, sp[c]);
         }
     }
-    QuadFactors::from_lanes(d, sp)
+    (d, sp)
+}
+
+/// Four pixels' premultiplied colours as straight-alpha lanes (R, G and B): each divided by
+/// its alpha where that is above 0 and not 1, as [`combine`](super::combine) divides it (the
+/// same bits). A quad with no such pixel (an opaque one) makes no division.
+#[inline(always)]
+#[must_use]
+pub fn straight_lanes(colors: &[Vec4; 4]) -> Lanes3 {
+    let m = glam::Mat4::from_cols(colors[0], colors[1], colors[2], colors[3]).transpose();
+    let (r, g, b, a) = (m.x_axis, m.y_axis, m.z_axis, m.w_axis);
+    let divide = a.cmpgt(Vec4::ZERO) & a.cmpne(Vec4::ONE);
+    if divide.any() {
+        [r, g, b].map(|c| Vec4::select(divide, c / a, c))
+    } else {
+        [r, g, b]
+    }
+}
+
+/// [`combine`](super::combine) of four opaque pixels in lanes: straight colours `straight`
+/// ([`straight_lanes`]) times `D` plus `S`, alpha 1, one colour per pixel (the same bits).
+#[inline(always)]
+#[must_use]
+pub fn opaque_colors(straight: Lanes3, d: Lanes3, s: Lanes3) -> [Vec4; 4] {
+    let c = |k: usize| straight[k] * d[k] + s[k];
+    let m = glam::Mat4::from_cols(c(0), c(1), c(2), Vec4::ONE).transpose();
+    [m.x_axis, m.y_axis, m.z_axis, m.w_axis]
 }
 
 /// [`specular_albedo`](super::pbr::specular_albedo) at four points (one per lane), as
@@ -194,6 +233,38 @@ mod tests {
 
     fn lanes(v: &[Vec3; 4]) -> Lanes3 {
         std::array::from_fn(|c| Vec4::from_array(std::array::from_fn(|j| v[j][c])))
+    }
+
+    #[test]
+    fn opaque_colors_in_lanes_are_combine_pixel_by_pixel() {
+        use crate::shading::{combine, AlphaMode};
+        // Opaque, translucent, zero, negative and NaN alphas; a quad of only opaque pixels
+        // (no division) and mixed ones.
+        let alphas = [1.0, 0.5, 0.0, 0.25, -0.5, f32::NAN, 1.0, 0.75];
+        for k in 0..64 {
+            let t = k as f32 / 63.0;
+            let c: [Vec4; 4] = std::array::from_fn(|j| {
+                let a = if k % 2 == 0 {
+                    1.0
+                } else {
+                    alphas[(k + j) % alphas.len()]
+                };
+                Vec4::new(0.9 * t, 0.3 + 0.1 * j as f32, 1.0 - t, a)
+            });
+            let d: [Vec3; 4] = std::array::from_fn(|j| Vec3::new(t, 0.5 * j as f32, 2.0 - t));
+            let s: [Vec3; 4] = std::array::from_fn(|j| Vec3::new(0.1 * j as f32, t * t, -0.0));
+            let out = opaque_colors(straight_lanes(&c), lanes(&d), lanes(&s));
+            for j in 0..4 {
+                let e = combine(AlphaMode::Opaque, c[j], d[j], s[j]).expect("opaque keeps all");
+                let same =
+                    |x: f32, y: f32| x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan());
+                assert!(
+                    (0..4).all(|i| same(out[j][i], e[i])),
+                    "pixel {j} of case {k}: {} against {e}",
+                    out[j]
+                );
+            }
+        }
     }
 
     #[test]
