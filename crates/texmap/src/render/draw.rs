@@ -487,7 +487,7 @@ impl<'a> DrawInfo<'a> {
             uniform_factors: None,
         };
         draw.shared = SharedReads::new(&draw.shared_candidates());
-        let shared = draw.shared.map_or(0, |s| s.maps);
+        let shared = draw.shared.as_ref().map_or(0, |s| s.maps);
         draw.occlusion_from_mr = shared & (1 << 2) == 0
             && matches!((&draw.occlusion_map, &draw.metal_rough_map), (Some(o), Some(m)) if o.reads_same(m));
         draw

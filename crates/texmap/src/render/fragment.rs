@@ -522,7 +522,7 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
     if let Some(shared) = &d.shared {
         read_shared(d, shared, quads, out);
     }
-    let shared = d.shared.map_or(0, |s| s.maps);
+    let shared = d.shared.as_ref().map_or(0, |s| s.maps);
     let own = |k: u8| shared & (1 << k) == 0;
     let mut fill = |t: &MapRead, set: &dyn Fn(&mut QuadReads, [Vec4; 4])| {
         for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
@@ -613,7 +613,7 @@ fn read_shared(d: &DrawInfo, shared: &SharedReads, quads: &[Quad], out: &mut [Qu
         return;
     };
     for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
-        first.quads_shared(&shared.images[..shared.count], quads, |t, i, v| {
+        first.quads_shared(&shared.reads, quads, |t, i, v| {
             let o = &mut out[i];
             let bits = shared.feeds[t];
             if bits & 1 != 0 {

@@ -10,9 +10,9 @@ use super::varyings::Slot;
 use crate::pipeline::{Quad, BATCH};
 use crate::shading::TextureSlot;
 use crate::texture::{
-    quad_mip_choice, sample_quad_lanes, sample_quad_lanes_at, sample_quads_lanes,
-    sample_quads_lanes_shared, Filter, MinFilter, MipChoice, QuadCoords, Sampler, StagedQuads,
-    Texture2D, VirtualTexture, QUADS_STAGED,
+    quad_mip_choice, sample_quad_lanes, sample_quad_lanes_at, sample_quads_lanes, Filter,
+    MinFilter, MipChoice, QuadCoords, Sampler, SharedQuads, StagedQuads, Texture2D, VirtualTexture,
+    QUADS_STAGED,
 };
 
 /// A batch of quads' reads between [`MapRead::begin`] and [`MapRead::end`].
@@ -190,13 +190,13 @@ impl<'a> MapRead<'a> {
             && self.offset == other.offset
     }
 
-    /// [`MapRead::quads`] of the maps whose images are `images` (read at this one's
-    /// coordinates through its sampler: each [`MapRead::shares_coords`] with it): `put(t, i,
+    /// [`MapRead::quads`] of the maps whose images `images` holds (made with this one's
+    /// sampler, read at its coordinates: each [`MapRead::shares_coords`] with it): `put(t, i,
     /// texels)` gets image `t`'s reads of `quads[i]` (the same values), the texel addresses
     /// and weights computed once for all.
     pub fn quads_shared(
         &self,
-        images: &[&Texture2D],
+        images: &SharedQuads,
         quads: &[Quad],
         put: impl FnMut(usize, usize, [Vec4; 4]),
     ) {
@@ -208,7 +208,7 @@ impl<'a> MapRead<'a> {
         }
         assert!(quads.len() <= BATCH);
         let n = quads.len();
-        sample_quads_lanes_shared(images, &self.sampler, &coords[..n], &masks[..n], put);
+        images.sample(&coords[..n], &masks[..n], put);
     }
 
     /// The quad's transformed uvs (one lane per pixel) and their screen derivatives.
@@ -303,7 +303,6 @@ pub(super) fn shared_group(maps: &[Option<&MapRead>]) -> u8 {
 
 /// The maps of a draw read together ([`shared_group`]) and the images they read, each image
 /// once (two maps in one image take the same values): worked out once a draw.
-#[derive(Clone, Copy)]
 pub(super) struct SharedReads<'a> {
     /// Bit `k` for the `k`-th candidate read together.
     pub maps: u8,
@@ -314,6 +313,9 @@ pub(super) struct SharedReads<'a> {
     /// …and the maps (bits over the candidates) each one feeds.
     pub feeds: [u8; 5],
     pub count: usize,
+    /// The images checked and their levels looked up for the reads (the first map's
+    /// sampler).
+    pub reads: SharedQuads<'a>,
 }
 
 impl<'a> SharedReads<'a> {
@@ -322,12 +324,14 @@ impl<'a> SharedReads<'a> {
     pub(super) fn new(candidates: &[Option<&MapRead<'a>>; 5]) -> Option<Self> {
         let maps = shared_group(candidates);
         let first = (0..5).find(|&k| maps & (1 << k) != 0)?;
+        let sampler = candidates[first]?.sampler;
         let mut reads = SharedReads {
             maps,
             first,
             images: [candidates[first]?.tex; 5],
             feeds: [0; 5],
             count: 0,
+            reads: SharedQuads::new(&[], &sampler),
         };
         for (k, m) in candidates.iter().enumerate() {
             let Some(m) = m.filter(|_| maps & (1 << k) != 0) else {
@@ -343,6 +347,7 @@ impl<'a> SharedReads<'a> {
             });
             reads.feeds[t] |= 1 << k;
         }
+        reads.reads = SharedQuads::new(&reads.images[..reads.count], &sampler);
         Some(reads)
     }
 }

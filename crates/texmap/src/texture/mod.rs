@@ -33,8 +33,8 @@ pub use cube::{sample_cube, CubeFace, TextureCube};
 pub use environment::{load_environment, EnvironmentKind, EnvironmentMap};
 pub use filter::{
     quad_mip_choice, sample, sample_batch, sample_lanes, sample_quad, sample_quad_lanes,
-    sample_quad_lanes_at, sample_quads_lanes, sample_quads_lanes_shared, QuadCoords, StagedQuads,
-    QUADS_STAGED,
+    sample_quad_lanes_at, sample_quads_lanes, sample_quads_lanes_shared, QuadCoords, SharedQuads,
+    StagedQuads, QUADS_STAGED,
 };
 pub use footprint::{
     CubeFootprint, CubeFootprintLanes, Footprint, Footprint3, FootprintLanes, LodRule,

@@ -92,23 +92,19 @@ pub(super) const MAX_SHARED: usize = 5;
 
 /// Textures that [`read_quad_shared`] reads together through one sampler, checked once for
 /// all the quads read: at most [`MAX_SHARED`], of one size, each served by these reads (how
-/// each texture's texels enter the sums). It holds the textures, so the reads are of the
-/// textures checked, and the two levels last read: each texture's tiled texels looked up and
-/// checked once for the quads that read that level, not once a quad.
+/// each texture's texels enter the sums). It holds every level of the textures, each
+/// texture's tiled texels looked up and checked when it was made (a draw makes it once for
+/// all its quads), so the reads only index them.
 pub(super) struct Shared<'a> {
-    texes: [&'a Texture2D; MAX_SHARED],
     count: usize,
     texels: [Texels; MAX_SHARED],
-    levels: [Option<SharedLevel<'a>>; 2],
-    /// The slot the next level looked up replaces.
-    next: usize,
+    levels: Vec<SharedLevel<'a>>,
 }
 
 /// One level of every texture of a [`Shared`]: the first texture's view (whose size the
 /// taps are computed for) and each texture's tiled texels, checked to be a level of that
 /// size and tiling holding enough bytes.
 struct SharedLevel<'a> {
-    index: usize,
     first: LevelRef<'a>,
     tiles_x: u32,
     data: [&'a [u8]; MAX_SHARED],
@@ -116,6 +112,10 @@ struct SharedLevel<'a> {
 
 impl<'a> Shared<'a> {
     /// `texes` through `s`, when these reads serve them all together.
+    ///
+    /// # Panics
+    /// If a texture's level is not of the first one's size and tiling, or not a tiled level
+    /// of its texels (the sizes are checked; the tiling follows from them).
     #[inline]
     pub(super) fn new(texes: &[&'a Texture2D], s: &Sampler) -> Option<Self> {
         let first = *texes.first()?;
@@ -124,20 +124,41 @@ impl<'a> Shared<'a> {
         }
         let size = |t: &Texture2D| (t.width(), t.height(), t.levels().len());
         let mut texels = [Texels::Linear16; MAX_SHARED];
-        let mut all = [first; MAX_SHARED];
-        for ((slot, t), held) in texels.iter_mut().zip(texes).zip(&mut all) {
+        for (slot, t) in texels.iter_mut().zip(texes) {
             if size(t) != size(first) {
                 return None;
             }
             *slot = texels_of(t, s)?;
-            *held = t;
         }
+        let levels = (0..first.levels().len())
+            .map(|index| {
+                let first = first.level(index);
+                let mut data = [&[][..]; MAX_SHARED];
+                let mut tiles_x = 0;
+                for (k, (tex, &texels)) in texes.iter().zip(&texels).enumerate() {
+                    let lv = tex.level(index);
+                    assert!(
+                        (lv.w, lv.h) == (first.w, first.h),
+                        "shared levels differ in size"
+                    );
+                    let (d, tx) = lv.tiled_texels(bpp(texels));
+                    if k == 0 {
+                        tiles_x = tx;
+                    }
+                    assert_eq!(tx, tiles_x, "shared levels differ in tiling");
+                    data[k] = d;
+                }
+                SharedLevel {
+                    first,
+                    tiles_x,
+                    data,
+                }
+            })
+            .collect();
         Some(Shared {
-            texes: all,
             count: texes.len(),
             texels,
-            levels: [None, None],
-            next: 0,
+            levels,
         })
     }
 
@@ -147,49 +168,13 @@ impl<'a> Shared<'a> {
         self.count
     }
 
-    /// Level `index` of every texture (looked up and checked when not one of the last two).
+    /// Level `index` of every texture.
     ///
     /// # Panics
-    /// If a texture's level is not of the first one's size and tiling, or not a tiled level
-    /// of its texels (`Shared::new` checked the sizes; the tiling follows from them).
+    /// If the textures have no such level (a [`MipChoice`] names only levels they have).
     #[inline]
-    fn level(&mut self, index: usize) -> &SharedLevel<'a> {
-        if let Some(k) = self
-            .levels
-            .iter()
-            .position(|l| l.as_ref().is_some_and(|l| l.index == index))
-        {
-            return self.levels[k].as_ref().expect("found above");
-        }
-        let first = self.texes[0].level(index);
-        let mut data = [&[][..]; MAX_SHARED];
-        let mut tiles_x = 0;
-        for (k, (tex, &texels)) in self.texes[..self.count]
-            .iter()
-            .zip(&self.texels)
-            .enumerate()
-        {
-            let lv = tex.level(index);
-            assert!(
-                (lv.w, lv.h) == (first.w, first.h),
-                "shared levels differ in size"
-            );
-            let (d, tx) = lv.tiled_texels(bpp(texels));
-            if k == 0 {
-                tiles_x = tx;
-            }
-            assert_eq!(tx, tiles_x, "shared levels differ in tiling");
-            data[k] = d;
-        }
-        let level = SharedLevel {
-            index,
-            first,
-            tiles_x,
-            data,
-        };
-        let slot = self.next;
-        self.next ^= 1;
-        self.levels[slot].insert(level)
+    fn level(&self, index: usize) -> &SharedLevel<'a> {
+        &self.levels[index]
     }
 }
 
@@ -213,7 +198,7 @@ fn bpp(texels: Texels) -> usize {
 #[inline]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn read_quad_shared(
-    shared: &mut Shared,
+    shared: &Shared,
     s: &Sampler,
     choice: MipChoice,
     u: Vec4,
@@ -243,7 +228,7 @@ pub(super) fn read_quad_shared(
 /// and both quads read bilinear texels on the same levels (most neighbours do).
 #[inline]
 pub(super) fn read_pair_shared(
-    shared: &mut Shared,
+    shared: &Shared,
     s: &Sampler,
     choices: [MipChoice; 2],
     coords: [&QuadCoords; 2],

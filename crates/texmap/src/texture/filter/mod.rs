@@ -14,7 +14,8 @@ mod quads;
 pub(crate) mod summed_area;
 
 pub use quads::{
-    sample_quads_lanes, sample_quads_lanes_shared, QuadCoords, StagedQuads, QUADS_STAGED,
+    sample_quads_lanes, sample_quads_lanes_shared, QuadCoords, SharedQuads, StagedQuads,
+    QUADS_STAGED,
 };
 
 use glam::{Vec2, Vec4};

@@ -496,7 +496,7 @@ pub(super) fn far_quads(texture: &Texture2D, sampler: &Sampler, coords: &[QuadCo
 /// quad `i`, the same values as `sample_quads_lanes` of each texture. On textures of one size
 /// under an OpenGL filter, each quad's levels are chosen once and the default storage's
 /// bilinear taps (addresses and weights) computed once for all of them
-/// (`fixed16::read_quad_shared`).
+/// (`fixed16::read_quad_shared`). [`SharedQuads`] made once for many calls.
 ///
 /// # Panics
 /// If `masks` is shorter than `coords`.
@@ -505,65 +505,114 @@ pub fn sample_quads_lanes_shared(
     sampler: &Sampler,
     coords: &[QuadCoords],
     masks: &[u8],
-    mut put: impl FnMut(usize, usize, [Vec4; 4]),
+    put: impl FnMut(usize, usize, [Vec4; 4]),
 ) {
-    assert!(masks.len() >= coords.len());
-    let one_size = textures.windows(2).all(|w| {
-        (w[0].width(), w[0].height(), w[0].levels().len())
-            == (w[1].width(), w[1].height(), w[1].levels().len())
-    });
-    let (Filter::Gl { mag, min }, Some(first), true) = (sampler.filter, textures.first(), one_size)
-    else {
-        let mut out = [[Vec4::ZERO; 4]; CHUNK];
-        for (t, texture) in textures.iter().enumerate() {
-            let chunks = coords.chunks(CHUNK).zip(masks.chunks(CHUNK));
-            for (start, (coords, masks)) in chunks.enumerate() {
-                sample_quads_lanes(texture, sampler, coords, masks, &mut out);
-                for (k, o) in out.iter().take(coords.len()).enumerate() {
-                    put(t, start * CHUNK + k, *o);
+    SharedQuads::new(textures, sampler).sample(coords, masks, put);
+}
+
+/// Textures read together at the same coordinates through one sampler
+/// ([`sample_quads_lanes_shared`]), checked and their levels looked up once (a draw makes one
+/// for all its quads).
+pub struct SharedQuads<'a> {
+    textures: Vec<&'a Texture2D>,
+    sampler: Sampler,
+    /// The OpenGL filter of textures of one size (the shared reads), else `None`.
+    gl: Option<(MagFilter, MinFilter)>,
+    /// Each group of at most `MAX_SHARED` textures, when the fixed-point reads serve it.
+    groups: Vec<Option<fixed16::Shared<'a>>>,
+}
+
+impl<'a> SharedQuads<'a> {
+    /// `textures` read through `sampler`.
+    pub fn new(textures: &[&'a Texture2D], sampler: &Sampler) -> Self {
+        let one_size = textures.windows(2).all(|w| {
+            (w[0].width(), w[0].height(), w[0].levels().len())
+                == (w[1].width(), w[1].height(), w[1].levels().len())
+        });
+        let gl = match sampler.filter {
+            Filter::Gl { mag, min } if one_size && !textures.is_empty() => Some((mag, min)),
+            _ => None,
+        };
+        let groups = match gl {
+            Some(_) => textures
+                .chunks(fixed16::MAX_SHARED)
+                .map(|group| fixed16::Shared::new(group, sampler))
+                .collect(),
+            None => Vec::new(),
+        };
+        SharedQuads {
+            textures: textures.to_vec(),
+            sampler: *sampler,
+            gl,
+            groups,
+        }
+    }
+
+    /// The reads of every texture at `coords` (pixels in `masks`): `put(t, i, texels)` for
+    /// texture `t` and quad `i`, as [`sample_quads_lanes_shared`].
+    ///
+    /// # Panics
+    /// If `masks` is shorter than `coords`.
+    pub fn sample(
+        &self,
+        coords: &[QuadCoords],
+        masks: &[u8],
+        mut put: impl FnMut(usize, usize, [Vec4; 4]),
+    ) {
+        assert!(masks.len() >= coords.len());
+        let (textures, sampler) = (&self.textures[..], &self.sampler);
+        let (Some((mag, min)), Some(first)) = (self.gl, textures.first()) else {
+            let mut out = [[Vec4::ZERO; 4]; CHUNK];
+            for (t, texture) in textures.iter().enumerate() {
+                let chunks = coords.chunks(CHUNK).zip(masks.chunks(CHUNK));
+                for (start, (coords, masks)) in chunks.enumerate() {
+                    sample_quads_lanes(texture, sampler, coords, masks, &mut out);
+                    for (k, o) in out.iter().take(coords.len()).enumerate() {
+                        put(t, start * CHUNK + k, *o);
+                    }
                 }
             }
-        }
-        return;
-    };
-    let mut quad = [[Vec4::ZERO; 4]; fixed16::MAX_SHARED];
-    // Two quads' reads (each pair's textures written before they are handed out).
-    let mut pair = [[[Vec4::ZERO; 4]; fixed16::MAX_SHARED]; 2];
-    for (start, (coords, masks)) in coords.chunks(CHUNK).zip(masks.chunks(CHUNK)).enumerate() {
-        let (choices, _) = gl_choices::<CHUNK>(first, sampler, coords, mag, min);
-        for (group, textures) in textures.chunks(fixed16::MAX_SHARED).enumerate() {
-            // The group's textures checked once for the chunk's quads.
-            let mut shared = fixed16::Shared::new(textures, sampler);
-            let mut k = 0;
-            while k < coords.len() {
-                // Two neighbours on the same levels at once, where the CPU has the lanes.
-                if let (Some(shared), true) = (shared.as_mut(), k + 1 < coords.len()) {
-                    let both = [choices[k], choices[k + 1]];
-                    let (c, m) = ([&coords[k], &coords[k + 1]], [masks[k], masks[k + 1]]);
-                    if fixed16::read_pair_shared(shared, sampler, both, c, m, &mut pair) {
-                        for (j, quad) in pair.iter().enumerate() {
-                            for (t, q) in quad.iter().take(textures.len()).enumerate() {
-                                put(group * fixed16::MAX_SHARED + t, start * CHUNK + k + j, *q);
+            return;
+        };
+        let mut quad = [[Vec4::ZERO; 4]; fixed16::MAX_SHARED];
+        // Two quads' reads (each pair's textures written before they are handed out).
+        let mut pair = [[[Vec4::ZERO; 4]; fixed16::MAX_SHARED]; 2];
+        for (start, (coords, masks)) in coords.chunks(CHUNK).zip(masks.chunks(CHUNK)).enumerate() {
+            let (choices, _) = gl_choices::<CHUNK>(first, sampler, coords, mag, min);
+            let groups = textures.chunks(fixed16::MAX_SHARED).zip(&self.groups);
+            for (group, (textures, shared)) in groups.enumerate() {
+                let mut k = 0;
+                while k < coords.len() {
+                    // Two neighbours on the same levels at once, where the CPU has the lanes.
+                    if let (Some(shared), true) = (shared.as_ref(), k + 1 < coords.len()) {
+                        let both = [choices[k], choices[k + 1]];
+                        let (c, m) = ([&coords[k], &coords[k + 1]], [masks[k], masks[k + 1]]);
+                        if fixed16::read_pair_shared(shared, sampler, both, c, m, &mut pair) {
+                            for (j, quad) in pair.iter().enumerate() {
+                                for (t, q) in quad.iter().take(textures.len()).enumerate() {
+                                    let t = group * fixed16::MAX_SHARED + t;
+                                    put(t, start * CHUNK + k + j, *q);
+                                }
                             }
+                            k += 2;
+                            continue;
                         }
-                        k += 2;
-                        continue;
                     }
-                }
-                let (c, m, choice) = (&coords[k], masks[k], choices[k]);
-                let quad = &mut quad[..textures.len()];
-                let read = shared.as_mut().is_some_and(|shared| {
-                    fixed16::read_quad_shared(shared, sampler, choice, c.u, c.v, m, quad)
-                });
-                if !read {
-                    for (q, texture) in quad.iter_mut().zip(textures) {
-                        *q = gl_read(texture, sampler, (c.u, c.v), choice, m);
+                    let (c, m, choice) = (&coords[k], masks[k], choices[k]);
+                    let quad = &mut quad[..textures.len()];
+                    let read = shared.as_ref().is_some_and(|shared| {
+                        fixed16::read_quad_shared(shared, sampler, choice, c.u, c.v, m, quad)
+                    });
+                    if !read {
+                        for (q, texture) in quad.iter_mut().zip(textures) {
+                            *q = gl_read(texture, sampler, (c.u, c.v), choice, m);
+                        }
                     }
+                    for (t, q) in quad.iter().enumerate() {
+                        put(group * fixed16::MAX_SHARED + t, start * CHUNK + k, *q);
+                    }
+                    k += 1;
                 }
-                for (t, q) in quad.iter().enumerate() {
-                    put(group * fixed16::MAX_SHARED + t, start * CHUNK + k, *q);
-                }
-                k += 1;
             }
         }
     }

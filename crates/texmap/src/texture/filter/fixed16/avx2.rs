@@ -213,7 +213,7 @@ unsafe fn level_pair(
 /// levels.
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
 pub(super) unsafe fn linear_pair_shared(
-    shared: &mut super::Shared,
+    shared: &super::Shared,
     s: &Sampler,
     choices: [MipChoice; 2],
     coords: [&QuadCoords; 2],

@@ -140,7 +140,7 @@ pub(super) fn finish(acc: &[__m128i; 4], mask: u8) -> [Vec4; 4] {
 /// per level for all of them.
 #[inline(always)]
 pub(super) fn linear_quad_shared(
-    shared: &mut super::Shared,
+    shared: &super::Shared,
     s: &Sampler,
     choice: MipChoice,
     u: Vec4,
@@ -154,7 +154,7 @@ pub(super) fn linear_quad_shared(
     let wa = first_weight(choice);
     let count = shared.len();
     let texels = shared.texels;
-    let mut level = |index: usize, weight: i32, acc: &mut [[__m128i; 4]]| {
+    let level = |index: usize, weight: i32, acc: &mut [[__m128i; 4]]| {
         let lv = shared.level(index);
         let t = taps(&lv.first, lv.tiles_x, s, u, v, weight);
         // Each texture's level is of the first one's size and tiling (checked when the
