@@ -122,9 +122,9 @@ impl SceneShader<'_> {
             // Every texture read of the batch first, map by map, then each quad's colours.
             None => {
                 let mut reads = [QuadReads::default(); BATCH];
-                // Parallax self-shadowing asked for once a batch (most draws have none).
-                let self_shadows = d.path == LightingPath::PerPixel
-                    && d.parallax.as_ref().is_some_and(|p| p.shadows);
+                // Parallax self-shadowing asked for only by draws whose map casts it (most
+                // have none): one test a batch, not a call a quad.
+                let self_shadows = d.parallax.as_ref().is_some_and(|p| p.shadows);
                 // Parallax's moved copies of a batch (only for draws with parallax).
                 let mut moved = quads
                     .first()

@@ -308,13 +308,10 @@ pub(super) struct SharedReads<'a> {
     pub maps: u8,
     /// The candidate whose coordinates and sampler the reads take (the first of them).
     pub first: usize,
-    /// The distinct images, in the order of their first map…
-    pub images: [&'a Texture2D; 5],
-    /// …and the maps (bits over the candidates) each one feeds.
+    /// The maps (bits over the candidates) each image read feeds…
     pub feeds: [u8; 5],
-    pub count: usize,
-    /// The images checked and their levels looked up for the reads (the first map's
-    /// sampler).
+    /// …and the reads of the distinct images, in the order of their first map, checked and
+    /// their levels looked up (through the first map's sampler).
     pub reads: SharedQuads<'a>,
 }
 
@@ -324,31 +321,26 @@ impl<'a> SharedReads<'a> {
     pub(super) fn new(candidates: &[Option<&MapRead<'a>>; 5]) -> Option<Self> {
         let maps = shared_group(candidates);
         let first = (0..5).find(|&k| maps & (1 << k) != 0)?;
-        let sampler = candidates[first]?.sampler;
-        let mut reads = SharedReads {
-            maps,
-            first,
-            images: [candidates[first]?.tex; 5],
-            feeds: [0; 5],
-            count: 0,
-            reads: SharedQuads::new(&[], &sampler),
-        };
+        let leader = candidates[first]?;
+        let (mut images, mut feeds, mut count) = ([leader.tex; 5], [0u8; 5], 0);
         for (k, m) in candidates.iter().enumerate() {
             let Some(m) = m.filter(|_| maps & (1 << k) != 0) else {
                 continue;
             };
-            let known = reads.images[..reads.count]
-                .iter()
-                .position(|&t| std::ptr::eq(t, m.tex));
+            let known = images[..count].iter().position(|&t| std::ptr::eq(t, m.tex));
             let t = known.unwrap_or_else(|| {
-                reads.images[reads.count] = m.tex;
-                reads.count += 1;
-                reads.count - 1
+                images[count] = m.tex;
+                count += 1;
+                count - 1
             });
-            reads.feeds[t] |= 1 << k;
+            feeds[t] |= 1 << k;
         }
-        reads.reads = SharedQuads::new(&reads.images[..reads.count], &sampler);
-        Some(reads)
+        Some(SharedReads {
+            maps,
+            first,
+            feeds,
+            reads: SharedQuads::new(&images[..count], &leader.sampler),
+        })
     }
 }
 

@@ -5,14 +5,14 @@
 //! order ([`DrawInfo::apply_maps`], [`DrawInfo::tangent_space`]), so the colours are the same
 //! bits (tested, and the images are byte-identical).
 
-use glam::{Mat4, Vec4};
+use glam::Vec4;
 
 use super::draw::DrawInfo;
 use super::fragment::SceneShader;
 use super::layers::surface_color;
 use super::maps::QuadReads;
 use crate::pipeline::Quad;
-use crate::shading::lanes::{normalize_or_zero, Lanes3, QuadFactors};
+use crate::shading::lanes::{normalize_or_zero, transpose, Lanes3, QuadFactors};
 use crate::shading::mr_lanes::{metallic_roughness_lanes, opaque_colors, straight_lanes, MrQuad};
 use crate::shading::{combine, AlphaMode};
 
@@ -81,25 +81,25 @@ impl DrawInfo<'_> {
             &self.normal_map,
             self.layout.tangent,
         ) {
-            n = tangent_space(n, tangent.lanes(quad), &to_lanes(texels), map.scale);
+            n = tangent_space(n, tangent.lanes(quad), &transpose(*texels), map.scale);
         }
         let mut occlusion = Vec4::splat(s.occlusion);
         if let (Some(texels), Some(map)) =
             (maps.and_then(|m| m.occlusion.as_ref()), &self.occlusion_map)
         {
             // 1 + strength·(R − 1).
-            let r = to_lanes(texels)[0];
+            let r = transpose(*texels)[0];
             occlusion = Vec4::ONE + Vec4::splat(map.scale) * (r - Vec4::ONE);
         }
         let e = s.emissive;
         let mut emissive: Lanes3 = [Vec4::splat(e.x), Vec4::splat(e.y), Vec4::splat(e.z)];
         if let Some(texels) = maps.and_then(|m| m.emission.as_ref()) {
-            let t = to_lanes(texels);
+            let t = transpose(*texels);
             emissive = [emissive[0] * t[0], emissive[1] * t[1], emissive[2] * t[2]];
         }
         let (mut roughness, mut metallic) = (Vec4::splat(s.roughness), Vec4::splat(s.metallic));
         if let Some(texels) = maps.and_then(|m| m.metal_rough.as_ref()) {
-            let t = to_lanes(texels);
+            let t = transpose(*texels);
             roughness *= t[1];
             metallic *= t[2];
         }
@@ -118,13 +118,6 @@ impl DrawInfo<'_> {
             emissive,
         }
     }
-}
-
-/// Four pixels' values (one `Vec4` each) as lanes: x, y, z and w of the four pixels.
-#[inline(always)]
-fn to_lanes(p: &[Vec4; 4]) -> [Vec4; 4] {
-    let m = Mat4::from_cols(p[0], p[1], p[2], p[3]).transpose();
-    [m.x_axis, m.y_axis, m.z_axis, m.w_axis]
 }
 
 /// [`DrawInfo::tangent_space`] in lanes: unit normals `n` tilted by the normal map's texels

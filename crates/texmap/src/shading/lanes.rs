@@ -268,7 +268,15 @@ pub fn sqrt4(v: Vec4) -> Vec4 {
 #[inline(always)]
 #[must_use]
 pub fn lanes_to_pixels(c: Lanes3) -> [Vec4; 4] {
-    let m = Mat4::from_cols(c[0], c[1], c[2], Vec4::ZERO).transpose();
+    transpose([c[0], c[1], c[2], Vec4::ZERO])
+}
+
+/// Four vectors transposed (a 4×4 transpose, shuffles): four pixels' values (one `Vec4`
+/// each) as lanes — x, y, z and w of the four pixels — or lanes back as pixels.
+#[inline(always)]
+#[must_use]
+pub fn transpose(v: [Vec4; 4]) -> [Vec4; 4] {
+    let m = Mat4::from_cols(v[0], v[1], v[2], v[3]).transpose();
     [m.x_axis, m.y_axis, m.z_axis, m.w_axis]
 }
 

@@ -12,7 +12,9 @@ use std::f32::consts::PI;
 use glam::Vec4;
 
 use super::albedo::{albedo_table, ALBEDO_N};
-use super::lanes::{incidence, lane_mask, normalize_or_zero, splat3, sqrt4, Lanes3, QuadFactors};
+use super::lanes::{
+    incidence, lane_mask, normalize_or_zero, splat3, sqrt4, transpose, Lanes3, QuadFactors,
+};
 use super::pbr::MIN_ROUGHNESS;
 use super::{Lighting, Surface, Viewer};
 
@@ -160,8 +162,7 @@ pub fn metallic_roughness_lanes(
 #[inline(always)]
 #[must_use]
 pub fn straight_lanes(colors: &[Vec4; 4]) -> Lanes3 {
-    let m = glam::Mat4::from_cols(colors[0], colors[1], colors[2], colors[3]).transpose();
-    let (r, g, b, a) = (m.x_axis, m.y_axis, m.z_axis, m.w_axis);
+    let [r, g, b, a] = transpose(*colors);
     let divide = a.cmpgt(Vec4::ZERO) & a.cmpne(Vec4::ONE);
     if divide.any() {
         [r, g, b].map(|c| Vec4::select(divide, c / a, c))
@@ -176,8 +177,7 @@ pub fn straight_lanes(colors: &[Vec4; 4]) -> Lanes3 {
 #[must_use]
 pub fn opaque_colors(straight: Lanes3, d: Lanes3, s: Lanes3) -> [Vec4; 4] {
     let c = |k: usize| straight[k] * d[k] + s[k];
-    let m = glam::Mat4::from_cols(c(0), c(1), c(2), Vec4::ONE).transpose();
-    [m.x_axis, m.y_axis, m.z_axis, m.w_axis]
+    transpose([c(0), c(1), c(2), Vec4::ONE])
 }
 
 /// [`specular_albedo`](super::pbr::specular_albedo) at four points (one per lane), as
