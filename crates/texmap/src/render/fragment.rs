@@ -301,12 +301,15 @@ impl SceneShader<'_> {
                 continue;
             }
             let c = surface_color(d, quad, reads, j);
-            let lighting = parallax::self_shadowed(self_shadow, self.lighting, j, &mut light_buf);
             let (mut df, sp) = match d.path {
                 LightingPath::Unlit => (Vec3::ONE, Vec3::ZERO),
                 LightingPath::PerPixel => match (&lit, maps) {
                     (Some(q), _) => (q.d[j].truncate(), q.s[j].truncate()),
                     (None, maps) => {
+                        // The lights, each scaled by the relief's self-shadowing at this
+                        // pixel when the draw has it (only this path reads them).
+                        let lighting =
+                            parallax::self_shadowed(self_shadow, self.lighting, j, &mut light_buf);
                         let mut normal = d
                             .layout
                             .normal
