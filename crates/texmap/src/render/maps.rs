@@ -190,13 +190,13 @@ impl<'a> MapRead<'a> {
             && self.offset == other.offset
     }
 
-    /// [`MapRead::quads`] of the maps whose images `images` holds (made with this one's
+    /// [`MapRead::quads`] of the maps whose images `reads` holds (made with this one's
     /// sampler, read at its coordinates: each [`MapRead::shares_coords`] with it): `put(t, i,
     /// texels)` gets image `t`'s reads of `quads[i]` (the same values), the texel addresses
     /// and weights computed once for all.
     pub fn quads_shared(
         &self,
-        images: &SharedQuads,
+        reads: &SharedQuads,
         quads: &[Quad],
         put: impl FnMut(usize, usize, [Vec4; 4]),
     ) {
@@ -208,7 +208,7 @@ impl<'a> MapRead<'a> {
         }
         assert!(quads.len() <= BATCH);
         let n = quads.len();
-        images.sample(&coords[..n], &masks[..n], put);
+        reads.sample(&coords[..n], &masks[..n], put);
     }
 
     /// The quad's transformed uvs (one lane per pixel) and their screen derivatives.
@@ -408,10 +408,15 @@ impl QuadMaps {
             shininess,
             lobes,
         } = self;
-        for m in [normals, object_normals, occlusion, emission, metal_rough] {
-            *m = None;
-        }
-        for m in [ambient, specular, shininess] {
+        let texels = [
+            normals,
+            object_normals,
+            occlusion,
+            emission,
+            metal_rough,
+            ambient,
+        ];
+        for m in texels.into_iter().chain([specular, shininess]) {
             *m = None;
         }
         (*bumps, *lobes) = (None, None);
