@@ -2,20 +2,135 @@
 //! the same frames, float for float, over the pipeline's modes (the demo scene: textures under
 //! every filter kind, normal maps, highlights, blending; MSAA, Gouraud, flat, unlit) and the
 //! plane under the OpenGL filters (trilinear quads two at a time in AVX2 lanes at x86-64-v3),
-//! anisotropic filtering and `ewa` (probes two at a time), and a volume ray marched composite, unshaded (eight samples
+//! anisotropic filtering and `ewa` (probes two at a time), metallic-roughness spheres with
+//! every map the lit lanes read (two quads at a time in eight lanes), and a volume ray marched composite, unshaded (eight samples
 //! in AVX2 lanes at x86-64-v3) and shaded. On a CPU without x86-64-v3 there is one copy and
 //! the test says so. (Its own test binary: the level is the process's.)
 
-use glam::{Mat4, Vec3};
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3, Vec4};
 use texmap::camera::{Camera, CameraProjection};
 use texmap::cpu::{self, Level};
 use texmap::render::{render, Settings, ShadingMode, TextureOverrides};
-use texmap::scene::builtin;
-use texmap::texture::{Filter, MagFilter, MinFilter, Sampler, Wrap};
+use texmap::scene::{builtin, Scene};
+use texmap::shading::{
+    shadow::Shadows, AlphaMode, Light, MapChannel, Material, MaterialMap, ShadingModel, TextureSlot,
+};
+use texmap::texture::{Filter, MagFilter, MinFilter, Sampler, Texture2D, TextureOptions, Wrap};
 use texmap::volume::{raymarch, MarchParams, TransferFunction, Volume};
 
 const W: u32 = 160;
 const H: u32 = 96;
+
+/// A texture of `f` over a 64² grid, linear.
+fn texture(f: impl Fn(f32, f32) -> Vec4) -> Arc<Texture2D> {
+    let t = Texture2D::from_fn(64, 64, TextureOptions::default(), |x, y| {
+        f(x as f32 / 63.0, y as f32 / 63.0)
+    });
+    Arc::new(t.unwrap())
+}
+
+/// Two metallic-roughness spheres (one cut open: only its triangles facing +x kept, so its
+/// inside shows) with every map the lit lanes read, three kinds of light and an ambient one.
+fn mr_spheres(alpha_mode: AlphaMode) -> (Scene, Camera) {
+    let sampler = Sampler::new(Filter::TRILINEAR, Wrap::Repeat);
+    let map = |channel, tex: Arc<Texture2D>| MaterialMap {
+        channel,
+        slot: TextureSlot::new(tex, sampler),
+        scale: 0.8,
+    };
+    let material = Material {
+        model: ShadingModel::MetallicRoughness,
+        base_color_texture: Some(TextureSlot::new(
+            texture(|u, v| Vec4::new(u, v, 0.5 + 0.5 * (9.0 * u).sin(), 0.3 + 0.7 * v)),
+            sampler,
+        )),
+        emissive: Vec3::new(0.4, 0.2, 0.1),
+        double_sided: true,
+        alpha_mode,
+        maps: vec![
+            map(
+                MapChannel::Normal,
+                texture(|u, v| {
+                    let (x, y) = ((20.0 * u).sin() * 0.4, (14.0 * v).cos() * 0.4);
+                    Vec4::new(0.5 + 0.5 * x, 0.5 + 0.5 * y, 0.9, 1.0)
+                }),
+            ),
+            map(
+                MapChannel::MetallicRoughness,
+                texture(|u, v| Vec4::new(0.0, v, (u * 5.0).fract(), 1.0)),
+            ),
+            map(
+                MapChannel::Occlusion,
+                texture(|u, v| Vec4::new(0.4 + 0.6 * (u * v), 0.0, 0.0, 1.0)),
+            ),
+            map(
+                MapChannel::Emissive,
+                texture(|u, _| Vec4::new(u, 1.0 - u, 0.5, 1.0)),
+            ),
+        ],
+        ..Default::default()
+    };
+    let sphere = |world: Mat4, cut: bool| {
+        let mut mesh = builtin::uv_sphere(40, 20, 0);
+        mesh.world_from_object = world;
+        // Tangents along the parallels (+w handedness), zero at the poles.
+        mesh.tangents = mesh
+            .normals
+            .iter()
+            .map(|n| Vec3::Y.cross(*n).normalize_or_zero().extend(1.0))
+            .collect();
+        if cut {
+            let keep: Vec<u32> = mesh
+                .indices
+                .chunks(3)
+                .filter(|t| t.iter().all(|&i| mesh.positions[i as usize].x > -0.2))
+                .flatten()
+                .copied()
+                .collect();
+            mesh.indices = keep;
+        }
+        mesh
+    };
+    let scene = Scene {
+        meshes: vec![
+            sphere(Mat4::from_translation(Vec3::new(-1.1, 0.0, 0.0)), false),
+            sphere(Mat4::from_translation(Vec3::new(1.1, 0.0, 0.0)), true),
+        ],
+        materials: vec![material],
+        lights: vec![
+            Light::Directional {
+                direction: Vec3::new(0.3, 0.8, 0.5).normalize(),
+                color: Vec3::new(1.0, 0.9, 0.8),
+            },
+            Light::Point {
+                position: Vec3::new(0.0, 1.5, 2.0),
+                color: Vec3::new(6.0, 5.0, 4.0),
+                range: Some(5.0),
+            },
+            Light::Spot {
+                position: Vec3::new(0.0, 3.0, 1.0),
+                direction: Vec3::new(0.0, -1.0, -0.3).normalize(),
+                color: Vec3::splat(8.0),
+                inner_deg: 15.0,
+                outer_deg: 40.0,
+            },
+        ],
+        ambient_light: Vec3::new(0.3, 0.35, 0.4),
+        background: Vec4::new(0.0, 0.0, 0.0, 1.0),
+        ..Scene::default()
+    };
+    let camera = Camera {
+        eye: Vec3::new(-2.5, 1.0, 4.5),
+        target: Vec3::new(0.3, 0.0, 0.0),
+        up: Vec3::Y,
+        projection: CameraProjection::Perspective { fov_y_deg: 40.0 },
+        near: 0.1,
+        far: 100.0,
+    };
+    (scene, camera)
+}
 
 /// Every frame's colours as bits, one render per case.
 fn frames() -> Vec<Vec<u32>> {
@@ -57,6 +172,18 @@ fn frames() -> Vec<Vec<u32>> {
     ] {
         let s = base.with_textures(TextureOverrides::default().with_filter(filter));
         out.push(render(&plane, &plane_camera, &s).unwrap());
+    }
+    // Metallic-roughness spheres with every map the lanes read (base colour, tangent-space
+    // normals, metallic-roughness, occlusion, emission), double-sided and cut open so back
+    // faces show, under a directional, a point (with a range) and a spot light: two quads
+    // at a time in eight lanes at x86-64-v3. Opaque, masked and blended; without shadows and
+    // with two lights casting them.
+    for alpha_mode in [AlphaMode::Opaque, AlphaMode::Mask(0.4), AlphaMode::Blend] {
+        let (mut scene, camera) = mr_spheres(alpha_mode);
+        out.push(render(&scene, &camera, &base).unwrap());
+        // The directional and the point light casting shadows (looked up quad by quad).
+        scene.shadows = Shadows::casting(vec![0, 1]);
+        out.push(render(&scene, &camera, &base).unwrap());
     }
     // A blob with ripples, some of it transparent (empty bricks skipped), crossed by
     // jittered rays at a step that is not a power of two.

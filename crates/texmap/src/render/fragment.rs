@@ -125,6 +125,14 @@ impl SceneShader<'_> {
                 // Parallax self-shadowing asked for only by draws whose map casts it (most
                 // have none): one test a batch, not a call a quad.
                 let self_shadows = d.parallax.as_ref().is_some_and(|p| p.shadows);
+                // Plain metallic-roughness quads (as `shade_read` tells them) two at a time
+                // in eight lanes, where the CPU has AVX2.
+                let pairs = cfg!(target_arch = "x86_64")
+                    && crate::cpu::level() == crate::cpu::Level::V3
+                    && d.mr_lanes
+                    && !d.projectors
+                    && !self_shadows
+                    && !(d.env.is_some() && d.path == LightingPath::PerPixel);
                 // Parallax's moved copies of a batch (only for draws with parallax).
                 let mut moved = quads
                     .first()
@@ -138,6 +146,14 @@ impl SceneShader<'_> {
                     // Parallax moves the uvs before any map is read.
                     let shifted = parallax::shifted(d, quads, self.viewer, moved.as_mut());
                     read_batch(d, shifted, &mut reads[..shifted.len()]);
+                    if pairs {
+                        // SAFETY: the CPU has x86-64-v3 (`pairs` asked `cpu::level`).
+                        #[cfg(target_arch = "x86_64")]
+                        unsafe {
+                            self.shade_mr_batch(d, shifted, &reads, out, kept);
+                        }
+                        continue;
+                    }
                     for ((((quad, o), k), r), orig) in shifted
                         .iter()
                         .zip(out.iter_mut())

@@ -12,8 +12,9 @@ use super::fragment::SceneShader;
 use super::layers::surface_color;
 use super::maps::QuadReads;
 use crate::pipeline::Quad;
-use crate::shading::lanes::{normalize_or_zero, transpose, Lanes3, QuadFactors};
-use crate::shading::mr_lanes::{metallic_roughness_lanes, opaque_colors, straight_lanes, MrQuad};
+use crate::shading::lanes::{normalize_lanes, transpose, QuadFactors};
+use crate::shading::mr_lanes::{mr_lanes, opaque_colors, straight_lanes, MrQuad};
+use crate::shading::wide::Lane;
 use crate::shading::{combine, AlphaMode};
 
 impl SceneShader<'_> {
@@ -26,15 +27,107 @@ impl SceneShader<'_> {
         reads: &QuadReads,
         out: &mut [Vec4; 4],
     ) -> u8 {
-        let color = |j: usize| surface_color(d, quad, reads, j);
-        let colors = [color(0), color(1), color(2), color(3)];
-        let q = d.mr_surface(quad, reads, &colors);
-        let (df, sp) = metallic_roughness_lanes(&d.surface, &q, &self.lighting, self.viewer);
+        let colors = quad_colors(d, quad, reads);
+        let q = d.mr_surface(&d.mr_inputs(quad, reads, &colors));
+        let (df, sp) = mr_lanes(&d.surface, &q, &self.lighting, self.viewer);
+        self.mr_colors(d, quad, reads, &colors, (df, sp), out)
+    }
+
+    /// [`SceneShader::shade_mr_quad`] for two quads of the draw at once, their pixels in
+    /// eight lanes ([`F32x8`](crate::shading::wide::F32x8)): the surface and the model in
+    /// half the arithmetic instructions, each pixel's colour the same bits as one quad at a
+    /// time gives it (the same operations lane for lane).
+    ///
+    /// # Safety
+    /// The CPU must have x86-64-v3 ([`crate::cpu::level`]).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
+    pub(super) unsafe fn shade_mr_pair(
+        &self,
+        d: &DrawInfo,
+        quads: [&Quad; 2],
+        reads: [&QuadReads; 2],
+        out: [&mut [Vec4; 4]; 2],
+    ) -> [u8; 2] {
+        use crate::shading::wide::F32x8;
+        let colors = [
+            quad_colors(d, quads[0], reads[0]),
+            quad_colors(d, quads[1], reads[1]),
+        ];
+        let inputs = [
+            d.mr_inputs(quads[0], reads[0], &colors[0]),
+            d.mr_inputs(quads[1], reads[1], &colors[1]),
+        ];
+        let q = d.mr_surface(&MrInputs::<F32x8>::join(&inputs));
+        let (df, sp) = mr_lanes(&d.surface, &q, &self.lighting, self.viewer);
+        let [o0, o1] = out;
+        let half = |v: &[F32x8; 3], k: usize| [v[0].quad(k), v[1].quad(k), v[2].quad(k)];
+        [
+            self.mr_colors(
+                d,
+                quads[0],
+                reads[0],
+                &colors[0],
+                (half(&df, 0), half(&sp, 0)),
+                o0,
+            ),
+            self.mr_colors(
+                d,
+                quads[1],
+                reads[1],
+                &colors[1],
+                (half(&df, 1), half(&sp, 1)),
+                o1,
+            ),
+        ]
+    }
+
+    /// The colours of a batch's quads of a [`DrawInfo::mr_lanes`] draw (`out[i]`, `kept[i]`
+    /// for `quads[i]`, read into `reads[i]`), two at a time ([`SceneShader::shade_mr_pair`]),
+    /// an odd last one alone.
+    ///
+    /// # Safety
+    /// The CPU must have x86-64-v3 ([`crate::cpu::level`]).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
+    pub(super) unsafe fn shade_mr_batch(
+        &self,
+        d: &DrawInfo,
+        quads: &[Quad],
+        reads: &[QuadReads],
+        out: &mut [[Vec4; 4]],
+        kept: &mut [u8],
+    ) {
+        let mut pairs = out.chunks_exact_mut(2);
+        for (i, o) in (&mut pairs).enumerate() {
+            let (q, r) = (&quads[2 * i..2 * i + 2], &reads[2 * i..2 * i + 2]);
+            let [o0, o1] = o else { unreachable!() };
+            // SAFETY: the CPU has x86-64-v3 (this function's contract).
+            let k = unsafe { self.shade_mr_pair(d, [&q[0], &q[1]], [&r[0], &r[1]], [o0, o1]) };
+            kept[2 * i..2 * i + 2].copy_from_slice(&k);
+        }
+        if let [o] = pairs.into_remainder() {
+            let last = quads.len() - 1;
+            kept[last] = self.shade_mr_quad(d, &quads[last], &reads[last], o);
+        }
+    }
+
+    /// A quad's colours from its factors `(D, S)` in lanes: the pixels kept (bits).
+    #[inline(always)]
+    fn mr_colors(
+        &self,
+        d: &DrawInfo,
+        quad: &Quad,
+        reads: &QuadReads,
+        colors: &[Vec4; 4],
+        (df, sp): ([Vec4; 3], [Vec4; 3]),
+        out: &mut [Vec4; 4],
+    ) -> u8 {
         let alpha_mode = d.material.alpha_mode;
         if alpha_mode == AlphaMode::Opaque && reads.light.is_none() {
             // `combine` in lanes (the model's base colour is the straight colour); every
             // pixel kept.
-            let colors = opaque_colors(q.base_color, df, sp);
+            let colors = opaque_colors(straight_lanes(colors), df, sp);
             for (j, (o, c)) in out.iter_mut().zip(colors).enumerate() {
                 if quad.mask & (1 << j) != 0 {
                     *o = c;
@@ -61,28 +154,95 @@ impl SceneShader<'_> {
     }
 }
 
-impl DrawInfo<'_> {
-    /// The surface of a quad's four pixels in lanes: [`DrawInfo::apply_maps`] for a plain
-    /// metallic-roughness draw, `colors` the pixels' premultiplied surface colours.
+/// A quad's four premultiplied surface colours.
+#[inline(always)]
+fn quad_colors(d: &DrawInfo, quad: &Quad, reads: &QuadReads) -> [Vec4; 4] {
+    let color = |j: usize| surface_color(d, quad, reads, j);
+    [color(0), color(1), color(2), color(3)]
+}
+
+/// What a quad's surface is made from, in lanes, before its normal is made a unit one and
+/// tilted: the interpolated varyings and the maps' texels.
+#[derive(Clone, Copy)]
+struct MrInputs<L> {
+    /// The interpolated normal (not yet normalized; zero without one).
+    normal: [L; 3],
+    position: [L; 3],
+    /// The tangent (x, y, z and handedness) and the normal map's texels, for a draw with a
+    /// tangent-space normal map.
+    tilt: Option<([L; 4], [L; 4])>,
+    /// Lanes whose normal is turned round (double-sided back faces).
+    back: L,
+    occlusion: L,
+    emissive: [L; 3],
+    roughness: L,
+    metallic: L,
+    base_color: [L; 3],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl MrInputs<crate::shading::wide::F32x8> {
+    /// Two quads' inputs as one, quad `k` in lanes `4k..4k + 4` (the two quads come from
+    /// one draw, so both have a tilt or neither has).
     #[inline(always)]
-    fn mr_surface(&self, quad: &Quad, reads: &QuadReads, colors: &[Vec4; 4]) -> MrQuad {
+    fn join([a, b]: &[MrInputs<Vec4>; 2]) -> Self {
+        use crate::shading::wide::F32x8;
+        // Written out: closures and `array::map` here were compiled on their own, without
+        // AVX, and their vector operations left as calls.
+        let one = F32x8::join;
+        let three =
+            |x: [Vec4; 3], y: [Vec4; 3]| [one(x[0], y[0]), one(x[1], y[1]), one(x[2], y[2])];
+        let four = |x: [Vec4; 4], y: [Vec4; 4]| {
+            [
+                one(x[0], y[0]),
+                one(x[1], y[1]),
+                one(x[2], y[2]),
+                one(x[3], y[3]),
+            ]
+        };
+        let tilt = match (a.tilt, b.tilt) {
+            (Some(x), Some(y)) => Some((four(x.0, y.0), four(x.1, y.1))),
+            _ => None,
+        };
+        MrInputs {
+            normal: three(a.normal, b.normal),
+            position: three(a.position, b.position),
+            tilt,
+            back: one(a.back, b.back),
+            occlusion: one(a.occlusion, b.occlusion),
+            emissive: three(a.emissive, b.emissive),
+            roughness: one(a.roughness, b.roughness),
+            metallic: one(a.metallic, b.metallic),
+            base_color: three(a.base_color, b.base_color),
+        }
+    }
+}
+
+impl DrawInfo<'_> {
+    /// [`MrInputs`] of one quad of a plain metallic-roughness draw, `colors` the pixels'
+    /// premultiplied surface colours: [`DrawInfo::apply_maps`]'s reads in lanes.
+    #[inline(always)]
+    fn mr_inputs(&self, quad: &Quad, reads: &QuadReads, colors: &[Vec4; 4]) -> MrInputs<Vec4> {
         let s = &self.surface;
         let maps = reads.maps.as_ref();
-        let mut n = self
+        let normal = self
             .layout
             .normal
-            .map_or([Vec4::ZERO; 3], |n| normalize_or_zero(n.lanes(quad)));
+            .map_or([Vec4::ZERO; 3], |n| n.lanes(quad));
         let position = self
             .layout
             .position
             .map_or([Vec4::ZERO; 3], |p| p.lanes(quad));
-        if let (Some(texels), Some(map), Some(tangent)) = (
+        let tilt = match (
             maps.and_then(|m| m.normals.as_ref()),
             &self.normal_map,
             self.layout.tangent,
         ) {
-            n = tangent_space(n, tangent.lanes(quad), &transpose(*texels), map.scale);
-        }
+            (Some(texels), Some(_), Some(tangent)) => {
+                Some((tangent.lanes(quad), transpose(*texels)))
+            }
+            _ => None,
+        };
         let mut occlusion = Vec4::splat(s.occlusion);
         if let (Some(texels), Some(map)) =
             (maps.and_then(|m| m.occlusion.as_ref()), &self.occlusion_map)
@@ -92,7 +252,7 @@ impl DrawInfo<'_> {
             occlusion = Vec4::ONE + Vec4::splat(map.scale) * (r - Vec4::ONE);
         }
         let e = s.emissive;
-        let mut emissive: Lanes3 = [Vec4::splat(e.x), Vec4::splat(e.y), Vec4::splat(e.z)];
+        let mut emissive = [Vec4::splat(e.x), Vec4::splat(e.y), Vec4::splat(e.z)];
         if let Some(texels) = maps.and_then(|m| m.emission.as_ref()) {
             let t = transpose(*texels);
             emissive = [emissive[0] * t[0], emissive[1] * t[1], emissive[2] * t[2]];
@@ -103,19 +263,45 @@ impl DrawInfo<'_> {
             roughness *= t[1];
             metallic *= t[2];
         }
-        let base_color = straight_lanes(colors);
-        // Double-sided back faces are lit from their side, after the tilt.
-        if self.material.double_sided && !quad.front_facing {
-            n = n.map(|c| -c);
-        }
-        MrQuad {
+        let back = self.material.double_sided && !quad.front_facing;
+        MrInputs {
+            normal,
             position,
-            normal: n,
-            base_color,
-            metallic,
-            roughness,
+            tilt,
+            back: Vec4::splat(if back { 1.0 } else { 0.0 }),
             occlusion,
             emissive,
+            roughness,
+            metallic,
+            base_color: straight_lanes(colors),
+        }
+    }
+
+    /// The surface of a quad's pixels (two quads' in eight lanes) in lanes:
+    /// [`DrawInfo::apply_maps`] for a plain metallic-roughness draw — the interpolated
+    /// normal made a unit one, tilted by the normal map, turned round on back faces.
+    #[inline(always)]
+    fn mr_surface<L: Lane>(&self, q: &MrInputs<L>) -> MrQuad<L> {
+        // A draw without normals has zero ones, which stay zero.
+        let mut n = normalize_lanes(q.normal);
+        if let (Some((tangent, texels)), Some(map)) = (&q.tilt, &self.normal_map) {
+            n = tangent_space(n, *tangent, texels, map.scale);
+        }
+        // Double-sided back faces are lit from their side, after the tilt.
+        let back = q.back.cmpne(L::splat(0.0));
+        n = [
+            L::select(back, -n[0], n[0]),
+            L::select(back, -n[1], n[1]),
+            L::select(back, -n[2], n[2]),
+        ];
+        MrQuad {
+            position: q.position,
+            normal: n,
+            base_color: q.base_color,
+            metallic: q.metallic,
+            roughness: q.roughness,
+            occlusion: q.occlusion,
+            emissive: q.emissive,
         }
     }
 }
@@ -124,33 +310,33 @@ impl DrawInfo<'_> {
 /// (`texel` as x, y, z lanes) in the frame of the tangents `tangent` (x, y, z and the
 /// handedness w); a lane keeps its normal where the tangent or the result is zero.
 #[inline(always)]
-fn tangent_space(n: Lanes3, tangent: [Vec4; 4], texel: &[Vec4; 4], scale: f32) -> Lanes3 {
+fn tangent_space<L: Lane>(n: [L; 3], tangent: [L; 4], texel: &[L; 4], scale: f32) -> [L; 3] {
     let [nx, ny, nz] = n;
     let [tx, ty, tz, w] = tangent;
     // T made orthogonal to N, B = (N × T)·sign(w).
     let k = nx * tx + ny * ty + nz * tz;
-    let [tx, ty, tz] = normalize_or_zero([tx - nx * k, ty - ny * k, tz - nz * k]);
+    let [tx, ty, tz] = normalize_lanes([tx - nx * k, ty - ny * k, tz - nz * k]);
     let sign = w.signum();
     let (bx, by, bz) = (
         (ny * tz - ty * nz) * sign,
         (nz * tx - tz * nx) * sign,
         (nx * ty - tx * ny) * sign,
     );
-    let two = Vec4::splat(2.0);
-    let sx = (texel[0] * two - Vec4::ONE) * scale;
-    let sy = (texel[1] * two - Vec4::ONE) * scale;
-    let sz = texel[2] * two - Vec4::ONE;
-    let [mx, my, mz] = normalize_or_zero([
+    let (one, two, scale) = (L::splat(1.0), L::splat(2.0), L::splat(scale));
+    let sx = (texel[0] * two - one) * scale;
+    let sy = (texel[1] * two - one) * scale;
+    let sz = texel[2] * two - one;
+    let [mx, my, mz] = normalize_lanes([
         tx * sx + bx * sy + nx * sz,
         ty * sx + by * sy + ny * sz,
         tz * sx + bz * sy + nz * sz,
     ]);
-    let zero = Vec4::ZERO;
-    let nonzero = |[x, y, z]: Lanes3| x.cmpne(zero) | y.cmpne(zero) | z.cmpne(zero);
+    let zero = L::splat(0.0);
+    let nonzero = |[x, y, z]: [L; 3]| x.cmpne(zero) | y.cmpne(zero) | z.cmpne(zero);
     let ok = nonzero([mx, my, mz]) & nonzero([tx, ty, tz]);
     [
-        Vec4::select(ok, mx, nx),
-        Vec4::select(ok, my, ny),
-        Vec4::select(ok, mz, nz),
+        L::select(ok, mx, nx),
+        L::select(ok, my, ny),
+        L::select(ok, mz, nz),
     ]
 }

@@ -10,6 +10,7 @@
 
 use glam::{Mat4, Vec3, Vec4};
 
+use super::wide::Lane;
 use super::{Light, Lighting, Surface, Viewer};
 
 /// Three lanes of a vector quantity: `x`, `y` and `z` of the four pixels.
@@ -137,20 +138,22 @@ pub fn phong_quad(
     QuadFactors::from_lanes(d, sp)
 }
 
-/// What one light delivers at a quad's four points ([`Light::incidence`] in lanes).
-pub(super) struct Incidence {
+/// What one light delivers at a quad's four points ([`Light::incidence`] in lanes; in
+/// eight lanes, two quads' points).
+pub(super) struct Incidence<L = Vec4> {
     /// The unit direction towards the light, per lane.
-    pub l: Lanes3,
+    pub l: [L; 3],
     /// `S·I` per channel.
-    pub intensity: Lanes3,
-    /// The lanes the light reaches (bit `j` for pixel `j`).
+    pub intensity: [L; 3],
+    /// The lanes the light reaches (bit `j` for lane `j`).
     pub reaches: u32,
 }
 
-/// [`Light::incidence`] at four points (x, y and z lanes), lane by lane in its order of
-/// operations; `None` when it reaches none of them.
+/// [`Light::incidence`] at four points (x, y and z lanes; eight for two quads), lane by lane
+/// in its order of operations; `None` when it reaches none of them.
 #[inline(always)]
-pub(super) fn incidence(light: &Light, p: Lanes3) -> Option<Incidence> {
+pub(super) fn incidence<L: Lane>(light: &Light, p: [L; 3]) -> Option<Incidence<L>> {
+    let splat = |c: Vec3| [L::splat(c.x), L::splat(c.y), L::splat(c.z)];
     match *light {
         Light::Directional { direction, color } => {
             let len2 = direction.length_squared();
@@ -160,9 +163,9 @@ pub(super) fn incidence(light: &Light, p: Lanes3) -> Option<Incidence> {
                 direction.try_normalize()?
             };
             Some(Incidence {
-                l: splat3(l),
-                intensity: splat3(color),
-                reaches: 0b1111,
+                l: splat(l),
+                intensity: splat(color),
+                reaches: (1 << (4 * L::QUADS)) - 1,
             })
         }
         Light::Point {
@@ -173,7 +176,11 @@ pub(super) fn incidence(light: &Light, p: Lanes3) -> Option<Incidence> {
             let (l, s, reaches) = point_falloff(position, p, range);
             Some(Incidence {
                 l,
-                intensity: [0, 1, 2].map(|c| Vec4::splat(color[c]) * s),
+                intensity: [
+                    L::splat(color.x) * s,
+                    L::splat(color.y) * s,
+                    L::splat(color.z) * s,
+                ],
                 reaches,
             })
             .filter(|_| reaches != 0)
@@ -191,13 +198,19 @@ pub(super) fn incidence(light: &Light, p: Lanes3) -> Option<Incidence> {
             let cos_inner = inner_deg.to_radians().cos();
             let scale = 1.0 / (cos_inner - cos_outer).max(1e-3);
             let [lx, ly, lz] = l;
-            let cos = (-lx) * axis.x + (-ly) * axis.y + (-lz) * axis.z;
-            let cone = ((cos - Vec4::splat(cos_outer)) * scale).clamp(Vec4::ZERO, Vec4::ONE);
-            reaches &= cone.cmpgt(Vec4::ZERO).bitmask();
+            let cos =
+                (-lx) * L::splat(axis.x) + (-ly) * L::splat(axis.y) + (-lz) * L::splat(axis.z);
+            let cone =
+                ((cos - L::splat(cos_outer)) * L::splat(scale)).clamp(L::splat(0.0), L::splat(1.0));
+            reaches &= L::bitmask(cone.cmpgt(L::splat(0.0)));
             let k = s * cone * cone;
             Some(Incidence {
                 l,
-                intensity: [0, 1, 2].map(|c| Vec4::splat(color[c]) * k),
+                intensity: [
+                    L::splat(color.x) * k,
+                    L::splat(color.y) * k,
+                    L::splat(color.z) * k,
+                ],
                 reaches,
             })
             .filter(|_| reaches != 0)
@@ -208,32 +221,40 @@ pub(super) fn incidence(light: &Light, p: Lanes3) -> Option<Incidence> {
 /// The unit directions from four points towards `position`, the inverse-square falloff
 /// (windowed by `range`) and the lanes it reaches, as the per-pixel rule's `point_falloff`.
 #[inline(always)]
-fn point_falloff(position: Vec3, p: Lanes3, range: Option<f32>) -> (Lanes3, Vec4, u32) {
+fn point_falloff<L: Lane>(position: Vec3, p: [L; 3], range: Option<f32>) -> ([L; 3], L, u32) {
     let [px, py, pz] = p;
     let (x, y, z) = (
-        Vec4::splat(position.x) - px,
-        Vec4::splat(position.y) - py,
-        Vec4::splat(position.z) - pz,
+        L::splat(position.x) - px,
+        L::splat(position.y) - py,
+        L::splat(position.z) - pz,
     );
     let d2 = x * x + y * y + z * z;
-    let mut reaches = (d2.cmpgt(Vec4::ZERO) & d2.cmplt(Vec4::INFINITY)).bitmask();
-    let d = sqrt4(d2);
-    let mut s = Vec4::ONE / d2;
+    let (zero, one) = (L::splat(0.0), L::splat(1.0));
+    let mut reaches = L::bitmask(d2.cmpgt(zero) & d2.cmplt(L::splat(f32::INFINITY)));
+    let d = d2.sqrt();
+    let mut s = one / d2;
     if let Some(r) = range.filter(|r| *r > 0.0) {
-        let x = Vec4::from_array((d / r).to_array().map(|v| v.powi(4)));
-        let w = (Vec4::ONE - x).clamp(Vec4::ZERO, Vec4::ONE);
-        s *= w * w;
+        let x = (d / L::splat(r)).map(|v| v.powi(4));
+        let w = (one - x).clamp(zero, one);
+        s = s * (w * w);
     }
-    reaches &= s.cmpgt(Vec4::ZERO).bitmask();
+    reaches &= L::bitmask(s.cmpgt(zero));
     ([x / d, y / d, z / d], s, reaches)
 }
 
 /// `normalize_or_zero` of three lanes.
 #[inline(always)]
 #[must_use]
-pub fn normalize_or_zero([x, y, z]: Lanes3) -> Lanes3 {
-    let r = sqrt4(x * x + y * y + z * z).recip();
-    let r = Vec4::select(r.cmplt(Vec4::INFINITY) & r.cmpgt(Vec4::ZERO), r, Vec4::ZERO);
+pub fn normalize_or_zero(v: Lanes3) -> Lanes3 {
+    normalize_lanes(v)
+}
+
+/// [`normalize_or_zero`] on any lane type (two quads' lanes at once in eight).
+#[inline(always)]
+pub(crate) fn normalize_lanes<L: Lane>([x, y, z]: [L; 3]) -> [L; 3] {
+    let r = (x * x + y * y + z * z).sqrt().recip();
+    let zero = L::splat(0.0);
+    let r = L::select(r.cmplt(L::splat(f32::INFINITY)) & r.cmpgt(zero), r, zero);
     [x * r, y * r, z * r]
 }
 

@@ -50,6 +50,7 @@ pub mod shadow;
 pub mod sheen;
 pub mod toon;
 mod viewer;
+pub(crate) mod wide;
 
 use glam::{Vec3, Vec4};
 

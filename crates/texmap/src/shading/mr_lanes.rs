@@ -12,28 +12,27 @@ use std::f32::consts::PI;
 use glam::Vec4;
 
 use super::albedo::{albedo_table, ALBEDO_N};
-use super::lanes::{
-    incidence, lane_mask, normalize_or_zero, splat3, sqrt4, transpose, Lanes3, QuadFactors,
-};
+use super::lanes::{incidence, normalize_lanes, sqrt4, transpose, Lanes3, QuadFactors};
 use super::pbr::MIN_ROUGHNESS;
+use super::wide::Lane;
 use super::{Lighting, Surface, Viewer};
 
-/// What the metallic-roughness model reads at a quad's four pixels (one pixel per lane): the
-/// surface after its maps.
+/// What the metallic-roughness model reads at a quad's four pixels (one pixel per lane; in
+/// eight lanes, two quads' pixels): the surface after its maps.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MrQuad {
+pub struct MrQuad<L = Vec4> {
     /// World positions.
-    pub position: Lanes3,
+    pub position: [L; 3],
     /// Unit normals (after the normal map; towards the viewer on double-sided back faces).
-    pub normal: Lanes3,
+    pub normal: [L; 3],
     /// Straight-alpha base colours (the f0 of metals).
-    pub base_color: Lanes3,
-    pub metallic: Vec4,
-    pub roughness: Vec4,
+    pub base_color: [L; 3],
+    pub metallic: L,
+    pub roughness: L,
     /// Ambient occlusion (1 = none).
-    pub occlusion: Vec4,
+    pub occlusion: L,
     /// I_E.
-    pub emissive: Lanes3,
+    pub emissive: [L; 3],
 }
 
 /// The factors `(D, S)` of the metallic-roughness model at four pixels `q` seen by `viewer`
@@ -62,8 +61,22 @@ pub fn metallic_roughness_lanes(
     lighting: &Lighting,
     viewer: Viewer,
 ) -> (Lanes3, Lanes3) {
+    mr_lanes(s, q, lighting, viewer)
+}
+
+/// [`metallic_roughness_lanes`] on any lane type: on [`F32x8`](super::wide::F32x8), two
+/// quads at once, each lane the value `Vec4` lanes give it (the same operations).
+#[inline(always)]
+#[must_use]
+pub(crate) fn mr_lanes<L: Lane>(
+    s: &Surface,
+    q: &MrQuad<L>,
+    lighting: &Lighting,
+    viewer: Viewer,
+) -> ([L; 3], [L; 3]) {
     debug_assert!(!s.lobes.layered());
-    let (one, zero) = (Vec4::ONE, Vec4::ZERO);
+    let (one, zero) = (L::splat(1.0), L::splat(0.0));
+    let splat = L::splat;
     // The lobe (`MrLobe::new`): F0 and F90 with the metal's base colour blended in, α, V, N·V.
     let metallic = q.metallic.max(zero).min(one);
     let (f0_d, f90_d) = s.lobes.dielectric(super::ibl::dielectric_f0(s.ior));
@@ -72,44 +85,51 @@ pub fn metallic_roughness_lanes(
     let [vx, vy, vz] = match viewer {
         Viewer::Point(eye) => {
             let [px, py, pz] = p;
-            normalize_or_zero([
-                Vec4::splat(eye.x) - px,
-                Vec4::splat(eye.y) - py,
-                Vec4::splat(eye.z) - pz,
-            ])
+            normalize_lanes([splat(eye.x) - px, splat(eye.y) - py, splat(eye.z) - pz])
         }
-        Viewer::Direction(v) => splat3(v),
+        Viewer::Direction(v) => [splat(v.x), splat(v.y), splat(v.z)],
     };
     let keep = one - metallic;
-    // (Arrays written out: `array::from_fn`'s closures were left as calls.)
-    let lerp = |c: usize| Vec4::splat(f0_d[c]) * keep + q.base_color[c] * metallic;
-    let f0: Lanes3 = [lerp(0), lerp(1), lerp(2)];
+    // (Arrays written out: `array::from_fn`'s and `array::map`'s closures were left as
+    // calls, and on `F32x8` their vector operations too.)
+    let b = &q.base_color;
+    let f0 = [
+        splat(f0_d[0]) * keep + b[0] * metallic,
+        splat(f0_d[1]) * keep + b[1] * metallic,
+        splat(f0_d[2]) * keep + b[2] * metallic,
+    ];
 
-    let f90 = Vec4::splat(f90_d) + Vec4::splat(1.0 - f90_d) * metallic;
+    let f90 = splat(f90_d) + splat(1.0 - f90_d) * metallic;
     let r = q.roughness;
-    let r = Vec4::select(
+    let r = L::select(
         r.is_finite_mask(),
-        r.max(Vec4::splat(MIN_ROUGHNESS)).min(one),
+        r.max(splat(MIN_ROUGHNESS)).min(one),
         one,
     );
     let a = r * r;
-    let n_dot_v = (nx * vx + ny * vy + nz * vz).max(Vec4::splat(1e-4));
+    let n_dot_v = (nx * vx + ny * vy + nz * vz).max(splat(1e-4));
 
     // The ambient term: K_A·I_AL·O·(c_diff·(1 − E) + E), E the lobe's albedo.
-    let k = Vec4::splat(s.ambient) * q.occlusion;
-    let ambient = |c: usize| Vec4::splat(lighting.ambient[c]) * k;
-    let ambient: Lanes3 = [ambient(0), ambient(1), ambient(2)];
+    let k = splat(s.ambient) * q.occlusion;
+    let ia = lighting.ambient;
+    let ambient = [splat(ia.x) * k, splat(ia.y) * k, splat(ia.z) * k];
     let mut d = [zero; 3];
     let mut sp = q.emissive;
-    let lit = (ambient[0].cmpne(zero) | ambient[1].cmpne(zero) | ambient[2].cmpne(zero)).bitmask();
+    let lit = L::bitmask(ambient[0].cmpne(zero) | ambient[1].cmpne(zero) | ambient[2].cmpne(zero));
     if lit != 0 {
-        let (ea, eb) = specular_albedo_quad(n_dot_v, sqrt4(a));
-        let eb = eb * f90;
-        let mask = lane_mask(lit);
+        // The albedo table read quad by quad (its texels are gathered per lane).
+        let root = a.sqrt();
+        let mut parts = [(Vec4::ZERO, Vec4::ZERO); 2];
+        for (k, part) in parts.iter_mut().enumerate().take(L::QUADS) {
+            *part = specular_albedo_quad(n_dot_v.quad(k), root.quad(k));
+        }
+        let ea = L::from_quads(|k| parts[k].0);
+        let eb = L::from_quads(|k| parts[k].1) * f90;
+        let mask = L::mask_from_bits(lit);
         for c in 0..3 {
             let e = f0[c] * ea + eb;
-            d[c] = Vec4::select(mask, ambient[c] * keep * (one - e), zero);
-            sp[c] = Vec4::select(mask, sp[c] + ambient[c] * e, sp[c]);
+            d[c] = L::select(mask, ambient[c] * keep * (one - e), zero);
+            sp[c] = L::select(mask, sp[c] + ambient[c] * e, sp[c]);
         }
     }
 
@@ -122,17 +142,22 @@ pub fn metallic_roughness_lanes(
         };
         let [lx, ly, lz] = inc.l;
         let n_dot_l = nx * lx + ny * ly + nz * lz;
-        let on = inc.reaches & n_dot_l.cmpgt(zero).bitmask();
+        let on = inc.reaches & L::bitmask(n_dot_l.cmpgt(zero));
         if on == 0 {
             continue;
         }
-        let mask = lane_mask(on);
+        let mask = L::mask_from_bits(on);
         let mut intensity = inc.intensity;
         if let Some(maps) = lighting.shadows {
-            let v = maps.visibility_quad(i, p, q.normal, inc.l, on);
-            intensity = intensity.map(|c| c * v);
+            // The shadow maps' lookups quad by quad.
+            let quad = |v: &[L; 3], k: usize| [v[0].quad(k), v[1].quad(k), v[2].quad(k)];
+            let v = L::from_quads(|k| {
+                let facing = on >> (4 * k) & 0b1111;
+                maps.visibility_quad(i, quad(&p, k), quad(&q.normal, k), quad(&inc.l, k), facing)
+            });
+            intensity = [intensity[0] * v, intensity[1] * v, intensity[2] * v];
         }
-        let [hx, hy, hz] = normalize_or_zero([lx + vx, ly + vy, lz + vz]);
+        let [hx, hy, hz] = normalize_lanes([lx + vx, ly + vy, lz + vz]);
         // Schlick with F90: f0 + (f90 − f0)(1 − V·H)⁵.
         let m = (one - (vx * hx + vy * hy + vz * hz)).max(zero).min(one);
         let m2 = m * m;
@@ -140,17 +165,17 @@ pub fn metallic_roughness_lanes(
         let n_dot_h = (nx * hx + ny * hy + nz * hz).max(zero);
         // GGX D and the height-correlated Smith visibility.
         let t = n_dot_h * n_dot_h * (a2 - one) + one;
-        let distribution = a2 / (Vec4::splat(PI) * t * t);
-        let gv = n_dot_l * sqrt4(nv_term * one_minus_a2 + a2);
-        let gl = n_dot_v * sqrt4(n_dot_l * n_dot_l * one_minus_a2 + a2);
+        let distribution = a2 / (splat(PI) * t * t);
+        let gv = n_dot_l * (nv_term * one_minus_a2 + a2).sqrt();
+        let gl = n_dot_v * (n_dot_l * n_dot_l * one_minus_a2 + a2).sqrt();
         let sum = gv + gl;
-        let visibility = Vec4::select(sum.cmpgt(zero), Vec4::splat(0.5) / sum, zero);
-        let spec = Vec4::splat(PI) * distribution * visibility * n_dot_l;
+        let visibility = L::select(sum.cmpgt(zero), splat(0.5) / sum, zero);
+        let spec = splat(PI) * distribution * visibility * n_dot_l;
         let kd = keep * n_dot_l;
         for c in 0..3 {
             let f = f0[c] + (f90 - f0[c]) * m5;
-            d[c] = Vec4::select(mask, d[c] + intensity[c] * (one - f) * kd, d[c]);
-            sp[c] = Vec4::select(mask, sp[c] + intensity[c] * f * spec, sp[c]);
+            d[c] = L::select(mask, d[c] + intensity[c] * (one - f) * kd, d[c]);
+            sp[c] = L::select(mask, sp[c] + intensity[c] * f * spec, sp[c]);
         }
     }
     (d, sp)
@@ -279,6 +304,120 @@ mod tests {
                 let e = specular_albedo(nv[j], r[j]);
                 assert_eq!((a[j], b[j]), (e.x, e.y), "{} {}", nv[j], r[j]);
             }
+        }
+    }
+
+    /// Two quads in eight lanes give each quad's `Vec4` factors, bit for bit, under every
+    /// kind of light, with and without an ambient light, from a point and a direction.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn two_quads_in_eight_lanes_are_each_quads_factors() {
+        if !crate::cpu::available(crate::cpu::Level::V3) {
+            eprintln!("skipped: this CPU has no AVX2");
+            return;
+        }
+        // SAFETY: the CPU has x86-64-v3 (checked above).
+        unsafe { eight_lanes() }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
+    fn eight_lanes() {
+        use crate::shading::wide::F32x8;
+        let lights = test_lights();
+        let material = Material {
+            model: ShadingModel::MetallicRoughness,
+            ambient: 0.8,
+            ..Default::default()
+        };
+        let s = Surface::new(&material, Vec3::ZERO, Vec3::ZERO);
+        let quads = [0.0f32, 1.0, 2.5].map(test_quad);
+        for (a, b) in [(0, 1), (1, 2), (2, 0)] {
+            let (qa, qb) = (&quads[a], &quads[b]);
+            let j3 = |x: [Vec4; 3], y: [Vec4; 3]| [0, 1, 2].map(|c| F32x8::join(x[c], y[c]));
+            let wide = MrQuad {
+                position: j3(qa.position, qb.position),
+                normal: j3(qa.normal, qb.normal),
+                base_color: j3(qa.base_color, qb.base_color),
+                metallic: F32x8::join(qa.metallic, qb.metallic),
+                roughness: F32x8::join(qa.roughness, qb.roughness),
+                occlusion: F32x8::join(qa.occlusion, qb.occlusion),
+                emissive: j3(qa.emissive, qb.emissive),
+            };
+            for ambient in [Vec3::ZERO, Vec3::new(0.3, 0.35, 0.4)] {
+                for lights in [&lights[..], &lights[1..2], &lights[3..], &[]] {
+                    let lighting = Lighting {
+                        lights,
+                        ambient,
+                        shadows: None,
+                    };
+                    for viewer in [
+                        Viewer::Point(Vec3::new(0.5, 3.0, 4.0)),
+                        Viewer::Direction(Vec3::new(0.0, 0.6, 0.8)),
+                    ] {
+                        let (d, sp) = mr_lanes(&s, &wide, &lighting, viewer);
+                        for (k, q) in [qa, qb].into_iter().enumerate() {
+                            let (ed, es) = mr_lanes(&s, q, &lighting, viewer);
+                            for c in 0..3 {
+                                for (got, want) in [(d[c].quad(k), ed[c]), (sp[c].quad(k), es[c])] {
+                                    let same = (0..4).all(|i| {
+                                        got[i].to_bits() == want[i].to_bits()
+                                            || (got[i].is_nan() && want[i].is_nan())
+                                    });
+                                    assert!(same, "quad {k} channel {c}: {got} vs {want}");
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Directional, point (with and without a range) and spot lights.
+    fn test_lights() -> [Light; 4] {
+        [
+            Light::Directional {
+                direction: Vec3::new(0.3, 0.8, 0.5).normalize(),
+                color: Vec3::new(1.0, 0.9, 0.8),
+            },
+            Light::Point {
+                position: Vec3::new(1.0, 3.0, 2.5),
+                color: Vec3::new(8.0, 6.8, 4.8),
+                range: Some(6.0),
+            },
+            Light::Point {
+                position: Vec3::new(-2.0, 1.0, 0.5),
+                color: Vec3::splat(2.0),
+                range: None,
+            },
+            Light::Spot {
+                position: Vec3::new(0.0, 4.0, 0.0),
+                direction: Vec3::new(0.1, -1.0, 0.2).normalize(),
+                color: Vec3::new(5.0, 5.0, 4.0),
+                inner_deg: 20.0,
+                outer_deg: 50.0,
+            },
+        ]
+    }
+
+    /// A quad of varied pixels (a zero normal, one facing away, metals and dielectrics, a
+    /// clamped and an infinite roughness, occlusion 0 on one), moved by `t`.
+    fn test_quad(t: f32) -> MrQuad {
+        let v = |f: &dyn Fn(usize) -> Vec3| lanes(&std::array::from_fn(f));
+        MrQuad {
+            position: v(&|j| Vec3::new(j as f32 - 1.5 + t, 0.1 * j as f32, t - 1.0)),
+            normal: v(&|j| match (j + t as usize) % 4 {
+                0 => Vec3::new(0.1, 2.0, 0.3 + t).normalize(),
+                1 => Vec3::new(-1.0, 0.2, 0.9).normalize(),
+                2 => Vec3::ZERO,
+                _ => Vec3::new(0.2, -1.0, 0.1).normalize(),
+            }),
+            base_color: v(&|j| Vec3::new(0.9, 0.5 * j as f32 / 3.0, 0.1 + 0.2 * t)),
+            metallic: Vec4::new(1.0, 0.0, 0.5, 0.25 * t),
+            roughness: Vec4::new(0.0, 0.5, f32::INFINITY, 1.0 - 0.2 * t),
+            occlusion: Vec4::new(1.0, 0.0, 0.5, 0.75),
+            emissive: v(&|j| Vec3::new(0.1 * j as f32, t, 0.0)),
         }
     }
 
