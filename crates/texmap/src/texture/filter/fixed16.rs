@@ -80,6 +80,8 @@ pub(super) use quads::{read_level_quads, read_quad, read_quads, LEVEL_QUADS};
 
 mod prefetch;
 pub(super) use prefetch::prefetch_quads;
+#[cfg(target_arch = "x86_64")]
+pub(super) use prefetch::prefetch_shared;
 
 mod trilinear;
 pub(super) use trilinear::read_trilinear;

@@ -579,6 +579,13 @@ impl<'a> SharedQuads<'a> {
         let mut pair = [[[Vec4::ZERO; 4]; fixed16::MAX_SHARED]; 2];
         for (start, (coords, masks)) in coords.chunks(CHUNK).zip(masks.chunks(CHUNK)).enumerate() {
             let (choices, _) = gl_choices::<CHUNK>(first, sampler, coords, mag, min);
+            // The chunk's first texels asked for at once, so their misses overlap.
+            #[cfg(target_arch = "x86_64")]
+            if let Some(Some(shared)) = self.groups.first() {
+                for (c, &choice) in coords.iter().zip(&choices) {
+                    fixed16::prefetch_shared(shared, sampler, choice, c.u, c.v);
+                }
+            }
             let groups = textures.chunks(fixed16::MAX_SHARED).zip(&self.groups);
             for (group, (textures, shared)) in groups.enumerate() {
                 let mut k = 0;

@@ -8,6 +8,13 @@
 //! and so do the quads minified by less than two texels a pixel (λ ≤ 1: their texels sit in
 //! the lines their neighbours read): for them this would only compute the addresses twice,
 //! so only the far quads are prefetched.
+//!
+//! A material's maps read together ([`prefetch_shared`]) are the exception: four or five
+//! textures' lines a quad, on levels the frame streams through (DamagedHelmet's 2048² maps
+//! at levels 1–2). Each pair of quads' reads is hundreds of instructions, so the next pair's
+//! loads lie beyond the out-of-order window and its misses waited after the last pair's
+//! (perf: the samples on the instruction after each pixel's first texel load). Asking for
+//! every quad's first-level corners in every map before the first read lets them overlap.
 
 use super::super::super::{MipChoice, Sampler, Texture2D};
 use super::super::QuadCoords;
@@ -78,6 +85,36 @@ pub(super) fn prefetch_lanes(data: &[u8], size: usize, offsets: &[&[i32; 4]], ma
             // range anyway, as for the reads).
             unsafe {
                 _mm_prefetch::<_MM_HINT_T0>(base.wrapping_add(o[j] as usize * size).cast::<i8>());
+            }
+        }
+    }
+}
+
+/// Asks the cache for a quad's texels on the first level `choice` names, in every texture of
+/// `shared` (read together at `u`, `v`): the first tap of its first pixel and the last of its
+/// last, the two corners of the texels the quad reads there. Nothing is read or changed.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub(in super::super) fn prefetch_shared(
+    shared: &super::Shared,
+    s: &Sampler,
+    choice: MipChoice,
+    u: glam::Vec4,
+    v: glam::Vec4,
+) {
+    use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+    if choice.texels != crate::texture::TexelFilter::Linear {
+        return;
+    }
+    let lv = shared.level(choice.level);
+    let t = super::sse2::taps(&lv.first, lv.tiles_x, s, u, v, super::ONE);
+    let (first, last) = (t.offsets[0][0] as usize, t.offsets[3][3] as usize);
+    for (data, &texels) in lv.data.iter().zip(&shared.texels).take(shared.count) {
+        let size = super::bpp(texels);
+        for o in [first, last] {
+            // SAFETY: SSE is part of x86_64; a prefetch reads nothing.
+            unsafe {
+                _mm_prefetch::<_MM_HINT_T0>(data.as_ptr().wrapping_add(o * size).cast::<i8>());
             }
         }
     }
