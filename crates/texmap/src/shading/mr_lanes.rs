@@ -344,34 +344,47 @@ mod tests {
                 occlusion: F32x8::join(qa.occlusion, qb.occlusion),
                 emissive: j3(qa.emissive, qb.emissive),
             };
-            for ambient in [Vec3::ZERO, Vec3::new(0.3, 0.35, 0.4)] {
-                for lights in [&lights[..], &lights[1..2], &lights[3..], &[]] {
-                    let lighting = Lighting {
-                        lights,
-                        ambient,
-                        shadows: None,
-                    };
-                    for viewer in [
-                        Viewer::Point(Vec3::new(0.5, 3.0, 4.0)),
-                        Viewer::Direction(Vec3::new(0.0, 0.6, 0.8)),
-                    ] {
-                        let (d, sp) = mr_lanes(&s, &wide, &lighting, viewer);
-                        for (k, q) in [qa, qb].into_iter().enumerate() {
-                            let (ed, es) = mr_lanes(&s, q, &lighting, viewer);
-                            for c in 0..3 {
-                                for (got, want) in [(d[c].quad(k), ed[c]), (sp[c].quad(k), es[c])] {
-                                    let same = (0..4).all(|i| {
-                                        got[i].to_bits() == want[i].to_bits()
-                                            || (got[i].is_nan() && want[i].is_nan())
-                                    });
-                                    assert!(same, "quad {k} channel {c}: {got} vs {want}");
-                                }
-                            }
+            for (lighting, viewer) in lightings(&[&lights[..], &lights[1..2], &lights[3..], &[]]) {
+                let (d, sp) = mr_lanes(&s, &wide, &lighting, viewer);
+                for (k, q) in [qa, qb].into_iter().enumerate() {
+                    let (ed, es) = mr_lanes(&s, q, &lighting, viewer);
+                    for c in 0..3 {
+                        for (got, want) in [(d[c].quad(k), ed[c]), (sp[c].quad(k), es[c])] {
+                            let same = (0..4).all(|i| {
+                                got[i].to_bits() == want[i].to_bits()
+                                    || (got[i].is_nan() && want[i].is_nan())
+                            });
+                            assert!(same, "quad {k} channel {c}: {got} vs {want}");
                         }
                     }
                 }
             }
         }
+    }
+
+    /// Every lighting the tests try: each of `sets` of lights with the ambient light off and
+    /// on, seen from a point and from a direction.
+    fn lightings<'a>(sets: &[&'a [Light]]) -> Vec<(Lighting<'a>, Viewer)> {
+        let mut out = Vec::new();
+        for ambient in [Vec3::ZERO, Vec3::new(0.3, 0.35, 0.4)] {
+            for &lights in sets {
+                for viewer in [
+                    Viewer::Point(Vec3::new(0.5, 3.0, 4.0)),
+                    Viewer::Direction(Vec3::new(0.0, 0.6, 0.8)),
+                ] {
+                    let shadows = None;
+                    out.push((
+                        Lighting {
+                            lights,
+                            ambient,
+                            shadows,
+                        },
+                        viewer,
+                    ));
+                }
+            }
+        }
+        out
     }
 
     /// Directional, point (with and without a range) and spot lights.
@@ -423,29 +436,7 @@ mod tests {
 
     #[test]
     fn quad_equals_the_per_pixel_rule_under_every_light() {
-        let lights = [
-            Light::Directional {
-                direction: Vec3::new(0.3, 0.8, 0.5).normalize(),
-                color: Vec3::new(1.0, 0.9, 0.8),
-            },
-            Light::Point {
-                position: Vec3::new(1.0, 3.0, 2.5),
-                color: Vec3::new(8.0, 6.8, 4.8),
-                range: Some(6.0),
-            },
-            Light::Point {
-                position: Vec3::new(-2.0, 1.0, 0.5),
-                color: Vec3::splat(2.0),
-                range: None,
-            },
-            Light::Spot {
-                position: Vec3::new(0.0, 4.0, 0.0),
-                direction: Vec3::new(0.1, -1.0, 0.2).normalize(),
-                color: Vec3::new(5.0, 5.0, 4.0),
-                inner_deg: 20.0,
-                outer_deg: 50.0,
-            },
-        ];
+        let lights = test_lights();
         // Normals (one zero, one facing away), positions spread out (one outside the spot's
         // cone, one beyond the first point light's range), metals and dielectrics, a mirror
         // (clamped roughness) and an infinite roughness, occlusion 0 (no ambient term) on one.
@@ -488,40 +479,28 @@ mod tests {
                 occlusion: Vec4::from_array(occlusion),
                 emissive: lanes(&emissive),
             };
-            for ambient in [Vec3::ZERO, Vec3::new(0.3, 0.35, 0.4)] {
-                for lights in [&lights[..], &lights[..1], &[]] {
-                    let lighting = Lighting {
-                        lights,
-                        ambient,
-                        shadows: None,
+            for (lighting, viewer) in lightings(&[&lights[..], &lights[..1], &[]]) {
+                let quad = metallic_roughness_quad(&template, &q, &lighting, viewer);
+                for j in 0..4 {
+                    let s = Surface {
+                        position: positions[j],
+                        normal: normals[j],
+                        base_color: base[j],
+                        metallic: metallic[j],
+                        roughness: roughness[j],
+                        occlusion: occlusion[j],
+                        emissive: emissive[j],
+                        ..template
                     };
-                    for viewer in [
-                        Viewer::Point(Vec3::new(0.5, 3.0, 4.0)),
-                        Viewer::Direction(Vec3::new(0.0, 0.6, 0.8)),
-                    ] {
-                        let quad = metallic_roughness_quad(&template, &q, &lighting, viewer);
-                        for j in 0..4 {
-                            let s = Surface {
-                                position: positions[j],
-                                normal: normals[j],
-                                base_color: base[j],
-                                metallic: metallic[j],
-                                roughness: roughness[j],
-                                occlusion: occlusion[j],
-                                emissive: emissive[j],
-                                ..template
-                            };
-                            let (d, sp) = metallic_roughness(&s, &lighting, viewer);
-                            let (qd, qs) = (quad.d[j].truncate(), quad.s[j].truncate());
-                            // The same operations in the same order: equal, not just close.
-                            assert!(
-                                d == qd && sp == qs,
-                                "pixel {j} {viewer:?} ior {ior} ambient {ambient}: \
-                                 {d} {sp} vs {qd} {qs}"
-                            );
-                            assert_eq!((quad.d[j].w, quad.s[j].w), (0.0, 0.0));
-                        }
-                    }
+                    let (d, sp) = metallic_roughness(&s, &lighting, viewer);
+                    let (qd, qs) = (quad.d[j].truncate(), quad.s[j].truncate());
+                    // The same operations in the same order: equal, not just close.
+                    assert!(
+                        d == qd && sp == qs,
+                        "pixel {j} {viewer:?} ior {ior} ambient {}: {d} {sp} vs {qd} {qs}",
+                        lighting.ambient
+                    );
+                    assert_eq!((quad.d[j].w, quad.s[j].w), (0.0, 0.0));
                 }
             }
         }
