@@ -101,7 +101,7 @@ pub fn phong_quad(
         if on == 0 {
             continue;
         }
-        let mask = lane_mask(on);
+        let mask = Vec4::mask_from_bits(on);
         // S_i·I_i per channel, times the share that gets past the shadow maps.
         let mut intensity = inc.intensity;
         if let Some(maps) = lighting.shadows {
@@ -129,7 +129,7 @@ pub fn phong_quad(
                     0.0
                 }
             }));
-            let mask = lane_mask(lit);
+            let mask = Vec4::mask_from_bits(lit);
             for (c, (sc, ic)) in sp.iter_mut().zip(&intensity).enumerate() {
                 *sc = Vec4::select(mask, *sc + *ic * s.specular_color[c] * lobe, *sc);
             }
@@ -256,12 +256,6 @@ pub(crate) fn normalize_lanes<L: Lane>([x, y, z]: [L; 3]) -> [L; 3] {
     let zero = L::splat(0.0);
     let r = L::select(r.cmplt(L::splat(f32::INFINITY)) & r.cmpgt(zero), r, zero);
     [x * r, y * r, z * r]
-}
-
-/// The lanes whose bit is set in `bits`, as a select mask.
-#[inline(always)]
-pub(super) fn lane_mask(bits: u32) -> glam::BVec4A {
-    glam::BVec4A::new(bits & 1 != 0, bits & 2 != 0, bits & 4 != 0, bits & 8 != 0)
 }
 
 #[inline(always)]
