@@ -125,14 +125,12 @@ impl SceneShader<'_> {
                 // Parallax self-shadowing asked for only by draws whose map casts it (most
                 // have none): one test a batch, not a call a quad.
                 let self_shadows = d.parallax.as_ref().is_some_and(|p| p.shadows);
-                // Plain metallic-roughness quads (as `shade_read` tells them) two at a time
-                // in eight lanes, where the CPU has AVX2.
+                // Plain metallic-roughness quads (`DrawInfo::mr_quads`, as `shade_read` takes
+                // them) two at a time in eight lanes, where the CPU has AVX2.
                 let pairs = cfg!(target_arch = "x86_64")
                     && crate::cpu::level() == crate::cpu::Level::V3
-                    && d.mr_lanes
-                    && !d.projectors
-                    && !self_shadows
-                    && !(d.env.is_some() && d.path == LightingPath::PerPixel);
+                    && d.mr_quads()
+                    && !self_shadows;
                 // Parallax's moved copies of a batch (only for draws with parallax).
                 let mut moved = quads
                     .first()
@@ -295,7 +293,7 @@ impl SceneShader<'_> {
             }
             return kept;
         }
-        if d.mr_lanes && !d.projectors && self_shadow.is_none() {
+        if d.mr_quads() && self_shadow.is_none() {
             return self.shade_mr_quad(d, quad, reads, out);
         }
         let m = d.material;

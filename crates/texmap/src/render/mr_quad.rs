@@ -219,6 +219,17 @@ impl MrInputs<crate::shading::wide::F32x8> {
 }
 
 impl DrawInfo<'_> {
+    /// Whether this draw's quads are shaded by [`SceneShader::shade_mr_quad`] (those without
+    /// parallax self-shadowing): a plain metallic-roughness draw with no projectors and no
+    /// environment map on its per-pixel path. `shade_read` and the batches' pairs both ask.
+    #[inline(always)]
+    pub(super) fn mr_quads(&self) -> bool {
+        use super::draw::LightingPath;
+        self.mr_lanes
+            && !self.projectors
+            && !(self.env.is_some() && self.path == LightingPath::PerPixel)
+    }
+
     /// [`MrInputs`] of one quad of a plain metallic-roughness draw, `colors` the pixels'
     /// premultiplied surface colours: [`DrawInfo::apply_maps`]'s reads in lanes.
     #[inline(always)]
