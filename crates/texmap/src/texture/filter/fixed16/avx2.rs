@@ -14,10 +14,11 @@
 
 use std::arch::x86_64::{
     __m256, __m256i, _mm256_add_epi32, _mm256_add_ps, _mm256_and_si256, _mm256_andnot_si256,
-    _mm256_cmpeq_epi32, _mm256_cvtps_epi32, _mm256_cvttps_epi32, _mm256_floor_ps, _mm256_max_ps,
-    _mm256_min_epu32, _mm256_min_ps, _mm256_mul_ps, _mm256_mullo_epi32, _mm256_or_si256,
-    _mm256_set1_epi32, _mm256_set1_ps, _mm256_set_m128, _mm256_set_m128i, _mm256_setzero_ps,
-    _mm256_slli_epi32, _mm256_srli_epi32, _mm256_sub_epi32, _mm256_sub_ps, _mm_set1_epi32,
+    _mm256_cmpeq_epi32, _mm256_cvtepi32_ps, _mm256_cvtps_epi32, _mm256_cvttps_epi32,
+    _mm256_floor_ps, _mm256_max_ps, _mm256_min_epu32, _mm256_min_ps, _mm256_mul_ps,
+    _mm256_mullo_epi32, _mm256_or_si256, _mm256_set1_epi32, _mm256_set1_ps, _mm256_set_m128,
+    _mm256_set_m128i, _mm256_setzero_ps, _mm256_slli_epi32, _mm256_srli_epi32, _mm256_sub_epi32,
+    _mm256_sub_ps, _mm_set1_epi32,
 };
 
 use glam::{Vec2, Vec4};
@@ -33,11 +34,13 @@ use gather::gather;
 /// A level's view, tiled texels and tiles per row (as `tiled_texels` gives them).
 type Level<'a> = (&'a LevelRef<'a>, &'a [u8], u32);
 
-/// [`sse2::probes_quad`]'s probes two at a time, while two are left: both probes' taps on a
+/// [`sse2::probes_on`]'s probes two at a time, while two are left: both probes' taps on a
 /// level computed at once ([`taps2`]), each probe's texels then gathered into `acc` as the
-/// SSE2 loop gathers them (a probe whose weight on a level is 0 not read there). Returns the
-/// probes left (none, or the odd last one). `levels` are the first level and the second
-/// (`None` without a blend); `fa` the first level's share of a probe's weight.
+/// SSE2 loop gathers them (a probe whose weight on a level is 0 not read there). An odd last
+/// probe read on both levels takes its two levels' taps at once ([`taps2_levels`]). Returns
+/// the probes left (none, or an odd last one read on one level). `levels` are the first
+/// level and the second (`None` without a blend); `fa` the first level's share of a probe's
+/// weight.
 ///
 /// # Safety
 /// The CPU must have x86-64-v3 ([`crate::cpu::level`]).
@@ -54,28 +57,70 @@ pub(super) unsafe fn probe_pairs<'p>(
     acc: &mut [std::arch::x86_64::__m128i; 4],
 ) -> &'p [Probe] {
     let mut rest = probes;
+    let (first, second) = levels;
     while let [p, q, tail @ ..] = rest {
         rest = tail;
-        let weight = [p.weight, q.weight];
-        let wa = weight.map(|w| sse2::probe_first_weight(fa, w));
-        let pu = [p.t, q.t].map(|t| u + Vec4::splat(step.x * t));
-        let pv = [p.t, q.t].map(|t| v + Vec4::splat(step.y * t));
-        let wb = [weight[0] - wa[0], weight[1] - wa[1]];
-        let (first, second) = levels;
-        for ((lv, data, tiles_x), w) in [(first, wa)].into_iter().chain(second.map(|l| (l, wb))) {
-            if w[0] <= 0 && w[1] <= 0 {
-                continue;
-            }
-            // SAFETY: the CPU has AVX2 (this function's contract).
-            let taps = unsafe { taps2(lv, tiles_x, s, pu, pv, w) };
-            for (t, w) in taps.iter().zip(w) {
-                if w > 0 {
-                    unsafe { gather(data, texels, t, acc) };
-                }
+        let wa = [
+            sse2::probe_first_weight(fa, p.weight),
+            sse2::probe_first_weight(fa, q.weight),
+        ];
+        let pu = [u + Vec4::splat(step.x * p.t), u + Vec4::splat(step.x * q.t)];
+        let pv = [v + Vec4::splat(step.y * p.t), v + Vec4::splat(step.y * q.t)];
+        // Each level by its own call, spelled out (as a loop over the two, its iterator's
+        // bookkeeping cost a tenth of the read's instructions).
+        // SAFETY: the CPU has AVX2 (this function's contract).
+        unsafe {
+            probe_pair_on(first, texels, s, (pu, pv), wa, acc);
+            if let Some(second) = second {
+                let wb = [p.weight - wa[0], q.weight - wa[1]];
+                probe_pair_on(second, texels, s, (pu, pv), wb, acc);
             }
         }
     }
+    if let ([p], (first, Some(second))) = (rest, levels) {
+        let wa = sse2::probe_first_weight(fa, p.weight);
+        let w = [wa, p.weight - wa];
+        if w[0] > 0 && w[1] > 0 {
+            let (pu, pv) = (u + Vec4::splat(step.x * p.t), v + Vec4::splat(step.y * p.t));
+            // SAFETY: the CPU has AVX2 (this function's contract).
+            let taps = unsafe { taps2_levels(first, second, s, [pu; 2], [pv; 2], w) };
+            unsafe {
+                gather(first.1, texels, &taps[0], acc);
+                gather(second.1, texels, &taps[1], acc);
+            }
+            return &[];
+        }
+    }
     rest
+}
+
+/// [`probe_pairs`]' reads of two probes (`u`, `v`) on one level, weighted `w` (a probe whose
+/// weight is 0 not read, neither when both are 0), summed into `acc`.
+///
+/// # Safety
+/// The CPU must have AVX2 ([`crate::cpu::level`] is x86-64-v3).
+#[inline(always)]
+unsafe fn probe_pair_on(
+    (lv, data, tiles_x): Level,
+    texels: Texels,
+    s: &Sampler,
+    (u, v): ([Vec4; 2], [Vec4; 2]),
+    w: [i32; 2],
+    acc: &mut [std::arch::x86_64::__m128i; 4],
+) {
+    if w[0] <= 0 && w[1] <= 0 {
+        return;
+    }
+    // SAFETY: the CPU has AVX2 (this function's contract).
+    unsafe {
+        let taps = taps2(lv, tiles_x, s, u, v, w);
+        if w[0] > 0 {
+            gather(data, texels, &taps[0], acc);
+        }
+        if w[1] > 0 {
+            gather(data, texels, &taps[1], acc);
+        }
+    }
 }
 
 /// Bilinear reads of quads on a pair of levels, two quads at a time (`quads.rs`,
@@ -349,11 +394,62 @@ pub(super) unsafe fn taps2(
     v: [Vec4; 2],
     level_weight: [i32; 2],
 ) -> [Taps; 2] {
+    // SAFETY: the CPU has AVX2 (the caller's contract).
+    unsafe {
+        let dims = (
+            _mm256_set1_epi32(lv.w),
+            _mm256_set1_epi32(lv.h),
+            _mm256_set1_epi32(16 * tiles_x as i32),
+        );
+        taps_in(dims, s, u, v, level_weight)
+    }
+}
+
+/// [`taps2`] with the two points on two levels: `[taps(a, u[0], v[0], w[0]), taps(b, u[1],
+/// v[1], w[1])]` for levels `a` and `b` (each with its tiled texels and tiles per row), bit
+/// for bit — a probe's two levels of a trilinear read at once.
+///
+/// # Safety
+/// The CPU must have AVX2 ([`crate::cpu::level`] is x86-64-v3).
+#[inline(always)]
+pub(super) unsafe fn taps2_levels(
+    (a, _, tiles_a): Level,
+    (b, _, tiles_b): Level,
+    s: &Sampler,
+    u: [Vec4; 2],
+    v: [Vec4; 2],
+    level_weight: [i32; 2],
+) -> [Taps; 2] {
+    // SAFETY: the CPU has AVX2 (the caller's contract).
+    unsafe {
+        let halves = |x: i32, y: i32| _mm256_set_m128i(_mm_set1_epi32(y), _mm_set1_epi32(x));
+        let dims = (
+            halves(a.w, b.w),
+            halves(a.h, b.h),
+            halves(16 * tiles_a as i32, 16 * tiles_b as i32),
+        );
+        taps_in(dims, s, u, v, level_weight)
+    }
+}
+
+/// [`taps2`]' and [`taps2_levels`]' work: each half's taps on a level of `dims` (width,
+/// height, 16 × tiles per row, each as that half's four lanes).
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[inline(always)]
+unsafe fn taps_in(
+    (w, h, stride): (__m256i, __m256i, __m256i),
+    s: &Sampler,
+    u: [Vec4; 2],
+    v: [Vec4; 2],
+    level_weight: [i32; 2],
+) -> [Taps; 2] {
     // SAFETY: the CPU has AVX2 (the caller's contract), all these intrinsics need.
     unsafe {
         let wide = |x: [Vec4; 2]| _mm256_set_m128(x[1].into(), x[0].into());
-        let (xa, xb, fx) = axis(s.wrap_u, wide(u), lv.w);
-        let (ya, yb, fy) = axis(s.wrap_v, wide(v), lv.h);
+        let (xa, xb, fx) = axis(s.wrap_u, wide(u), w);
+        let (ya, yb, fy) = axis(s.wrap_v, wide(v), h);
         let one = _mm256_set1_ps(1.0);
         let (gx, gy) = (_mm256_sub_ps(one, fx), _mm256_sub_ps(one, fy));
         // Tiled index = column part + row part, as `taps` computes it.
@@ -364,7 +460,6 @@ pub(super) unsafe fn taps2(
                 _mm256_and_si256(x, three),
             )
         };
-        let stride = _mm256_set1_epi32(16 * tiles_x as i32);
         let row = |y| {
             let tile_row = _mm256_mullo_epi32(_mm256_srli_epi32(y, 2), stride);
             _mm256_add_epi32(tile_row, _mm256_slli_epi32(_mm256_and_si256(y, three), 2))
@@ -443,15 +538,16 @@ unsafe fn nearest_axis(wrap: Wrap, t: __m256, n: i32) -> __m256i {
     }
 }
 
-/// [`super::sse2`]'s `axis` in eight lanes: the same operations, in the same order.
+/// [`super::sse2`]'s `axis` in eight lanes, on a level `n` texels long (per lane): the same
+/// operations, in the same order.
 ///
 /// # Safety
 /// The CPU must have AVX2.
 #[inline(always)]
-unsafe fn axis(wrap: Wrap, t: __m256, n: i32) -> (__m256i, __m256i, __m256) {
+unsafe fn axis(wrap: Wrap, t: __m256, n: __m256i) -> (__m256i, __m256i, __m256) {
     // SAFETY: the CPU has AVX2 (the caller's contract).
     unsafe {
-        let nf = _mm256_set1_ps(n as f32);
+        let nf = _mm256_cvtepi32_ps(n);
         let half = _mm256_set1_ps(0.5);
         let p = if wrap == Wrap::Repeat {
             _mm256_sub_ps(
@@ -467,14 +563,15 @@ unsafe fn axis(wrap: Wrap, t: __m256, n: i32) -> (__m256i, __m256i, __m256) {
             _mm256_set1_ps(1.0),
         );
         if wrap == Wrap::Repeat {
-            let last = _mm256_set1_epi32(n - 1);
+            let one = _mm256_set1_epi32(1);
+            let last = _mm256_sub_epi32(n, one);
             let lo = _mm256_cvttps_epi32(i);
-            let hi = _mm256_add_epi32(lo, _mm256_set1_epi32(1));
-            let hi = _mm256_andnot_si256(_mm256_cmpeq_epi32(hi, _mm256_set1_epi32(n)), hi);
+            let hi = _mm256_add_epi32(lo, one);
+            let hi = _mm256_andnot_si256(_mm256_cmpeq_epi32(hi, n), hi);
             (_mm256_min_epu32(lo, last), _mm256_min_epu32(hi, last), frac)
         } else {
             // `max` first: it returns its second operand (0) for a NaN lane.
-            let top = _mm256_set1_ps(n as f32 - 1.0);
+            let top = _mm256_sub_ps(nf, _mm256_set1_ps(1.0));
             let clamp = |x: __m256| _mm256_min_ps(_mm256_max_ps(x, _mm256_setzero_ps()), top);
             (
                 _mm256_cvttps_epi32(clamp(i)),
@@ -522,6 +619,48 @@ mod tests {
                             assert_eq!(two[k], one, "{w}x{h} level {index} {wrap:?} probe {k}");
                             compared += 1;
                         }
+                    }
+                }
+            }
+        }
+        assert!(compared > 1000);
+    }
+
+    #[test]
+    fn two_levels_taps_are_the_sse2_taps_of_each_level() {
+        if !crate::cpu::available(crate::cpu::Level::V3) {
+            eprintln!("skipped: this CPU has no x86-64-v3 (AVX2), where the paired taps run");
+            return;
+        }
+        let mut r = crate::xorshift(0x68e3_1da4);
+        let mut next = move || r() as f32 / u32::MAX as f32;
+        let mut compared = 0;
+        for (w, h) in [(64, 64), (40, 24), (256, 8)] {
+            let tex =
+                Texture2D::from_rgba8(w, h, ColorSpace::Srgb, &vec![90; (w * h * 4) as usize])
+                    .unwrap();
+            let count = tex.levels().len();
+            // Each level with the next (a trilinear read's pair), and the last with the first.
+            for a in 0..count {
+                let b = (a + 1) % count;
+                let (la, lb) = (tex.level(a), tex.level(b));
+                let ((da, ta), (db, tb)) = (la.tiled_texels(8), lb.tiled_texels(8));
+                for wrap in [Wrap::Repeat, Wrap::ClampToEdge] {
+                    let s = Sampler::new(Filter::BILINEAR, wrap);
+                    for _ in 0..100 {
+                        let mut lanes =
+                            || Vec4::new(next(), next(), next(), next()) * 6.0 - Vec4::splat(2.5);
+                        let (u, v) = ([lanes(), lanes()], [lanes(), lanes()]);
+                        let weight = [(next() * 32767.0) as i32, (next() * 32767.0) as i32];
+                        // SAFETY: the CPU has x86-64-v3 (checked above).
+                        let two =
+                            unsafe { taps2_levels((&la, da, ta), (&lb, db, tb), &s, u, v, weight) };
+                        let one = [
+                            taps(&la, ta, &s, u[0], v[0], weight[0]),
+                            taps(&lb, tb, &s, u[1], v[1], weight[1]),
+                        ];
+                        assert_eq!(two, one, "{w}x{h} levels {a} and {b} {wrap:?}");
+                        compared += 1;
                     }
                 }
             }
