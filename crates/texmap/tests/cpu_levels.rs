@@ -164,8 +164,8 @@ fn frames() -> Vec<Vec<u32>> {
     }
     // Probes (two at a time in AVX2 lanes at x86-64-v3), an odd count among them.
     for filter in [
-        Filter::Anisotropic { max_aniso: 6 },
-        Filter::Anisotropic { max_aniso: 3 },
+        Filter::aniso(6),
+        Filter::aniso(3),
         Filter::Ewa {
             max_eccentricity: 16.0,
         },

@@ -138,10 +138,7 @@ fn grid_texture() -> Arc<Texture2D> {
 fn projected(projection: Projection) -> Material {
     Material {
         procedural: Some(Procedural::Projected {
-            slot: TextureSlot::new(
-                grid_texture(),
-                Sampler::new(Filter::Anisotropic { max_aniso: 8 }, Wrap::Repeat),
-            ),
+            slot: TextureSlot::new(grid_texture(), Sampler::new(Filter::aniso(8), Wrap::Repeat)),
             projection,
         }),
         ..Default::default()

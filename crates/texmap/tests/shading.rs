@@ -224,7 +224,7 @@ fn an_occlusion_map_in_the_metallic_roughness_image_reads_as_its_own_copy() {
         })
         .unwrap(),
     );
-    for filter in [Filter::TRILINEAR, Filter::Anisotropic { max_aniso: 8 }] {
+    for filter in [Filter::TRILINEAR, Filter::aniso(8)] {
         for textured in [false, true] {
             let sampler = Sampler::new(filter, Wrap::Repeat);
             let map = |channel, tex: &Arc<Texture2D>| MaterialMap {

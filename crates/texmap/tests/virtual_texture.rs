@@ -32,7 +32,7 @@ fn psnr(a: &texmap::render::Frame, b: &texmap::render::Frame) -> f64 {
 
 #[test]
 fn a_paged_frame_equals_the_texture_held_whole() {
-    for filter in [Filter::TRILINEAR, Filter::Anisotropic { max_aniso: 8 }] {
+    for filter in [Filter::TRILINEAR, Filter::aniso(8)] {
         let vt = Arc::new(
             VirtualTexture::quadtree(1024, 3, (Wrap::Repeat, Wrap::Repeat), 64 << 20).unwrap(),
         );

@@ -439,8 +439,10 @@ mod tests {
             let e = command().try_get_matches_from(args).unwrap_err();
             e.to_string()
         };
-        let e = refused(&["render", "--filter", "aniso32"]);
-        assert!(e.contains(Filter::SPELLINGS), "{e}");
+        for bad in ["aniso32", "aniso17-area", "aniso-area"] {
+            let e = refused(&["render", "--filter", bad]);
+            assert!(e.contains(Filter::SPELLINGS), "{bad}: {e}");
+        }
         let e = refused(&["render", "--wrap", "tile"]);
         assert!(e.contains(Wrap::SPELLINGS), "{e}");
     }
@@ -453,6 +455,16 @@ mod tests {
         assert_eq!(
             m.get_one::<Filter>("filter").map(|f| f.name()).as_deref(),
             Some("nearest-mipmap-linear")
+        );
+        let m = command()
+            .try_get_matches_from(["render", "--filter", "aniso5-area"])
+            .unwrap();
+        assert_eq!(
+            m.get_one::<Filter>("filter").copied(),
+            Some(Filter::Anisotropic {
+                max_aniso: 5,
+                lod: texmap::texture::AnisoLod::Area
+            })
         );
     }
 }

@@ -14,7 +14,15 @@ use crate::render::relief::ParallaxArg;
 use crate::render::{RenderArgs, Switch};
 
 /// The filters `f` steps through after each texture's own: by the library's names.
-pub const FILTERS: [&str; 6] = ["nearest", "bilinear", "trilinear", "aniso16", "ewa", "sat"];
+pub const FILTERS: [&str; 7] = [
+    "nearest",
+    "bilinear",
+    "trilinear",
+    "aniso16",
+    "aniso5-area",
+    "ewa",
+    "sat",
+];
 
 /// Antialiasing modes `m` steps through: `(msaa, ssaa)`.
 pub const ANTIALIASING: [(u32, u32); 3] = [(1, 1), (4, 1), (1, 2)];

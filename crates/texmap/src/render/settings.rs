@@ -165,7 +165,7 @@ impl TextureOverrides {
                 )));
             }
         }
-        if let Some(Filter::Anisotropic { max_aniso }) = self.filter {
+        if let Some(Filter::Anisotropic { max_aniso, .. }) = self.filter {
             if !(1..=16).contains(&max_aniso) {
                 return Err(Error::parameter(format!(
                     "anisotropy {max_aniso} is outside 1..=16"

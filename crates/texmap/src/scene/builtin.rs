@@ -325,7 +325,7 @@ fn demo_sky(sun: Vec3) -> Environment {
 #[must_use]
 pub fn demo() -> Scene {
     // The floor recedes to the horizon: 8× anisotropic filtering keeps it sharp without moiré.
-    let sampler = Sampler::new(Filter::Anisotropic { max_aniso: 8 }, Wrap::Repeat);
+    let sampler = Sampler::new(Filter::aniso(8), Wrap::Repeat);
     let floor = Material {
         base_color_texture: Some(TextureSlot {
             texture: checker_texture(),

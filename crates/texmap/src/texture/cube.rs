@@ -13,6 +13,7 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
+use super::filter::anisotropic::{probe_count, probe_lod};
 use super::filter::{ellipse_axes, floor_index};
 use super::format::{with_texture_codec, Codec};
 use super::{
@@ -186,15 +187,10 @@ fn sample_cube_with<C: Codec>(cube: &TextureCube, s: &Sampler, fp: &CubeFootprin
                 TexelFilter::Linear => bilinear_cube::<C>(cube, face, ffp.uv, level),
             })
         }
-        Filter::Anisotropic { max_aniso } => {
+        Filter::Anisotropic { max_aniso, lod } => {
             let (_, major, minor) = ellipse_axes(dx, dy);
-            let ratio = if minor > 0.0 {
-                major / minor
-            } else {
-                f32::INFINITY
-            };
-            let taps = ratio.ceil().clamp(1.0, max_aniso.clamp(1, 16) as f32);
-            let lod = s.adjust_lod((major / taps).log2());
+            let taps = probe_count(major, minor, max_aniso);
+            let lod = s.adjust_lod(probe_lod(major, minor, taps, lod, f32::log2));
             if !(major > 1.0) {
                 return bilinear_cube::<C>(cube, face, ffp.uv, 0);
             }

@@ -42,7 +42,7 @@ pub use footprint::{
 pub use format::{f16_to_f32, f32_to_f16, ColorSpace, Format};
 pub use lod::{MipBlend, MipChoice, TexelFilter};
 pub use mip::level_count;
-pub use sampler::{Filter, MagFilter, MinFilter, Sampler, UnknownName};
+pub use sampler::{AnisoLod, Filter, MagFilter, MinFilter, Sampler, UnknownName};
 pub use storage::{Layout, Level, Storage, Texture2D, TextureOptions};
 pub use texture3d::{sample_3d, Texture3D};
 pub use transform::TextureTransform;

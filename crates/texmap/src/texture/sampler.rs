@@ -36,14 +36,29 @@ pub enum MinFilter {
     LinearMipmapLinear,
 }
 
+/// The level anisotropic filtering's probes read, for a footprint whose ellipse has semi-axes
+/// σ₁ ≥ σ₂ (in texels) taking `N = min(⌈σ₁/σ₂⌉, max_aniso)` probes along σ₁.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum AnisoLod {
+    /// The GL extension's `λ = log2(σ₁/N)`: the probes' squares tile the major axis, so a
+    /// footprint longer than `max_aniso` : 1 is blurred across it to cover it (`anisoN`).
+    #[default]
+    Gl,
+    /// `λ = ½·log2(σ₁σ₂/N)`, at most one level below the extension's: the probes' squares
+    /// together have the ellipse's area, so a footprint longer than `max_aniso` : 1 keeps
+    /// more of its detail across (its probes spaced wider than their width) where the
+    /// extension's blurs it (`anisoN-area`).
+    Area,
+}
+
 /// How a footprint becomes a colour.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Filter {
     /// OpenGL's filters: magnification when λ ≤ 0, else minification.
     Gl { mag: MagFilter, min: MinFilter },
-    /// Up to `max_aniso` trilinear taps along the footprint's major axis, the level from the
-    /// minor axis (1 ≤ `max_aniso` ≤ 16).
-    Anisotropic { max_aniso: u32 },
+    /// Up to `max_aniso` trilinear taps along the footprint's major axis (1 ≤ `max_aniso` ≤
+    /// 16), on the level `lod` names.
+    Anisotropic { max_aniso: u32, lod: AnisoLod },
     /// Elliptical weighted average by probes: Heckbert's Gaussian over the footprint's
     /// ellipse (eccentricity clamped to `max_eccentricity`) sampled by trilinear probes along
     /// its major axis, as many as the eccentricity needs (Mavridis and Papaioannou 2011).
@@ -74,7 +89,8 @@ impl Filter {
 
     /// Every spelling [`Filter::parse`] accepts, as `--help` text and error messages list them.
     pub const SPELLINGS: &'static str = "nearest, bilinear, trilinear, nearest-mipmap-nearest, \
-        bilinear-mipmap-nearest, nearest-mipmap-linear, aniso1..aniso16, ewa, ewa-exact, sat \
+        bilinear-mipmap-nearest, nearest-mipmap-linear, aniso1..aniso16, \
+        aniso1-area..aniso16-area, ewa, ewa-exact, sat \
         (an OpenGL name may end in -mag-nearest or -mag-linear for the other magnification filter)";
 
     /// The OpenGL filters of [`Filter::SPELLINGS`] alone (what 3D textures take).
@@ -115,19 +131,34 @@ impl Filter {
         ("-mag-linear", MagFilter::Linear),
     ];
 
+    /// Anisotropic filtering with at most `max_aniso` probes on the GL extension's level
+    /// (`anisoN`).
+    #[must_use]
+    pub const fn aniso(max_aniso: u32) -> Filter {
+        Filter::Anisotropic {
+            max_aniso,
+            lod: AnisoLod::Gl,
+        }
+    }
+
     /// Parses one of [`Filter::SPELLINGS`]: an OpenGL pair by its minification filter's name
     /// (`trilinear` is `GL_LINEAR_MIPMAP_LINEAR` magnifying with `GL_LINEAR`;
-    /// `trilinear-mag-nearest` magnifies with `GL_NEAREST`), `anisoN` for N in 1..=16,
-    /// `ewa` and `ewa-exact` (eccentricity at most 16) or `sat`.
+    /// `trilinear-mag-nearest` magnifies with `GL_NEAREST`), `anisoN` for N in 1..=16 (the GL
+    /// extension's level, [`AnisoLod::Gl`]) and `anisoN-area` ([`AnisoLod::Area`]), `ewa`
+    /// and `ewa-exact` (eccentricity at most 16) or `sat`.
     ///
     /// ```
-    /// use texmap::texture::{Filter, MagFilter, MinFilter};
+    /// use texmap::texture::{AnisoLod, Filter, MagFilter, MinFilter};
     /// assert_eq!(Filter::parse("trilinear"), Ok(Filter::TRILINEAR));
     /// assert_eq!(
     ///     Filter::parse("nearest-mipmap-linear"),
     ///     Ok(Filter::Gl { mag: MagFilter::Nearest, min: MinFilter::NearestMipmapLinear })
     /// );
-    /// assert_eq!(Filter::parse("aniso8"), Ok(Filter::Anisotropic { max_aniso: 8 }));
+    /// assert_eq!(Filter::parse("aniso8"), Ok(Filter::aniso(8)));
+    /// assert_eq!(
+    ///     Filter::parse("aniso5-area"),
+    ///     Ok(Filter::Anisotropic { max_aniso: 5, lod: AnisoLod::Area })
+    /// );
     /// assert!(Filter::parse("aniso32").unwrap_err().to_string().contains(Filter::SPELLINGS));
     /// ```
     pub fn parse(s: &str) -> Result<Filter, UnknownName> {
@@ -158,12 +189,18 @@ impl Filter {
             }),
             "sat" => Ok(Filter::SummedArea),
             _ => {
-                let digits = s.strip_prefix("aniso").ok_or_else(unknown)?;
+                let aniso = s.strip_prefix("aniso").ok_or_else(unknown)?;
+                let (digits, lod) = match aniso.strip_suffix("-area") {
+                    Some(digits) => (digits, AnisoLod::Area),
+                    None => (aniso, AnisoLod::Gl),
+                };
                 if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
                     return Err(unknown());
                 }
                 match digits.parse::<u32>() {
-                    Ok(n) if (1..=16).contains(&n) => Ok(Filter::Anisotropic { max_aniso: n }),
+                    Ok(max_aniso) if (1..=16).contains(&max_aniso) => {
+                        Ok(Filter::Anisotropic { max_aniso, lod })
+                    }
                     _ => Err(unknown()),
                 }
             }
@@ -198,7 +235,13 @@ impl Filter {
                     _ => name.to_string(),
                 }
             }
-            Filter::Anisotropic { max_aniso } => format!("aniso{}", max_aniso.clamp(1, 16)),
+            Filter::Anisotropic { max_aniso, lod } => {
+                let suffix = match lod {
+                    AnisoLod::Gl => "",
+                    AnisoLod::Area => "-area",
+                };
+                format!("aniso{}{suffix}", max_aniso.clamp(1, 16))
+            }
             Filter::Ewa { .. } => "ewa".to_string(),
             Filter::EwaExact { .. } => "ewa-exact".to_string(),
             Filter::SummedArea => "sat".to_string(),
@@ -362,8 +405,8 @@ impl Sampler {
 mod tests {
     use super::*;
 
-    /// Every filter a spelling names: the twelve OpenGL pairs, anisotropy 1..=16, EWA (both),
-    /// SAT.
+    /// Every filter a spelling names: the twelve OpenGL pairs, anisotropy 1..=16 on either
+    /// level rule, EWA (both), SAT.
     fn named_filters() -> Vec<Filter> {
         let mins = Filter::GL_NAMES.map(|(_, min, _)| min);
         let mut v: Vec<Filter> = mins
@@ -372,7 +415,9 @@ mod tests {
                 [MagFilter::Nearest, MagFilter::Linear].map(|mag| Filter::Gl { mag, min })
             })
             .collect();
-        v.extend((1..=16).map(|max_aniso| Filter::Anisotropic { max_aniso }));
+        for lod in [AnisoLod::Gl, AnisoLod::Area] {
+            v.extend((1..=16).map(|max_aniso| Filter::Anisotropic { max_aniso, lod }));
+        }
         v.extend([
             Filter::Ewa {
                 max_eccentricity: 16.0,
@@ -474,6 +519,11 @@ mod tests {
             "Trilinear",
             "sat-mag-nearest",
             "aniso4-mag-linear",
+            "aniso-area",
+            "aniso17-area",
+            "aniso4-area-area",
+            "aniso4-Area",
+            "area4",
         ] {
             let e = Filter::parse(bad).unwrap_err();
             assert_eq!(e.given, bad);
@@ -486,8 +536,14 @@ mod tests {
 
     #[test]
     fn filters_without_a_spelling_are_named_by_the_nearest_one() {
-        assert_eq!(Filter::Anisotropic { max_aniso: 0 }.name(), "aniso1");
-        assert_eq!(Filter::Anisotropic { max_aniso: 64 }.name(), "aniso16");
+        assert_eq!(Filter::aniso(0).name(), "aniso1");
+        assert_eq!(Filter::aniso(64).name(), "aniso16");
+        let area = |max_aniso| Filter::Anisotropic {
+            max_aniso,
+            lod: AnisoLod::Area,
+        };
+        assert_eq!(area(0).name(), "aniso1-area");
+        assert_eq!(area(64).name(), "aniso16-area");
         assert_eq!(
             Filter::Ewa {
                 max_eccentricity: 4.0

@@ -63,7 +63,7 @@ fn equirect_lanes_read_as_four_scalar_reads() {
         Sampler::new(Filter::TRILINEAR, Wrap::Repeat),
         Sampler::new(Filter::BILINEAR, Wrap::Repeat),
         Sampler::new(Filter::NEAREST, Wrap::Repeat),
-        Sampler::new(Filter::Anisotropic { max_aniso: 4 }, Wrap::Repeat),
+        Sampler::new(Filter::aniso(4), Wrap::Repeat),
     ];
     for map in [
         EnvironmentMap::Equirect(float),

@@ -239,12 +239,51 @@ pub(crate) fn read_quad(
             axis_uv,
             count,
         } => {
-            // The probes' places and 15-bit weights depend on their count alone: made once.
-            static PROBES: OnceLock<ProbeSets> = OnceLock::new();
-            let probes = PROBES.get_or_init(|| ProbeSets::new(layout)).get(count);
+            let probes = probe_sets().get(count);
             fixed16::read_probes(tex, s, choice, uv, axis_uv, probes, mask)
         }
     }
+}
+
+/// [`read_quad`] by a batch's reader (`probes` from [`probe_sets`]): the same values.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(super) fn read_quad_with(
+    reader: &mut fixed16::ProbeReader,
+    tex: &Texture2D,
+    s: &Sampler,
+    uv: (Vec4, Vec4),
+    (duv_dx, duv_dy): (Vec2, Vec2),
+    plan: &Plan,
+    probes: &ProbeSets,
+    mask: u8,
+    max_ecc: f32,
+) -> [Vec4; 4] {
+    match *plan {
+        Plan::Bilinear => reader.read(
+            s,
+            MipChoice::trilinear(0.0, 1),
+            uv,
+            Vec2::ZERO,
+            &[fixed16::Probe::WHOLE],
+            mask,
+        ),
+        Plan::Exact => with_texture_codec!(tex, C => ewa_lanes::sample_quad::<C>(
+            tex, s, uv, duv_dx, duv_dy, mask, max_ecc
+        )),
+        Plan::Probes {
+            choice,
+            axis_uv,
+            count,
+        } => reader.read(s, choice, uv, axis_uv, probes.get(count), mask),
+    }
+}
+
+/// The probes' places and 15-bit weights of every count (they depend on the count alone):
+/// made once.
+pub(super) fn probe_sets() -> &'static ProbeSets {
+    static PROBES: OnceLock<ProbeSets> = OnceLock::new();
+    PROBES.get_or_init(|| ProbeSets::new(layout))
 }
 
 #[cfg(test)]

@@ -89,6 +89,9 @@ pub(super) use trilinear::read_trilinear;
 mod weights;
 pub(super) use weights::{Probe, ProbeSets, MAX_PROBES};
 
+mod probed;
+pub(super) use probed::ProbeReader;
+
 /// The most textures [`read_quad_shared`] reads together.
 pub(super) const MAX_SHARED: usize = 5;
 
@@ -290,8 +293,11 @@ pub(super) fn read_probes_inlined(
     }
     #[cfg(target_arch = "x86_64")]
     {
-        Some(sse2::probes_quad(
-            tex,
+        let first = sse2::level_of(tex, texels, choice.level);
+        let second = choice.blend.map(|b| sse2::level_of(tex, texels, b.level));
+        Some(sse2::probes_on(
+            &first,
+            second.as_ref(),
             texels,
             s,
             choice,

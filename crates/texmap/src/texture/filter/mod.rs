@@ -181,10 +181,10 @@ pub fn sample_quad_lanes(
     mask: u8,
 ) -> [Vec4; 4] {
     let Filter::Gl { mag, min } = sampler.filter else {
-        if let Filter::Anisotropic { max_aniso } = sampler.filter {
+        if let Filter::Anisotropic { max_aniso, lod } = sampler.filter {
             // The default storage's taps in lanes, in fixed point.
-            let quad =
-                anisotropic::sample_quad(texture, sampler, uv, duv_dx, duv_dy, mask, max_aniso);
+            let aniso = anisotropic::Aniso { max_aniso, lod };
+            let quad = anisotropic::sample_quad(texture, sampler, uv, duv_dx, duv_dy, mask, aniso);
             if let Some(quad) = quad {
                 return quad;
             }
@@ -368,7 +368,9 @@ pub(crate) fn truncate4(v: Vec4) -> [i32; 4] {
 fn sample_with<C: Codec>(tex: &Texture2D, s: &Sampler, fp: &Footprint) -> Vec4 {
     match s.filter {
         Filter::Gl { mag, min } => gl::<C>(tex, s, fp, mag, min),
-        Filter::Anisotropic { max_aniso } => anisotropic::sample::<C>(tex, s, fp, max_aniso),
+        Filter::Anisotropic { max_aniso, lod } => {
+            anisotropic::sample::<C>(tex, s, fp, anisotropic::Aniso { max_aniso, lod })
+        }
         Filter::Ewa { max_eccentricity } => ewa_probes::sample::<C>(tex, s, fp, max_eccentricity),
         Filter::EwaExact { max_eccentricity } => ewa::sample::<C>(tex, s, fp, max_eccentricity),
         Filter::SummedArea => summed_area::sample::<C>(tex, s, fp),

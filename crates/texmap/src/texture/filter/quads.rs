@@ -69,13 +69,14 @@ fn sample_quads_in(
         // this copy's level too); other textures and filters read as `sample_quad_lanes`
         // reads.
         let served = fixed16::serves(texture, sampler);
-        if let (Filter::Anisotropic { max_aniso }, true) = (sampler.filter, served) {
-            let planner = AnisotropicPlans(max_aniso);
+        if let (Filter::Anisotropic { max_aniso, lod }, true) = (sampler.filter, served) {
+            let aniso = anisotropic::Aniso { max_aniso, lod };
+            let planner = AnisotropicPlans(aniso, anisotropic::probe_sets());
             staged_plans(texture, sampler, &planner, (coords, masks, out));
             return;
         }
         if let (Filter::Ewa { max_eccentricity }, true) = (sampler.filter, served) {
-            let planner = EwaPlans(max_eccentricity);
+            let planner = EwaPlans(max_eccentricity, ewa_probes::probe_sets());
             staged_plans(texture, sampler, &planner, (coords, masks, out));
             return;
         }
@@ -120,19 +121,20 @@ trait Plans {
     const NONE: Self::Plan;
     /// The plans of up to four quads (plan `k` for `coords[k]`).
     fn plan4(&self, tex: &Texture2D, s: &Sampler, coords: &[QuadCoords]) -> [Self::Plan; 4];
-    /// Quad `c`'s reads as `plan` says; `None` where the fixed-point path does not serve it.
+    /// Quad `c`'s reads as `plan` says, by the batch's `reader`.
     fn read(
         &self,
+        reader: &mut fixed16::ProbeReader,
         tex: &Texture2D,
         s: &Sampler,
         c: &QuadCoords,
         plan: &Self::Plan,
         mask: u8,
-    ) -> Option<[Vec4; 4]>;
+    ) -> [Vec4; 4];
 }
 
-/// Anisotropic filtering's plans, at most this many taps.
-struct AnisotropicPlans(u32);
+/// Anisotropic filtering's plans, as its filter asks, and its probes.
+struct AnisotropicPlans(anisotropic::Aniso, &'static fixed16::ProbeSets);
 
 impl Plans for AnisotropicPlans {
     type Plan = anisotropic::QuadPlan;
@@ -144,18 +146,19 @@ impl Plans for AnisotropicPlans {
     #[inline(always)]
     fn read(
         &self,
-        tex: &Texture2D,
+        reader: &mut fixed16::ProbeReader,
+        _: &Texture2D,
         s: &Sampler,
         c: &QuadCoords,
         plan: &Self::Plan,
         mask: u8,
-    ) -> Option<[Vec4; 4]> {
-        anisotropic::read_quad(tex, s, (c.u, c.v), plan, mask)
+    ) -> [Vec4; 4] {
+        anisotropic::read_quad_with(reader, s, (c.u, c.v), plan, self.1, mask)
     }
 }
 
-/// `ewa`'s plans, at most this eccentricity.
-struct EwaPlans(f32);
+/// `ewa`'s plans, at most this eccentricity, and its probes.
+struct EwaPlans(f32, &'static fixed16::ProbeSets);
 
 impl Plans for EwaPlans {
     type Plan = ewa_probes::Plan;
@@ -167,22 +170,25 @@ impl Plans for EwaPlans {
     #[inline(always)]
     fn read(
         &self,
+        reader: &mut fixed16::ProbeReader,
         tex: &Texture2D,
         s: &Sampler,
         c: &QuadCoords,
         plan: &Self::Plan,
         mask: u8,
-    ) -> Option<[Vec4; 4]> {
+    ) -> [Vec4; 4] {
         let duv = (c.duv_dx, c.duv_dy);
-        ewa_probes::read_quad(tex, s, (c.u, c.v), duv, plan, mask, self.0)
+        ewa_probes::read_quad_with(reader, tex, s, (c.u, c.v), duv, plan, self.1, mask, self.0)
     }
 }
 
 /// Quads whose reads follow a plan made from their derivatives (anisotropic filtering,
-/// `ewa`): each chunk's plans first, four quads at a time, then each quad read (`None`,
-/// where the fixed-point path does not serve it, read as [`sample_quad_lanes`] reads).
-/// Every quad's plan waits on square roots, divisions and a logarithm; made before any
-/// read, they no longer wait one after another between reads.
+/// `ewa`): each chunk's plans first, four quads at a time, then each quad read by one
+/// [`fixed16::ProbeReader`] for the whole batch (the storage checked once, each level
+/// looked up once while consecutive quads read it). Every quad's plan waits on square
+/// roots, divisions and a logarithm; made before any read, they no longer wait one after
+/// another between reads. Where the fixed-point path does not serve the texture, each quad
+/// is read as [`sample_quad_lanes`] reads it.
 #[inline(always)]
 fn staged_plans<P: Plans>(
     texture: &Texture2D,
@@ -190,6 +196,12 @@ fn staged_plans<P: Plans>(
     planner: &P,
     (coords, masks, out): (&[QuadCoords], &[u8], &mut [[Vec4; 4]]),
 ) {
+    let Some(mut reader) = fixed16::ProbeReader::new(texture, sampler) else {
+        for ((c, &m), o) in coords.iter().zip(masks).zip(out.iter_mut()) {
+            *o = sample_quad_lanes(texture, sampler, (c.u, c.v), c.duv_dx, c.duv_dy, m);
+        }
+        return;
+    };
     let mut plans = [P::NONE; CHUNK];
     for ((coords, masks), out) in coords
         .chunks(CHUNK)
@@ -200,11 +212,7 @@ fn staged_plans<P: Plans>(
             plans.copy_from_slice(&planner.plan4(texture, sampler, coords)[..plans.len()]);
         }
         for (((c, &m), o), plan) in coords.iter().zip(masks).zip(out).zip(&plans) {
-            *o = planner
-                .read(texture, sampler, c, plan, m)
-                .unwrap_or_else(|| {
-                    sample_quad_lanes(texture, sampler, (c.u, c.v), c.duv_dx, c.duv_dy, m)
-                });
+            *o = planner.read(&mut reader, texture, sampler, c, plan, m);
         }
     }
 }

@@ -192,11 +192,7 @@ fn isotropic_footprint_makes_anisotropic_equal_trilinear() {
         Vec2::new(0.0, 3.0 / 32.0),
     );
     let tri = sample(&tex, &Sampler::new(Filter::TRILINEAR, Wrap::Repeat), &fp);
-    let an = sample(
-        &tex,
-        &Sampler::new(Filter::Anisotropic { max_aniso: 16 }, Wrap::Repeat),
-        &fp,
-    );
+    let an = sample(&tex, &Sampler::new(Filter::aniso(16), Wrap::Repeat), &fp);
     assert!(close(tri, an, 1e-6), "{tri} vs {an}");
 }
 
@@ -539,12 +535,12 @@ fn anisotropic_footprint_strategy() -> impl Strategy<Value = Footprint> {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(500))]
 
-    /// Anisotropic filtering of a quad on the default storage takes the fixed-point taps in
-    /// lanes (`anisotropic::sample_quad`); the float filter, one footprint at a time, is its
-    /// reference: each tap within the fixed-point trilinear bound (1.6·10⁻⁴), so their mean
-    /// too — far under 2/255.
+    /// Anisotropic filtering of a quad on the default storage (either level rule) takes the
+    /// fixed-point taps in lanes (`anisotropic::sample_quad`); the float filter, one
+    /// footprint at a time, is its reference: each tap within the fixed-point trilinear
+    /// bound (1.6·10⁻⁴), so their mean too — far under 2/255.
     #[test]
-    fn anisotropic_quads_in_lanes_equal_the_float_filter(fp in anisotropic_footprint_strategy(), n in 1u32..=16, w in 0usize..5, mask in 1u8..16, eight in any::<bool>()) {
+    fn anisotropic_quads_in_lanes_equal_the_float_filter(fp in anisotropic_footprint_strategy(), n in 1u32..=16, w in 0usize..5, mask in 1u8..16, eight in any::<bool>(), area in any::<bool>()) {
         // The storages the lane path serves (with repeat and clamp to edge; the other wraps
         // take the float filter, and must agree all the same).
         let tex = if eight { noisy8(64, 48, ColorSpace::Srgb, false) } else { noisy(64, 48) };
@@ -552,7 +548,8 @@ proptest! {
             prop_assert_eq!(tex.storage_format(), crate::texture::Format::Rgba16Premultiplied);
         }
         prop_assert_eq!(tex.layout(), crate::texture::Layout::Tiled4x4);
-        let s = Sampler::new(Filter::Anisotropic { max_aniso: n }, WRAPS[w]);
+        let lod = if area { crate::texture::AnisoLod::Area } else { crate::texture::AnisoLod::Gl };
+        let s = Sampler::new(Filter::Anisotropic { max_aniso: n, lod }, WRAPS[w]);
         let uvs = [fp.uv, fp.uv + Vec2::new(0.011, 0.0), fp.uv + Vec2::new(0.0, 0.013), fp.uv + Vec2::new(0.011, 0.013)];
         let quad = crate::texture::sample_quad(&tex, &s, &uvs, fp.duv_dx, fp.duv_dy, mask);
         for j in 0..4 {
@@ -561,7 +558,7 @@ proptest! {
             } else {
                 sample(&tex, &s, &Footprint::new(uvs[j], fp.duv_dx, fp.duv_dy))
             };
-            prop_assert!(close(quad[j], want, 1.6e-4), "aniso{} {:?} pixel {}: {} vs {}", n, s.wrap_u, j, quad[j], want);
+            prop_assert!(close(quad[j], want, 1.6e-4), "{} {:?} pixel {}: {} vs {}", s.filter.name(), s.wrap_u, j, quad[j], want);
         }
     }
 }

@@ -11,6 +11,7 @@ use glam::{Vec2, Vec4};
 use super::cache::PageCache;
 use super::layout::{PageKey, PAGE_BORDER};
 use super::VirtualTexture;
+use crate::texture::filter::anisotropic::{probe_count, probe_lod};
 use crate::texture::filter::{bilinear, ellipse_axes, nearest};
 use crate::texture::footprint::fast_log2;
 use crate::texture::format::CodecRgba16F;
@@ -121,20 +122,15 @@ impl VirtualTexture {
         // differences over a wider step, and anisotropic taps' count changes in steps.
         let mut lod_slack = 1.0;
         let plan = match s.filter {
-            Filter::Anisotropic { max_aniso } => {
+            Filter::Anisotropic { max_aniso, lod } => {
                 let (dx, dy) = if feedback > 0.0 {
                     (dx / feedback, dy / feedback)
                 } else {
                     (dx, dy)
                 };
                 let (major_dir, major, minor) = ellipse_axes(dx, dy);
-                let ratio = if minor > 0.0 {
-                    major / minor
-                } else {
-                    f32::INFINITY
-                };
-                let n = ratio.ceil().clamp(1.0, max_aniso.clamp(1, 16) as f32);
-                let lod = s.adjust_lod(fast_log2(major / n));
+                let n = probe_count(major, minor, max_aniso);
+                let lod = s.adjust_lod(probe_lod(major, minor, n, lod, fast_log2));
                 lod_read = lod;
                 lod_slack = 1.0;
                 if !(major > 1.0) || !(lod > 0.0) && n == 1.0 {

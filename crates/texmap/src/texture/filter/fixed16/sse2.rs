@@ -174,12 +174,26 @@ pub(super) fn linear_quad_shared(
     }
 }
 
-/// [`super::read_probes`]: every probe's taps summed into one 32-bit accumulator per
-/// pixel, the 15-bit weights of all of them summing to exactly `ONE` (as the probes' do).
+/// A level's view, tiled texels and tiles per row (as `tiled_texels` gives them).
+pub(super) type Level<'a> = (LevelRef<'a>, &'a [u8], u32);
+
+/// `tex`'s level `index` as [`probes_on`] reads it.
+#[inline(always)]
+pub(super) fn level_of(tex: &Texture2D, texels: Texels, index: usize) -> Level<'_> {
+    let lv = tex.level(index);
+    let (data, tiles_x) = lv.tiled_texels(bpp(texels));
+    (lv, data, tiles_x)
+}
+
+/// [`super::read_probes`] on the levels of `choice`, looked up: `first` for `choice.level`,
+/// `second` for its blend's level (`None` without a blend). Every probe's taps summed into
+/// one 32-bit accumulator per pixel, the 15-bit weights of all of them summing to exactly
+/// `ONE` (as the probes' do).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub(super) fn probes_quad(
-    tex: &Texture2D,
+pub(super) fn probes_on(
+    first: &Level,
+    second: Option<&Level>,
     texels: Texels,
     s: &Sampler,
     choice: MipChoice,
@@ -188,20 +202,10 @@ pub(super) fn probes_quad(
     probes: &[super::Probe],
     mask: u8,
 ) -> [Vec4; 4] {
-    let (second, f) = choice
-        .blend
-        .map_or((None, 0.0), |b| (Some(b.level), b.weight));
+    let f = choice.blend.map_or(0.0, |b| b.weight);
     let fa = 1.0 - f.clamp(0.0, 1.0);
     // A NaN level weight gives the first level nothing, as the saturating cast did.
     let fa = if fa.is_nan() { 0.0 } else { fa };
-    // Each level's tiled texels looked up (and checked) once for all the probes.
-    let level = |index: usize| {
-        let lv = tex.level(index);
-        let (data, tiles_x) = lv.tiled_texels(bpp(texels));
-        (lv, data, tiles_x)
-    };
-    let first = level(choice.level);
-    let second = second.map(level);
     // SAFETY: SSE2 is part of x86_64.
     let mut acc = [unsafe { _mm_setzero_si128() }; 4];
     let mut rest = probes;
@@ -213,9 +217,7 @@ pub(super) fn probes_quad(
             super::avx2::probe_pairs(
                 (
                     (&first.0, first.1, first.2),
-                    second
-                        .as_ref()
-                        .map(|(lv, data, tiles_x)| (lv, *data, *tiles_x)),
+                    second.map(|(lv, data, tiles_x)| (lv, *data, *tiles_x)),
                 ),
                 texels,
                 s,
@@ -231,10 +233,10 @@ pub(super) fn probes_quad(
         let wa = probe_first_weight(fa, weight);
         let (pu, pv) = (u + Vec4::splat(step.x * t), v + Vec4::splat(step.y * t));
         if wa > 0 {
-            let (lv, data, tiles_x) = &first;
+            let (lv, data, tiles_x) = first;
             accumulate_on((lv, data, *tiles_x), texels, s, pu, pv, wa, &mut acc);
         }
-        if let Some((lv, data, tiles_x)) = second.as_ref().filter(|_| wa < weight) {
+        if let Some((lv, data, tiles_x)) = second.filter(|_| wa < weight) {
             accumulate_on(
                 (lv, data, *tiles_x),
                 texels,

@@ -104,7 +104,7 @@ fn every_filter_reads_the_same_values() {
             mag: MagFilter::Nearest,
             min: MinFilter::NearestMipmapNearest,
         },
-        Filter::Anisotropic { max_aniso: 8 },
+        Filter::aniso(8),
         Filter::Ewa {
             max_eccentricity: 16.0,
         },

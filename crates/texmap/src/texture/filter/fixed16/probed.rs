@@ -1,0 +1,91 @@
+//! Probed reads of a batch's quads (anisotropic filtering, `ewa`'s probes) on the fixed-point
+//! path: [`super::read_probes`] quad after quad, with the texture's storage checked once
+//! for the batch and each level looked up once while consecutive quads read it (neighbours
+//! mostly take the same levels), so that a quad pays its probes' taps, not the storage's
+//! bookkeeping.
+
+use glam::{Vec2, Vec4};
+
+use super::super::super::{MipChoice, Sampler, TexelFilter, Texture2D};
+#[cfg(target_arch = "x86_64")]
+use super::sse2::{self, Level};
+use super::{texels_of, Probe, Texels};
+
+/// A batch's reader of probed quads on one texture.
+pub(in super::super) struct ProbeReader<'t> {
+    tex: &'t Texture2D,
+    texels: Texels,
+    /// The levels last read first and second, with their indices.
+    #[cfg(target_arch = "x86_64")]
+    levels: [Option<(usize, Level<'t>)>; 2],
+}
+
+impl<'t> ProbeReader<'t> {
+    /// A reader of `tex` through `s`: `None` where the fixed-point path does not serve them
+    /// (as [`super::read_probes`] returns `None`).
+    #[inline(always)]
+    pub(in super::super) fn new(tex: &'t Texture2D, s: &Sampler) -> Option<Self> {
+        let texels = texels_of(tex, s);
+        #[cfg(not(target_arch = "x86_64"))]
+        let texels: Option<Texels> = texels.and(None);
+        Some(ProbeReader {
+            tex,
+            texels: texels?,
+            #[cfg(target_arch = "x86_64")]
+            levels: [None, None],
+        })
+    }
+
+    /// Level `index` in `slot` (0 for a read's first level, 1 for its second), looked up
+    /// when the slot holds another.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn level(&mut self, slot: usize, index: usize) -> Level<'t> {
+        match self.levels[slot] {
+            Some((held, level)) if held == index => level,
+            _ => {
+                let level = sse2::level_of(self.tex, self.texels, index);
+                self.levels[slot] = Some((index, level));
+                level
+            }
+        }
+    }
+
+    /// [`super::read_probes`] of quad `(u, v)`: the same values. A nearest `choice` (which
+    /// that path refuses) is read as [`super::read_quad`] reads it, its probes' places
+    /// ignored — no probed filter asks for one.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub(in super::super) fn read(
+        &mut self,
+        s: &Sampler,
+        choice: MipChoice,
+        uv: (Vec4, Vec4),
+        step: Vec2,
+        probes: &[Probe],
+        mask: u8,
+    ) -> [Vec4; 4] {
+        debug_assert_eq!(choice.texels, TexelFilter::Linear);
+        #[cfg(target_arch = "x86_64")]
+        {
+            let first = self.level(0, choice.level);
+            let second = choice.blend.map(|b| self.level(1, b.level));
+            sse2::probes_on(
+                &first,
+                second.as_ref(),
+                self.texels,
+                s,
+                choice,
+                uv,
+                step,
+                probes,
+                mask,
+            )
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            let _ = (s, choice, uv, step, probes, mask);
+            unreachable!("no reader is made off x86_64 (`new`)")
+        }
+    }
+}
