@@ -57,7 +57,7 @@ run() {
     for f in nearest bilinear trilinear aniso4 aniso16; do
         run "plane|$f" builtin:plane --filter "$f" -- --filter "$f"
     done
-    for f in ewa sat; do
+    for f in aniso6 aniso5-area ewa sat; do
         run "plane|$f" builtin:plane --filter "$f"
     done
     run "sphere|trilinear" builtin:sphere --texture "$P/data/noise.png" \

@@ -21,14 +21,14 @@ for t in checker noise; do
 done
 echo "| filter | texmap checker | llvmpipe checker | texmap noise | llvmpipe noise |"
 echo "|---|---|---|---|---|"
-for f in nearest bilinear trilinear aniso2 aniso4 aniso6 aniso8 aniso16 ewa ewa-exact sat; do
+for f in nearest bilinear trilinear aniso2 aniso4 aniso6 aniso8 aniso16 aniso5-area aniso8-area ewa ewa-exact sat; do
     row="| $f"
     for t in checker noise; do
         "$TEXMAP" render builtin:plane --texture "$P/data/$t.png" --filter "$f" --size 640x360 \
             -o "$OUT/texmap_${t}_$f.png" --quiet
         ours=$(metric "$OUT/texmap_${t}_$f.png" "$OUT/gt_$t.png" "$OUT/mask_$t.png")
         case $f in
-            ewa|ewa-exact|sat|aniso6) peer="—" ;;  # the peer offers 2, 4, 8 and 16
+            ewa|ewa-exact|sat|aniso6|*-area) peer="—" ;;  # the peer offers 2, 4, 8 and 16
             *) "$PY" "$P/gl_render.py" --texture "$P/data/$t.png" --srgb --filter "$f" --size 640x360 \
                    -o "$OUT/gl_${t}_$f.png" >/dev/null
                peer=$(metric "$OUT/gl_${t}_$f.png" "$OUT/gt_$t.png" "$OUT/mask_$t.png") ;;
