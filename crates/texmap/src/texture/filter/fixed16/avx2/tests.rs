@@ -1,0 +1,171 @@
+//! The AVX2 taps and decodes against the SSE2 ones they must equal, bit for bit.
+
+use super::super::sse2::taps;
+use super::*;
+use crate::color::ColorSpace;
+use crate::texture::{Filter, Texture2D};
+
+/// Two probes' taps on one level ([`taps2`]), and one point's taps on two levels
+/// ([`taps2_levels`]: each level with the next, a trilinear read's pair, and the last with
+/// the first), are the SSE2 taps of each, on random points in and off the texture.
+#[test]
+fn paired_taps_are_the_sse2_taps_of_each() {
+    if !crate::cpu::available(crate::cpu::Level::V3) {
+        eprintln!("skipped: this CPU has no x86-64-v3 (AVX2), where the paired taps run");
+        return;
+    }
+    let mut r = crate::xorshift(0x2545_f491);
+    let mut next = move || r() as f32 / u32::MAX as f32;
+    let (mut compared, mut levels_compared) = (0, 0);
+    for (w, h) in [(64, 64), (40, 24), (1, 1), (256, 8)] {
+        let tex =
+            Texture2D::from_rgba8(w, h, ColorSpace::Srgb, &vec![90; (w * h * 4) as usize]).unwrap();
+        let count = tex.levels().len();
+        for index in 0..count {
+            let lv = tex.level(index);
+            let (data, tiles_x) = lv.tiled_texels(8);
+            let other = tex.level((index + 1) % count);
+            let (other_data, other_tiles) = other.tiled_texels(8);
+            for wrap in [Wrap::Repeat, Wrap::ClampToEdge] {
+                let s = Sampler::new(Filter::BILINEAR, wrap);
+                for _ in 0..200 {
+                    let mut lanes =
+                        || Vec4::new(next(), next(), next(), next()) * 6.0 - Vec4::splat(2.5);
+                    let (u, v) = ([lanes(), lanes()], [lanes(), lanes()]);
+                    let weight = [(next() * 32767.0) as i32, (next() * 32767.0) as i32];
+                    let case = format!("{w}x{h} level {index} {wrap:?}");
+                    // SAFETY: the CPU has x86-64-v3 (checked above).
+                    let two = unsafe { taps2(&lv, tiles_x, &s, u, v, weight) };
+                    for k in 0..2 {
+                        let one = taps(&lv, tiles_x, &s, u[k], v[k], weight[k]);
+                        assert_eq!(two[k], one, "{case} probe {k}");
+                        compared += 1;
+                    }
+                    let (a, b) = ((&lv, data, tiles_x), (&other, other_data, other_tiles));
+                    // SAFETY: as above.
+                    let two = unsafe { taps2_levels(a, b, &s, u, v, weight) };
+                    let one = [
+                        taps(&lv, tiles_x, &s, u[0], v[0], weight[0]),
+                        taps(&other, other_tiles, &s, u[1], v[1], weight[1]),
+                    ];
+                    assert_eq!(two, one, "{case} with the next level");
+                    levels_compared += 1;
+                }
+            }
+        }
+    }
+    assert!(compared > 1000 && levels_compared > 500);
+}
+
+#[test]
+fn rgba8_nearest_texels_in_lanes_are_the_scalar_decode() {
+    use crate::texture::{Format, Storage, TextureOptions};
+    if !crate::cpu::available(crate::cpu::Level::V3) {
+        eprintln!("skipped: this CPU has no x86-64-v3 (AVX2), where RGBA8 texels decode in lanes");
+        return;
+    }
+    let mut r = crate::xorshift(0x5bd1_e995);
+    let (w, h) = (37u32, 22u32);
+    // Every code, translucent texels among them (the premultiplied decode), sRGB and
+    // linear colour (the level's two tables).
+    let bytes: Vec<u8> = (0..w * h * 4).map(|_| r() as u8).collect();
+    let mut compared = 0;
+    for cs in [ColorSpace::Srgb, ColorSpace::Linear] {
+        let options = TextureOptions::default().with_storage(Storage::Rgba8);
+        let tex = Texture2D::from_texels(w, h, Format::Rgba8, cs, &bytes, options).unwrap();
+        assert!(tex.rgba8_texels().is_some(), "{cs:?}: held as RGBA8");
+        for index in 0..tex.levels().len() {
+            let lv = tex.level(index);
+            let (data, _) = lv.tiled_texels(4);
+            let count = (data.len() / 4) as u32;
+            let mut offsets = [[0; 4]; 16];
+            for o in offsets.iter_mut().flatten() {
+                *o = (r() % count) as i32;
+            }
+            let masks: Vec<u8> = (0..16)
+                .map(|i| [0b1111, 0b0110, 0, 0b1001][i % 4])
+                .collect();
+            let mut out = [[Vec4::splat(7.0); 4]; 16];
+            // SAFETY: the CPU has x86-64-v3 (checked above); the indices are below the
+            // level's texel count.
+            unsafe { nearest_rgba8(&lv, data, &offsets, &masks, &mut out) };
+            for ((o, &mask), got) in offsets.iter().zip(&masks).zip(&out) {
+                for j in 0..4 {
+                    let want = if mask & (1 << j) == 0 {
+                        Vec4::ZERO
+                    } else {
+                        lv.texel_at::<crate::texture::format::CodecRgba8>(o[j] as usize)
+                    };
+                    assert_eq!(
+                        got[j].to_array().map(f32::to_bits),
+                        want.to_array().map(f32::to_bits),
+                        "{cs:?} level {index}"
+                    );
+                    compared += 1;
+                }
+            }
+        }
+    }
+    assert!(compared >= 128);
+}
+
+#[test]
+fn a_levels_quads_two_at_a_time_take_the_sse2_taps_and_indices() {
+    if !crate::cpu::available(crate::cpu::Level::V3) {
+        eprintln!("skipped: this CPU has no x86-64-v3 (AVX2), where quads pair");
+        return;
+    }
+    let mut r = crate::xorshift(0x9e37_79b9);
+    let mut next = move || r() as f32 / u32::MAX as f32;
+    let tex = Texture2D::from_rgba8(48, 80, ColorSpace::Srgb, &[50; 48 * 80 * 4]).unwrap();
+    for index in 0..tex.levels().len() {
+        let lv = tex.level(index);
+        let (_, tiles_x) = lv.tiled_texels(8);
+        for wrap in [Wrap::Repeat, Wrap::ClampToEdge] {
+            let s = Sampler::new(Filter::BILINEAR, wrap);
+            // Odd and even counts: the last quad of an odd batch is read alone.
+            for n in [1, 2, 7, 16] {
+                let mut lanes = || Vec4::new(next(), next(), next(), next()) * 5.0 - 2.0;
+                let mut coords = [QuadCoords::default(); 16];
+                for c in &mut coords[..n] {
+                    (c.u, c.v) = (lanes(), lanes());
+                }
+                coords[0].u.x = f32::NAN;
+                let coords = &coords[..n];
+                let (mut paired, mut offsets) = ([Taps::default(); 16], [[0; 4]; 16]);
+                // SAFETY: the CPU has x86-64-v3 (checked above).
+                unsafe {
+                    level_taps(&lv, tiles_x, &s, coords, &mut paired);
+                    level_nearest(&lv, tiles_x, &s, coords, &mut offsets);
+                }
+                for (i, c) in coords.iter().enumerate() {
+                    let case = format!("level {index} {wrap:?} quad {i} of {n}");
+                    assert_eq!(paired[i], taps(&lv, tiles_x, &s, c.u, c.v, ONE), "{case}");
+                    let near = sse2::nearest_offsets(&lv, tiles_x, &s, c.u, c.v);
+                    assert_eq!(offsets[i], near, "{case}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_nan_coordinate_takes_the_sse2_indices() {
+    if !crate::cpu::available(crate::cpu::Level::V3) {
+        eprintln!("skipped: this CPU has no x86-64-v3 (AVX2)");
+        return;
+    }
+    let tex = Texture2D::from_rgba8(16, 16, ColorSpace::Srgb, &[7; 16 * 16 * 4]).unwrap();
+    let lv = tex.level(0);
+    let (_, tiles_x) = lv.tiled_texels(8);
+    let odd = Vec4::new(f32::NAN, f32::INFINITY, -f32::INFINITY, 1e30);
+    for wrap in [Wrap::Repeat, Wrap::ClampToEdge] {
+        let s = Sampler::new(Filter::BILINEAR, wrap);
+        let (u, v) = ([odd, Vec4::splat(0.3)], [Vec4::splat(0.7), odd]);
+        // SAFETY: the CPU has x86-64-v3 (checked above).
+        let two = unsafe { taps2(&lv, tiles_x, &s, u, v, [32767, 100]) };
+        for k in 0..2 {
+            assert_eq!(two[k], taps(&lv, tiles_x, &s, u[k], v[k], [32767, 100][k]));
+        }
+    }
+}
