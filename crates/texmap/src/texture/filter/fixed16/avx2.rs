@@ -13,12 +13,12 @@
 //! calls them.
 
 use std::arch::x86_64::{
-    __m256, __m256i, _mm256_add_epi32, _mm256_add_ps, _mm256_and_si256, _mm256_andnot_si256,
-    _mm256_cmpeq_epi32, _mm256_cvtepi32_ps, _mm256_cvtps_epi32, _mm256_cvttps_epi32,
-    _mm256_floor_ps, _mm256_max_ps, _mm256_min_epu32, _mm256_min_ps, _mm256_mul_ps,
-    _mm256_mullo_epi32, _mm256_or_si256, _mm256_set1_epi32, _mm256_set1_ps, _mm256_set_m128,
-    _mm256_set_m128i, _mm256_setzero_ps, _mm256_slli_epi32, _mm256_srli_epi32, _mm256_sub_epi32,
-    _mm256_sub_ps, _mm_set1_epi32,
+    __m128i, __m256, __m256i, _mm256_add_epi32, _mm256_add_ps, _mm256_and_si256,
+    _mm256_andnot_si256, _mm256_cmpeq_epi32, _mm256_cvtepi32_ps, _mm256_cvtps_epi32,
+    _mm256_cvttps_epi32, _mm256_floor_ps, _mm256_max_ps, _mm256_min_epu32, _mm256_min_ps,
+    _mm256_mul_ps, _mm256_mullo_epi32, _mm256_or_si256, _mm256_set1_epi32, _mm256_set1_ps,
+    _mm256_set_m128, _mm256_set_m128i, _mm256_setzero_ps, _mm256_slli_epi32, _mm256_srli_epi32,
+    _mm256_sub_epi32, _mm256_sub_ps, _mm_set1_epi32,
 };
 
 use glam::{Vec2, Vec4};
@@ -70,10 +70,10 @@ pub(super) unsafe fn probe_pairs<'p>(
         // bookkeeping cost a tenth of the read's instructions).
         // SAFETY: the CPU has AVX2 (this function's contract).
         unsafe {
-            probe_pair_on(first, texels, s, (pu, pv), wa, acc);
+            level_pair(first, texels, s, (pu, pv), wa, acc);
             if let Some(second) = second {
                 let wb = [p.weight - wa[0], q.weight - wa[1]];
-                probe_pair_on(second, texels, s, (pu, pv), wb, acc);
+                level_pair(second, texels, s, (pu, pv), wb, acc);
             }
         }
     }
@@ -92,35 +92,6 @@ pub(super) unsafe fn probe_pairs<'p>(
         }
     }
     rest
-}
-
-/// [`probe_pairs`]' reads of two probes (`u`, `v`) on one level, weighted `w` (a probe whose
-/// weight is 0 not read, neither when both are 0), summed into `acc`.
-///
-/// # Safety
-/// The CPU must have AVX2 ([`crate::cpu::level`] is x86-64-v3).
-#[inline(always)]
-unsafe fn probe_pair_on(
-    (lv, data, tiles_x): Level,
-    texels: Texels,
-    s: &Sampler,
-    (u, v): ([Vec4; 2], [Vec4; 2]),
-    w: [i32; 2],
-    acc: &mut [std::arch::x86_64::__m128i; 4],
-) {
-    if w[0] <= 0 && w[1] <= 0 {
-        return;
-    }
-    // SAFETY: the CPU has AVX2 (this function's contract).
-    unsafe {
-        let taps = taps2(lv, tiles_x, s, u, v, w);
-        if w[0] > 0 {
-            gather(data, texels, &taps[0], acc);
-        }
-        if w[1] > 0 {
-            gather(data, texels, &taps[1], acc);
-        }
-    }
 }
 
 /// Bilinear reads of quads on a pair of levels, two quads at a time (`quads.rs`,
@@ -172,8 +143,30 @@ pub(super) unsafe fn quad_pairs(
     }
 }
 
-/// [`quad_pairs`]' reads of two quads (`u`, `v`) on one level, weighted `w` (a quad whose
-/// weight is 0 not read, neither quad when both are 0), summed into `acc`.
+/// Where [`level_pair`] sums its two points' reads: each quad's own sums ([`quad_pairs`]),
+/// or one quad's for both of its probes ([`probe_pairs`]).
+trait PairSums {
+    /// The sums of point `k` (0 or 1).
+    fn of(&mut self, k: usize) -> &mut [__m128i; 4];
+}
+
+impl PairSums for [[__m128i; 4]; 2] {
+    #[inline(always)]
+    fn of(&mut self, k: usize) -> &mut [__m128i; 4] {
+        &mut self[k]
+    }
+}
+
+impl PairSums for [__m128i; 4] {
+    #[inline(always)]
+    fn of(&mut self, _: usize) -> &mut [__m128i; 4] {
+        self
+    }
+}
+
+/// Two points' reads (`u`, `v`: two quads of [`quad_pairs`], or two probes of a quad in
+/// [`probe_pairs`]) on one level, weighted `w` (a point whose weight is 0 not read, neither
+/// when both are 0), summed into `acc`.
 ///
 /// # Safety
 /// The CPU must have AVX2 ([`crate::cpu::level`] is x86-64-v3).
@@ -184,20 +177,19 @@ unsafe fn level_pair(
     s: &Sampler,
     (u, v): ([Vec4; 2], [Vec4; 2]),
     w: [i32; 2],
-    acc: &mut [[std::arch::x86_64::__m128i; 4]; 2],
+    acc: &mut impl PairSums,
 ) {
     if w[0] <= 0 && w[1] <= 0 {
         return;
     }
     // SAFETY: the CPU has AVX2 (this function's contract).
     let taps = unsafe { taps2(lv, tiles_x, s, u, v, w) };
-    // Spelled out for the two quads (as a loop it stayed one, its sums kept in memory).
-    let [acc0, acc1] = acc;
+    // Spelled out for the two points (as a loop it stayed one, its sums kept in memory).
     if w[0] > 0 {
-        unsafe { gather(data, texels, &taps[0], acc0) };
+        unsafe { gather(data, texels, &taps[0], acc.of(0)) };
     }
     if w[1] > 0 {
-        unsafe { gather(data, texels, &taps[1], acc1) };
+        unsafe { gather(data, texels, &taps[1], acc.of(1)) };
     }
 }
 
