@@ -557,6 +557,39 @@ fn info_names_each_materials_colour_source() {
     );
 }
 
+/// 3D textures take OpenGL's filters only: on a scene whose only image textures are 3D, an
+/// anisotropic, EWA or SAT `--filter` (which would read as trilinear) is refused in one line
+/// naming the scene, and an OpenGL filter renders.
+#[test]
+fn filters_3d_textures_cannot_take_are_refused() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let scene = root.join("scenes/solid_texture3d.toml");
+    let d = dir("filters_3d");
+    let cases = [
+        ("aniso5-area", false),
+        ("aniso8", false),
+        ("ewa", false),
+        ("sat", false),
+        ("nearest-mipmap-linear", true),
+    ];
+    for (filter, ok) in cases {
+        let out = d.join(format!("{filter}.png"));
+        let run = render(&scene, &out, &["--filter", filter]);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.success(), ok, "{filter}: {stderr}");
+        assert_eq!(out.exists(), ok, "{filter}: no partial output");
+        if !ok {
+            assert!(
+                stderr.contains("--filter")
+                    && stderr.contains("solid_texture3d.toml")
+                    && stderr.contains("only 3D textures")
+                    && stderr.lines().count() == 1,
+                "{filter}: {stderr}"
+            );
+        }
+    }
+}
+
 /// `texmap info PATH`'s standard output, asserting it succeeded.
 fn info_of(path: &std::path::Path) -> String {
     let info = texmap(&["info", path.to_str().unwrap()]);

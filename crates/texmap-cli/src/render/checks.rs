@@ -13,7 +13,7 @@ use texmap::render::{ShadowOverrides, TextureOverrides};
 use texmap::scene::Light;
 use texmap::shading::ibl::Background;
 use texmap::shading::shadow::{ShadowFilter, MAX_SHADOW_MAP_SIZE};
-use texmap::shading::{MapChannel, ShadingModel};
+use texmap::shading::{MapChannel, Procedural, ShadingModel};
 use texmap::texture::{Filter, LodRule, MinFilter, Sampler, Wrap};
 use texmap::Error;
 
@@ -323,6 +323,31 @@ pub(super) fn check_flags(args: &RenderArgs, built: &Built) -> Result<(), Error>
                 ("--texture-storage", args.texture_storage.is_some()),
             ]),
             format!("{name} reads no image texture (its colours are procedural or constant)"),
+        )?;
+    }
+    // 3D textures take OpenGL's filters only (a scene file refuses others for them): an
+    // anisotropic, EWA or SAT --filter on a scene whose only image textures are 3D would
+    // draw trilinear's image.
+    let reads_3d = built
+        .scene
+        .meshes
+        .iter()
+        .filter_map(|m| built.scene.materials.get(m.material))
+        .filter(|m| matches!(m.procedural, Some(Procedural::Texture3D { .. })))
+        .count();
+    let only_3d = reads_3d > 0
+        && reads_3d == samplers.len()
+        && built.scene.environment.is_none()
+        && args.texture.is_none();
+    if let (Some(filter), true) = (args.filter, only_3d) {
+        refuse(
+            given(&[("--filter", !matches!(filter, Filter::Gl { .. }))]),
+            format!(
+                "{name} reads only 3D textures, which take OpenGL's filters ({}); {} would \
+                 read as trilinear",
+                Filter::GL_SPELLINGS,
+                filter.name()
+            ),
         )?;
     }
     if let Some(env) = &built.scene.environment {
