@@ -51,9 +51,9 @@ impl<'t> ProbeReader<'t> {
         }
     }
 
-    /// [`super::read_probes`] of quad `(u, v)`: the same values. A nearest `choice` (which
-    /// that path refuses) is read as [`super::read_quad`] reads it, its probes' places
-    /// ignored — no probed filter asks for one.
+    /// [`super::read_probes`] of quad `(u, v)`: the same values. `choice` must read linear
+    /// texels (every probed filter's does: `MipChoice::trilinear`; checked in debug builds),
+    /// where `read_probes` would return `None` for a nearest one.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub(in super::super) fn read(
