@@ -272,9 +272,12 @@ pub(crate) fn quad_plans4(
     let lod = s.adjust_lod4(lod);
     let (axis_x, axis_y) = (dir_x * major / size.x, dir_y * major / size.y);
     let levels = tex.levels().len();
-    std::array::from_fn(|k| {
+    // A loop, not `array::from_fn`: its closure was compiled on its own, at the baseline
+    // level, a call per four quads (`MipChoice::trilinear`'s rounding without SSE4.1).
+    let mut plans = [QuadPlan::NONE; 4];
+    for (k, plan) in plans.iter_mut().enumerate() {
         let (major, n, lod) = (major[k], n[k], lod[k]);
-        if !(major > 1.0) || !(lod > 0.0) && n == 1.0 {
+        *plan = if !(major > 1.0) || !(lod > 0.0) && n == 1.0 {
             QuadPlan {
                 choice: MipChoice::trilinear(0.0, 1),
                 axis_uv: Vec2::ZERO,
@@ -292,8 +295,9 @@ pub(crate) fn quad_plans4(
                 axis_uv: Vec2::new(axis_x[k], axis_y[k]),
                 taps: n as u32,
             }
-        }
-    })
+        };
+    }
+    plans
 }
 
 /// [`sample_quad`]'s second half: the reads of quad `uv` as `plan` says.

@@ -194,9 +194,12 @@ pub(crate) fn quad_plans4(
     let lod = s.adjust_lod4(crate::texture::footprint::fast_log2_4(2.0 * reach / n));
     let (axis_x, axis_y) = (dir_x * reach / size.x, dir_y * reach / size.y);
     let levels = tex.levels().len();
-    std::array::from_fn(|k| {
+    // A loop, not `array::from_fn` (whose closure was compiled on its own, at the baseline
+    // level, as anisotropic filtering's `quad_plans4` says).
+    let mut plans = [Plan::Bilinear; 4];
+    for (k, plan) in plans.iter_mut().enumerate() {
         let major = major[k];
-        if !(major > 1.0) || !major.is_finite() {
+        *plan = if !(major > 1.0) || !major.is_finite() {
             Plan::Bilinear
         } else if major < EXACT_RATIO * minor[k] {
             Plan::Exact
@@ -206,8 +209,9 @@ pub(crate) fn quad_plans4(
                 axis_uv: Vec2::new(axis_x[k], axis_y[k]),
                 count: n[k] as usize,
             }
-        }
-    })
+        };
+    }
+    plans
 }
 
 /// [`sample_quad`]'s second half: the reads of quad `uv` (derivatives `duv`) as `plan` says.
