@@ -9,16 +9,16 @@
 //! here too ([`nearest_rgba8`]: the level's table gathered, two texels a vector).
 //!
 //! Runs where [`crate::cpu::level`] is x86-64-v3 (the callers check): the entry points
-//! ([`probe_pairs`], [`quad_pairs`], [`nearest_rgba8`]) are compiled for it, whatever copy
+//! ([`probe_quad`], [`quad_pairs`], [`nearest_rgba8`]) are compiled for it, whatever copy
 //! calls them.
 
 use std::arch::x86_64::{
-    __m128i, __m256, __m256i, _mm256_add_epi32, _mm256_add_ps, _mm256_and_si256,
-    _mm256_andnot_si256, _mm256_cmpeq_epi32, _mm256_cvtepi32_ps, _mm256_cvtps_epi32,
-    _mm256_cvttps_epi32, _mm256_floor_ps, _mm256_max_ps, _mm256_min_epu32, _mm256_min_ps,
-    _mm256_mul_ps, _mm256_mullo_epi32, _mm256_or_si256, _mm256_set1_epi32, _mm256_set1_ps,
-    _mm256_set_m128, _mm256_set_m128i, _mm256_setzero_ps, _mm256_slli_epi32, _mm256_srli_epi32,
-    _mm256_sub_epi32, _mm256_sub_ps, _mm_set1_epi32,
+    __m256, __m256i, _mm256_add_epi32, _mm256_add_ps, _mm256_and_si256, _mm256_andnot_si256,
+    _mm256_cmpeq_epi32, _mm256_cvtepi32_ps, _mm256_cvtps_epi32, _mm256_cvttps_epi32,
+    _mm256_floor_ps, _mm256_max_ps, _mm256_min_epu32, _mm256_min_ps, _mm256_mul_ps,
+    _mm256_mullo_epi32, _mm256_or_si256, _mm256_set1_epi32, _mm256_set1_ps, _mm256_set_m128,
+    _mm256_set_m128i, _mm256_setzero_ps, _mm256_slli_epi32, _mm256_srli_epi32, _mm256_sub_epi32,
+    _mm256_sub_ps, _mm_set1_epi32,
 };
 
 use glam::{Vec2, Vec4};
@@ -29,33 +29,57 @@ use crate::texture::storage::LevelRef;
 use crate::texture::{MipChoice, QuadCoords, Sampler, Wrap};
 
 mod gather;
-use gather::gather;
+use gather::{finish, gather, zero, Sums};
 
 /// A level's view, tiled texels and tiles per row (as `tiled_texels` gives them).
 type Level<'a> = (&'a LevelRef<'a>, &'a [u8], u32);
 
-/// [`sse2::probes_on`]'s probes two at a time, while two are left: both probes' taps on a
-/// level computed at once ([`taps2`]), each probe's texels then gathered into `acc` as the
-/// SSE2 loop gathers them (a probe whose weight on a level is 0 not read there). An odd last
-/// probe read on both levels takes its two levels' taps at once ([`taps2_levels`]). Returns
-/// the probes left (none, or an odd last one read on one level). `levels` are the first
-/// level and the second (`None` without a blend); `fa` the first level's share of a probe's
-/// weight.
+/// [`sse2::probes_on`] in AVX2 lanes, the whole quad: the probes two at a time, both
+/// probes' taps on a level computed at once ([`taps2`]), each probe's texels then gathered
+/// as the SSE2 loop gathers them (a probe whose weight on a level is 0 not read there); an
+/// odd last probe takes its two levels' taps at once ([`taps2_levels`]), or, read on one
+/// level, that level's taps by `taps2` (its second half unused); the sums finished as
+/// [`sse2::finish`] finishes them. The same values. `levels` are the first level and the
+/// second (`None` without a blend); `fa` the first level's share of a probe's weight.
 ///
 /// # Safety
 /// The CPU must have x86-64-v3 ([`crate::cpu::level`]).
 #[allow(clippy::too_many_arguments)]
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
-pub(super) unsafe fn probe_pairs<'p>(
+pub(super) unsafe fn probe_quad(
+    levels: (Level, Option<Level>),
+    texels: Texels,
+    s: &Sampler,
+    fa: f32,
+    uv: (Vec4, Vec4),
+    step: Vec2,
+    probes: &[Probe],
+    mask: u8,
+) -> [Vec4; 4] {
+    // SAFETY: the CPU has x86-64-v3 (this function's contract).
+    unsafe { probe_quad_inlined(levels, texels, s, fa, uv, step, probes, mask) }
+}
+
+/// [`probe_quad`], inlined into its caller: for the x86-64-v3 copy of a batch
+/// (`ProbeReader`), where its intrinsics inline too and a quad pays no call (a call per quad
+/// cost a tenth of the probed batch's own instructions).
+///
+/// # Safety
+/// The CPU must have x86-64-v3 ([`crate::cpu::level`]).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(super) unsafe fn probe_quad_inlined(
     levels: (Level, Option<Level>),
     texels: Texels,
     s: &Sampler,
     fa: f32,
     (u, v): (Vec4, Vec4),
     step: Vec2,
-    probes: &'p [Probe],
-    acc: &mut [std::arch::x86_64::__m128i; 4],
-) -> &'p [Probe] {
+    probes: &[Probe],
+    mask: u8,
+) -> [Vec4; 4] {
+    // SAFETY: the CPU has AVX2 (this function's contract).
+    let mut acc = unsafe { zero() };
     let mut rest = probes;
     let (first, second) = levels;
     while let [p, q, tail @ ..] = rest {
@@ -70,28 +94,41 @@ pub(super) unsafe fn probe_pairs<'p>(
         // bookkeeping cost a tenth of the read's instructions).
         // SAFETY: the CPU has AVX2 (this function's contract).
         unsafe {
-            level_pair(first, texels, s, (pu, pv), wa, acc);
+            level_pair(first, texels, s, (pu, pv), wa, &mut acc);
             if let Some(second) = second {
                 let wb = [p.weight - wa[0], q.weight - wa[1]];
-                level_pair(second, texels, s, (pu, pv), wb, acc);
+                level_pair(second, texels, s, (pu, pv), wb, &mut acc);
             }
         }
     }
-    if let ([p], (first, Some(second))) = (rest, levels) {
+    if let [p] = rest {
         let wa = sse2::probe_first_weight(fa, p.weight);
-        let w = [wa, p.weight - wa];
-        if w[0] > 0 && w[1] > 0 {
-            let (pu, pv) = (u + Vec4::splat(step.x * p.t), v + Vec4::splat(step.y * p.t));
-            // SAFETY: the CPU has AVX2 (this function's contract).
-            let taps = unsafe { taps2_levels(first, second, s, [pu; 2], [pv; 2], w) };
-            unsafe {
-                gather(first.1, texels, &taps[0], acc);
-                gather(second.1, texels, &taps[1], acc);
+        let wb = p.weight - wa;
+        let (pu, pv) = (u + Vec4::splat(step.x * p.t), v + Vec4::splat(step.y * p.t));
+        // The level a lone read takes, and its weight.
+        let lone = match second {
+            Some(second) if wa > 0 && wb > 0 => {
+                // SAFETY: the CPU has AVX2 (this function's contract).
+                unsafe {
+                    let taps = taps2_levels(first, second, s, [pu; 2], [pv; 2], [wa, wb]);
+                    gather(first.1, texels, &taps[0], &mut acc);
+                    gather(second.1, texels, &taps[1], &mut acc);
+                }
+                None
             }
-            return &[];
+            Some(second) if wb > 0 => Some((second, wb)),
+            _ => (wa > 0).then_some((first, wa)),
+        };
+        if let Some(((lv, data, tiles_x), w)) = lone {
+            // SAFETY: the CPU has AVX2 (this function's contract).
+            unsafe {
+                let taps = taps2(lv, tiles_x, s, [pu; 2], [pv; 2], [w, 0]);
+                gather(data, texels, &taps[0], &mut acc);
+            }
         }
     }
-    rest
+    // SAFETY: the CPU has AVX2 (this function's contract).
+    unsafe { finish(&acc, mask) }
 }
 
 /// Bilinear reads of quads on a pair of levels, two quads at a time (`quads.rs`,
@@ -124,7 +161,7 @@ pub(super) unsafe fn quad_pairs(
         let wa = [weights[i][0], weights[i + 1][0]];
         let wb = [weights[i][1], weights[i + 1][1]];
         let (u, v) = ([c[0].u, c[1].u], [c[0].v, c[1].v]);
-        let mut acc = [[std::arch::x86_64::_mm_setzero_si128(); 4]; 2];
+        let mut acc = [zero(); 2];
         // Each level by its own call (not a loop over an array of the two: the weights,
         // just stored as two halves, were loaded back whole, a store the load could not
         // take its value from).
@@ -133,8 +170,8 @@ pub(super) unsafe fn quad_pairs(
             level_pair(first, texels, s, (u, v), wa, &mut acc);
             level_pair(second, texels, s, (u, v), wb, &mut acc);
         }
-        out[i] = sse2::finish(&acc[0], m[0]);
-        out[i + 1] = sse2::finish(&acc[1], m[1]);
+        out[i] = finish(&acc[0], m[0]);
+        out[i + 1] = finish(&acc[1], m[1]);
         i += 2;
     }
     if i < n {
@@ -144,28 +181,28 @@ pub(super) unsafe fn quad_pairs(
 }
 
 /// Where [`level_pair`] sums its two points' reads: each quad's own sums ([`quad_pairs`]),
-/// or one quad's for both of its probes ([`probe_pairs`]).
+/// or one quad's for both of its probes ([`probe_quad`]).
 trait PairSums {
     /// The sums of point `k` (0 or 1).
-    fn of(&mut self, k: usize) -> &mut [__m128i; 4];
+    fn of(&mut self, k: usize) -> &mut Sums;
 }
 
-impl PairSums for [[__m128i; 4]; 2] {
+impl PairSums for [Sums; 2] {
     #[inline(always)]
-    fn of(&mut self, k: usize) -> &mut [__m128i; 4] {
+    fn of(&mut self, k: usize) -> &mut Sums {
         &mut self[k]
     }
 }
 
-impl PairSums for [__m128i; 4] {
+impl PairSums for Sums {
     #[inline(always)]
-    fn of(&mut self, _: usize) -> &mut [__m128i; 4] {
+    fn of(&mut self, _: usize) -> &mut Sums {
         self
     }
 }
 
 /// Two points' reads (`u`, `v`: two quads of [`quad_pairs`], or two probes of a quad in
-/// [`probe_pairs`]) on one level, weighted `w` (a point whose weight is 0 not read, neither
+/// [`probe_quad`]) on one level, weighted `w` (a point whose weight is 0 not read, neither
 /// when both are 0), summed into `acc`.
 ///
 /// # Safety
@@ -215,7 +252,7 @@ pub(super) unsafe fn linear_pair_shared(
     let wa = choices.map(sse2::first_weight);
     let wb = [0, 1].map(|k| sse2::second_weight(choices[k], wa[k]));
     let (u, v) = ([coords[0].u, coords[1].u], [coords[0].v, coords[1].v]);
-    let mut acc = [[[std::arch::x86_64::_mm_setzero_si128(); 4]; super::MAX_SHARED]; 2];
+    let mut acc = [[zero(); super::MAX_SHARED]; 2];
     let second = choices[0].blend.map(|b| b.level);
     for (index, w) in [(Some(choices[0].level), wa), (second, wb)] {
         let Some(index) = index.filter(|_| w[0] > 0 || w[1] > 0) else {
@@ -237,7 +274,7 @@ pub(super) unsafe fn linear_pair_shared(
     }
     for ((o, acc), &mask) in out.iter_mut().zip(&acc).zip(&masks) {
         for (o, acc) in o.iter_mut().zip(acc).take(count) {
-            *o = sse2::finish(acc, mask);
+            *o = finish(acc, mask);
         }
     }
 }

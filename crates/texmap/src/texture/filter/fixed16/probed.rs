@@ -70,6 +70,27 @@ impl<'t> ProbeReader<'t> {
         {
             let first = self.level(0, choice.level);
             let second = choice.blend.map(|b| self.level(1, b.level));
+            if crate::cpu::level() == crate::cpu::Level::V3 {
+                // Inlined, with its intrinsics, where the batch runs at x86-64-v3 (the only
+                // copy in which this branch runs).
+                let second = second
+                    .as_ref()
+                    .map(|(lv, data, tiles_x)| (lv, *data, *tiles_x));
+                let fa = sse2::first_share(choice);
+                // SAFETY: the CPU has x86-64-v3 (`cpu::level`).
+                return unsafe {
+                    super::avx2::probe_quad_inlined(
+                        ((&first.0, first.1, first.2), second),
+                        self.texels,
+                        s,
+                        fa,
+                        uv,
+                        step,
+                        probes,
+                        mask,
+                    )
+                };
+            }
             sse2::probes_on(
                 &first,
                 second.as_ref(),

@@ -174,6 +174,20 @@ pub(super) fn linear_quad_shared(
     }
 }
 
+/// The first level's share (in [0, 1]) of a probe's weight under `choice`: `1 − f`, `f` the
+/// blend's weight (0 without a blend; a NaN weight gives the first level nothing, as the
+/// saturating cast of [`first_weight`] does).
+#[inline(always)]
+pub(super) fn first_share(choice: MipChoice) -> f32 {
+    let f = choice.blend.map_or(0.0, |b| b.weight);
+    let fa = 1.0 - f.clamp(0.0, 1.0);
+    if fa.is_nan() {
+        0.0
+    } else {
+        fa
+    }
+}
+
 /// A level's view, tiled texels and tiles per row (as `tiled_texels` gives them).
 pub(super) type Level<'a> = (LevelRef<'a>, &'a [u8], u32);
 
@@ -202,19 +216,12 @@ pub(super) fn probes_on(
     probes: &[super::Probe],
     mask: u8,
 ) -> [Vec4; 4] {
-    let f = choice.blend.map_or(0.0, |b| b.weight);
-    let fa = 1.0 - f.clamp(0.0, 1.0);
-    // A NaN level weight gives the first level nothing, as the saturating cast did.
-    let fa = if fa.is_nan() { 0.0 } else { fa };
-    // SAFETY: SSE2 is part of x86_64.
-    let mut acc = [unsafe { _mm_setzero_si128() }; 4];
-    let mut rest = probes;
+    let fa = first_share(choice);
     if crate::cpu::level() == crate::cpu::Level::V3 {
-        // Two probes' taps at once in AVX2 lanes (the same indices and weights), gathered
-        // probe by probe; an odd last probe as below.
+        // The whole quad in AVX2 lanes (the same values).
         // SAFETY: the CPU has x86-64-v3 (`cpu::level`).
-        rest = unsafe {
-            super::avx2::probe_pairs(
+        return unsafe {
+            super::avx2::probe_quad(
                 (
                     (&first.0, first.1, first.2),
                     second.map(|(lv, data, tiles_x)| (lv, *data, *tiles_x)),
@@ -225,11 +232,13 @@ pub(super) fn probes_on(
                 (u, v),
                 step,
                 probes,
-                &mut acc,
+                mask,
             )
         };
     }
-    for &super::Probe { t, weight } in rest {
+    // SAFETY: SSE2 is part of x86_64.
+    let mut acc = [unsafe { _mm_setzero_si128() }; 4];
+    for &super::Probe { t, weight } in probes {
         let wa = probe_first_weight(fa, weight);
         let (pu, pv) = (u + Vec4::splat(step.x * t), v + Vec4::splat(step.y * t));
         if wa > 0 {

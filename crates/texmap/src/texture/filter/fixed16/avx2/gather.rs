@@ -1,17 +1,60 @@
 //! The AVX2 gathers of [`super`]: each pixel's four bilinear taps of one level, two pixels
 //! to a 256-bit vector, summed into its accumulator with their 15-bit weights — the 16-bit
 //! storage's texels and opaque 8-bit ones with linear codes; other storages by the SSE2
-//! gather. The same sums as `sse2::gather` (integer multiply-adds, in any order).
+//! gather. The same sums as `sse2::gather` (integer multiply-adds, in any order), held two
+//! pixels to a vector ([`Sums`]) and finished as `sse2::finish` finishes them ([`finish`]).
 
 use std::arch::x86_64::{
-    __m128i, __m256i, _mm256_add_epi32, _mm256_castsi128_si256, _mm256_castsi256_si128,
-    _mm256_extracti128_si256, _mm256_madd_epi16, _mm256_permutevar8x32_epi32, _mm256_set_m128i,
-    _mm256_setr_epi32, _mm256_srli_epi16, _mm256_unpacklo_epi8, _mm_add_epi32, _mm_cvtsi32_si128,
-    _mm_loadl_epi64, _mm_loadu_si128, _mm_unpacklo_epi16, _mm_unpacklo_epi8,
+    __m128i, __m256i, _mm256_add_epi32, _mm256_and_ps, _mm256_castsi128_si256, _mm256_castsi256_ps,
+    _mm256_cvtepi32_ps, _mm256_madd_epi16, _mm256_max_ps, _mm256_mul_ps,
+    _mm256_permutevar8x32_epi32, _mm256_set1_ps, _mm256_set_m128i, _mm256_setr_epi32,
+    _mm256_setzero_ps, _mm256_setzero_si256, _mm256_srli_epi16, _mm256_unpacklo_epi8,
+    _mm_cvtsi32_si128, _mm_loadl_epi64, _mm_loadu_si128, _mm_setzero_si128, _mm_unpacklo_epi16,
+    _mm_unpacklo_epi8,
 };
 
+use glam::Vec4;
+
 use super::super::sse2::{self, Taps};
-use super::super::Texels;
+use super::super::{Texels, ONE};
+
+/// A quad's 32-bit sums, two pixels to a vector: pixel `2k` in the low half of `[k]`, pixel
+/// `2k + 1` in its high half (`sse2`'s four accumulators, paired).
+pub(in super::super) type Sums = [__m256i; 2];
+
+/// Sums of zero.
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[inline(always)]
+pub(in super::super) unsafe fn zero() -> Sums {
+    // SAFETY: the CPU has AVX2 (the caller's contract).
+    unsafe { [_mm256_setzero_si256(); 2] }
+}
+
+/// [`sse2::finish`] of the paired sums: the same values (pixels outside `mask` zero).
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[inline(always)]
+pub(in super::super) unsafe fn finish(acc: &Sums, mask: u8) -> [Vec4; 4] {
+    // SAFETY: the CPU has AVX2 (the caller's contract).
+    unsafe {
+        let scale = _mm256_set1_ps(1.0 / (ONE as f32 * ONE as f32));
+        let keep = |j: i32| if mask & (1 << j) != 0 { -1 } else { 0 };
+        let pair = |k: usize| {
+            let j = 2 * k as i32;
+            let (a, b) = (keep(j), keep(j + 1));
+            let lanes = _mm256_setr_epi32(a, a, a, a, b, b, b, b);
+            // A tap whose rounded weight came out −1 can leave a sum a hair below zero.
+            let sum = _mm256_mul_ps(_mm256_cvtepi32_ps(acc[k]), scale);
+            let sum = _mm256_max_ps(sum, _mm256_setzero_ps());
+            std::mem::transmute::<_, [Vec4; 2]>(_mm256_and_ps(sum, _mm256_castsi256_ps(lanes)))
+        };
+        let ([p0, p1], [p2, p3]) = (pair(0), pair(1));
+        [p0, p1, p2, p3]
+    }
+}
 
 /// [`sse2::gather`]: the 16-bit storage's texels, and opaque RGBA8 texels with linear codes
 /// (data maps), two pixels to a 256-bit vector (each pixel's top pair in one half, its bottom
@@ -22,13 +65,19 @@ use super::super::Texels;
 /// # Safety
 /// The CPU must have AVX2 ([`crate::cpu::level`] is x86-64-v3).
 #[inline(always)]
-pub(super) unsafe fn gather(data: &[u8], texels: Texels, t: &Taps, acc: &mut [__m128i; 4]) {
+pub(in super::super) unsafe fn gather(data: &[u8], texels: Texels, t: &Taps, acc: &mut Sums) {
     match texels {
         // SAFETY: the CPU has AVX2 (this function's contract).
         Texels::Linear16 => unsafe { gather16(data, t, acc) },
         // Opaque linear codes (data maps: normals, metallic-roughness, occlusion).
         Texels::Rgba8(r) if r.srgb15.is_none() && r.opaque => unsafe { gather8(data, t, acc) },
-        _ => sse2::gather(data, texels, t, acc),
+        // SAFETY: the CPU has AVX2 (this function's contract).
+        _ => unsafe {
+            let mut part = [_mm_setzero_si128(); 4];
+            sse2::gather(data, texels, t, &mut part);
+            acc[0] = _mm256_add_epi32(acc[0], _mm256_set_m128i(part[1], part[0]));
+            acc[1] = _mm256_add_epi32(acc[1], _mm256_set_m128i(part[3], part[2]));
+        },
     }
 }
 
@@ -38,7 +87,7 @@ pub(super) unsafe fn gather(data: &[u8], texels: Texels, t: &Taps, acc: &mut [__
 /// The CPU must have AVX2; `t`'s offsets index 8-byte texels of `data` (as `sse2::taps`
 /// makes them).
 #[inline(always)]
-unsafe fn gather16(data: &[u8], t: &Taps, acc: &mut [__m128i; 4]) {
+unsafe fn gather16(data: &[u8], t: &Taps, acc: &mut Sums) {
     let base = data.as_ptr();
     // SAFETY (the loads): each reads one 8-byte texel at an index below `data.len() / 8`
     // (the offsets' level has this size, see `sse2::taps`); the CPU has AVX2.
@@ -60,7 +109,7 @@ unsafe fn gather16(data: &[u8], t: &Taps, acc: &mut [__m128i; 4]) {
 /// # Safety
 /// The CPU must have AVX2; `t`'s offsets index 4-byte texels of `data`.
 #[inline(always)]
-unsafe fn gather8(data: &[u8], t: &Taps, acc: &mut [__m128i; 4]) {
+unsafe fn gather8(data: &[u8], t: &Taps, acc: &mut Sums) {
     let base = data.as_ptr();
     // SAFETY (the loads): each reads one 4-byte texel at an index below `data.len() / 4`
     // (the offsets' level has this size, see `sse2::taps`); the CPU has AVX2.
@@ -78,14 +127,14 @@ unsafe fn gather8(data: &[u8], t: &Taps, acc: &mut [__m128i; 4]) {
 /// The gathers' sums: for pixels `j` and `j + 1` at once, each pixel's two pairs of taps
 /// (`pair` interleaves two taps' channels in the low 8 or 16 bytes; `widen` makes both
 /// pixels' 16-bit values) taken to 15 bits and multiplied by their packed weights, each
-/// pixel's four products added into its accumulator.
+/// pixel's four products added into its sums.
 ///
 /// # Safety
 /// The CPU must have AVX2; `pair` must only read within its texels' level.
 #[inline(always)]
 unsafe fn gather_pairs(
     t: &Taps,
-    acc: &mut [__m128i; 4],
+    acc: &mut Sums,
     pair: impl Fn(i32, i32) -> __m128i,
     widen: impl Fn(__m256i) -> __m256i,
 ) {
@@ -115,8 +164,7 @@ unsafe fn gather_pairs(
                 _mm256_madd_epi16(pair(0, 1), _mm256_permutevar8x32_epi32(top, lanes)),
                 _mm256_madd_epi16(pair(2, 3), _mm256_permutevar8x32_epi32(bottom, lanes)),
             );
-            acc[j] = _mm_add_epi32(acc[j], _mm256_castsi256_si128(sum));
-            acc[j + 1] = _mm_add_epi32(acc[j + 1], _mm256_extracti128_si256::<1>(sum));
+            acc[j / 2] = _mm256_add_epi32(acc[j / 2], sum);
         }
     }
 }
