@@ -587,10 +587,8 @@ unsafe fn axis(wrap: Wrap, t: __m256, n: __m256i) -> (__m256i, __m256i, __m256) 
             _mm256_sub_ps(_mm256_mul_ps(t, nf), half)
         };
         let i = _mm256_floor_ps(p);
-        let frac = _mm256_min_ps(
-            _mm256_max_ps(_mm256_sub_ps(p, i), _mm256_setzero_ps()),
-            _mm256_set1_ps(1.0),
-        );
+        // As `sse2`'s: in [0, 1] without an upper clamp, 0 for a NaN lane.
+        let frac = _mm256_max_ps(_mm256_sub_ps(p, i), _mm256_setzero_ps());
         if wrap == Wrap::Repeat {
             let one = _mm256_set1_epi32(1);
             let last = _mm256_sub_epi32(n, one);

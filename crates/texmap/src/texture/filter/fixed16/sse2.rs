@@ -433,7 +433,9 @@ fn axis(wrap: Wrap, t: Vec4, n: i32) -> (__m128i, __m128i, Vec4) {
         t * nf - 0.5
     };
     let i = floor4(p);
-    let frac = (p - i).max(Vec4::ZERO).min(Vec4::ONE);
+    // p − ⌊p⌋ of a finite p lies in [0, 1] as rounded, so no upper clamp; `max` returns its
+    // second operand (0) for a NaN lane (an infinite or NaN p).
+    let frac = (p - i).max(Vec4::ZERO);
     // SAFETY: SSE2 is part of x86_64.
     unsafe {
         if wrap == Wrap::Repeat {
