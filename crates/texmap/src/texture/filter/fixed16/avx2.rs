@@ -306,6 +306,35 @@ pub(super) unsafe fn level_taps(
     }
 }
 
+/// Each quad's texels at its `taps` (on one level, whose tiled texels are `data`) gathered
+/// two pixels to a 256-bit vector and finished: `out[i]` = `sse2::gather` then
+/// `sse2::finish` of `taps[i]` and `masks[i]`, the same values (a bilinear batch on one level,
+/// `quads.rs`).
+///
+/// # Safety
+/// The CPU must have x86-64-v3 ([`crate::cpu::level`]); `taps` must index `data` as
+/// [`level_taps`] makes them for its level; `masks` and `out` at least as long as `taps`
+/// (checked).
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
+pub(super) unsafe fn gather_quads(
+    data: &[u8],
+    texels: Texels,
+    taps: &[Taps],
+    masks: &[u8],
+    out: &mut [[Vec4; 4]],
+) {
+    assert!(masks.len() >= taps.len() && out.len() >= taps.len());
+    for ((t, &mask), out) in taps.iter().zip(masks).zip(out) {
+        // SAFETY: the CPU has AVX2 (this function's contract), `t` indexes `data` (the
+        // caller's).
+        unsafe {
+            let mut acc = zero();
+            gather(data, texels, t, &mut acc);
+            *out = finish(&acc, mask);
+        }
+    }
+}
+
 /// [`sse2::nearest_offsets`] of quads on one level, two quads at a time (an odd last quad by
 /// `nearest_offsets`): `out[i]` for `coords[i]`, the same indices.
 ///

@@ -244,6 +244,13 @@ pub(in super::super) fn read_level_quads(
                     prefetch(i, &[&t.offsets[0], &t.offsets[3]]);
                 }
             }
+            if lanes {
+                // Two pixels to a 256-bit vector (the same sums).
+                // SAFETY: the CPU has x86-64-v3 (`cpu::level`); the taps index `data`, the
+                // level they were made for.
+                unsafe { super::avx2::gather_quads(data, texels, &taps[..n], masks, out) };
+                return true;
+            }
             for ((t, &mask), out) in taps.iter().zip(masks).zip(out).take(n) {
                 // SAFETY: SSE2 is part of x86_64.
                 let mut acc = [unsafe { _mm_setzero_si128() }; 4];
