@@ -35,6 +35,23 @@ impl TileBuffer {
         }
     }
 
+    /// Runs `f` with this thread's tile buffer of `samples` samples a pixel (made on first
+    /// use, and again when the count changes; kept across frames, so that a frame's tiles
+    /// allocate nothing). `f` clears it as it needs: its contents are the last tile's.
+    pub fn with_thread_buffer<R>(samples: usize, f: impl FnOnce(&mut TileBuffer) -> R) -> R {
+        thread_local! {
+            static BUFFER: std::cell::RefCell<Option<TileBuffer>> =
+                const { std::cell::RefCell::new(None) };
+        }
+        BUFFER.with(|b| {
+            let mut b = b.borrow_mut();
+            if b.as_ref().is_none_or(|b| b.samples != samples) {
+                *b = Some(TileBuffer::new(samples, Vec4::ZERO));
+            }
+            f(b.as_mut().expect("set above"))
+        })
+    }
+
     /// Clears every sample to `clear` and depth 1.
     pub fn clear(&mut self, clear: Vec4) {
         self.color.fill(clear);

@@ -334,24 +334,37 @@ pub fn draw_into(
         // Every tile writes all its pixels: a new frame needs no clearing pass.
         *color = Pixels::zeroed(w * h);
     }
+    // Each tile's rows of the target, tile after tile in one vector (a few allocations a
+    // frame, not one a tile): a band of tiles' rows cut into their tiles' pieces, taken
+    // tile by tile.
     let tile = TILE as usize;
-    let mut tiles: Vec<Vec<&mut [Vec4]>> = (0..bins.tile_count())
-        .map(|_| Vec::with_capacity(tile))
-        .collect();
-    for (y, row) in color.chunks_mut(w).enumerate() {
-        let first = (y / tile) * bins.tiles_x as usize;
-        for (tx, piece) in row.chunks_mut(tile).enumerate() {
-            tiles[first + tx].push(piece);
+    let mut rows: Vec<&mut [Vec4]> = Vec::with_capacity(bins.tile_count() * tile);
+    let mut band_rows = Vec::with_capacity(tile);
+    for band in color.chunks_mut(w * tile) {
+        band_rows.extend(band.chunks_mut(w).map(|row| row.chunks_mut(tile)));
+        for _ in 0..bins.tiles_x {
+            rows.extend(band_rows.iter_mut().filter_map(Iterator::next));
         }
+        band_rows.clear();
+    }
+    let mut tiles: Vec<&mut [&mut [Vec4]]> = Vec::with_capacity(bins.tile_count());
+    let mut rest = &mut rows[..];
+    for t in 0..bins.tile_count() {
+        let r = bins.tile_rect(t);
+        let count = (r.y1 - r.y0) as usize;
+        let (mine, tail) = std::mem::take(&mut rest).split_at_mut(count);
+        tiles.push(mine);
+        rest = tail;
     }
     let samples = raster::sample_count(target);
     let tile_stats: Vec<TileStats> = tiles
         .into_par_iter()
         .enumerate()
-        .map_init(
-            || TileBuffer::new(samples, target.clear_color),
-            |buf, (t, mut rows)| raster::rasterize_tile(&ctx, &bins, t, buf, &mut rows),
-        )
+        .map(|(t, rows)| {
+            TileBuffer::with_thread_buffer(samples, |buf| {
+                raster::rasterize_tile(&ctx, &bins, t, buf, rows)
+            })
+        })
         .collect();
     for ts in tile_stats {
         stats.pixels_shaded += ts.pixels_shaded;
