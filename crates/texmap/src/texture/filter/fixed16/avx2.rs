@@ -61,8 +61,9 @@ pub(super) unsafe fn probe_quad(
 }
 
 /// [`probe_quad`], inlined into its caller: for the x86-64-v3 copy of a batch
-/// (`ProbeReader`), where its intrinsics inline too and a quad pays no call (a call per quad
-/// cost a tenth of the probed batch's own instructions).
+/// (`ProbeReader`), where its intrinsics inline too and a quad pays no call (as a call per
+/// quad it cost the 1080p plane's `aniso5-area` frame 2.8 % more instructions, 462.1 against
+/// 449.5 M).
 ///
 /// # Safety
 /// The CPU must have x86-64-v3 ([`crate::cpu::level`]).
