@@ -78,7 +78,7 @@ pub(crate) fn cells(m: &Marcher, grid: &LaneGrid, s: &RaySamples) -> Traced {
 
 /// One ray's constants, eight copies each, and its grid's.
 #[cfg(target_arch = "x86_64")]
-struct RayLanes {
+pub(super) struct RayLanes {
     origin: [std::arch::x86_64::__m256; 3],
     dir: [std::arch::x86_64::__m256; 3],
     t0: std::arch::x86_64::__m256,
@@ -89,7 +89,7 @@ struct RayLanes {
     nx: std::arch::x86_64::__m256i,
     ny: std::arch::x86_64::__m256i,
     /// Index steps to the pairs of the next row, slice, and both.
-    rows: [std::arch::x86_64::__m256i; 3],
+    pub rows: [std::arch::x86_64::__m256i; 3],
     q_to_index: std::arch::x86_64::__m256,
     top: std::arch::x86_64::__m256i,
     /// The levels, read as 32-bit words at 16-bit offsets.
@@ -103,7 +103,7 @@ impl RayLanes {
     /// # Safety
     /// The CPU has AVX2.
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
-    unsafe fn new(m: &Marcher, grid: &LaneGrid, s: &RaySamples) -> Self {
+    pub unsafe fn new(m: &Marcher, grid: &LaneGrid, s: &RaySamples) -> Self {
         use std::arch::x86_64::*;
         let (o, d) = (s.ray.origin, s.ray.dir);
         let (sy, sz) = (grid.nx, grid.slice);
@@ -137,6 +137,25 @@ impl RayLanes {
     #[inline(never)]
     unsafe fn entries(&self, k: u32) -> [u32; 8] {
         use std::arch::x86_64::*;
+        let (index, f) = self.locate(k);
+        let entry = self.entry(index, f);
+        let mut entries = [0u32; 8];
+        _mm256_storeu_si256(entries.as_mut_ptr().cast(), entry);
+        entries
+    }
+
+    /// The cells of samples `k` to `k + 7`: each cell's lowest corner as a voxel index and
+    /// the samples' fractions in it, as [`super::cell::Locator::locate`] gives them.
+    ///
+    /// # Safety
+    /// As [`Self::entries`].
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
+    #[inline]
+    pub unsafe fn locate(
+        &self,
+        k: u32,
+    ) -> (std::arch::x86_64::__m256i, [std::arch::x86_64::__m256; 3]) {
+        use std::arch::x86_64::*;
         // Positions: `t0 + (k + jitter)·step`, then `origin + dir·t` per axis.
         let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
         let kf = _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(k as i32), lane));
@@ -161,6 +180,22 @@ impl RayLanes {
             ),
             i[0],
         );
+        (index, f)
+    }
+
+    /// The transfer table's entries (the index [`Marcher::classify`] takes) of the samples
+    /// at fractions `f` of the cells at `index` ([`Self::locate`]).
+    ///
+    /// # Safety
+    /// As [`Self::entries`], `index` and `f` from [`Self::locate`].
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
+    #[inline]
+    pub unsafe fn entry(
+        &self,
+        index: std::arch::x86_64::__m256i,
+        f: [std::arch::x86_64::__m256; 3],
+    ) -> std::arch::x86_64::__m256i {
+        use std::arch::x86_64::*;
         // The four pairs along x: [c000 c100], [c010 c110], [c001 c101], [c011 c111].
         // SAFETY: every index is a cell's lowest corner (clamped above), so the pair's far
         // voxel, index + sy + sz + 1, is a voxel of the grid, which the data holds.
@@ -180,16 +215,13 @@ impl RayLanes {
         let level = _mm256_add_ps(y0, _mm256_mul_ps(_mm256_sub_ps(y1, y0), f[2]));
         // The table's index, as `Marcher::classify_premultiplied`: levels are at least 0,
         // so the signed conversion is the unsigned one.
-        let entry = _mm256_min_epu32(
+        _mm256_min_epu32(
             _mm256_cvttps_epi32(_mm256_add_ps(
                 _mm256_mul_ps(level, self.q_to_index),
                 _mm256_set1_ps(0.5),
             )),
             self.top,
-        );
-        let mut entries = [0u32; 8];
-        _mm256_storeu_si256(entries.as_mut_ptr().cast(), entry);
-        entries
+        )
     }
 }
 
@@ -236,6 +268,31 @@ unsafe fn cells_v3(m: &Marcher, grid: &LaneGrid, s: &RaySamples) -> Traced {
     let table = m.table_premultiplied();
     let stop = m.p.early_termination;
     let lanes = RayLanes::new(m, grid, s);
+    let (color, _, samples) = march(
+        m,
+        s,
+        // SAFETY: as this function's (the lanes were made for `grid`).
+        |k| unsafe { lanes.entries(k) },
+        // SAFETY: every entry indexes the table (`RayLanes::entries`).
+        |entries, run, acc, w| unsafe { composite(table, &entries[run], acc, w, stop) },
+    );
+    Traced { color, samples }
+}
+
+/// The brick walk the lanes' loops share: the samples of `s` in batches of eight made by
+/// `batch(k)` (samples `k` to `k + 7`), each batch's samples composited in order by
+/// `composite(batch, lanes, colour, opacity)` in runs the empty-brick cursor has found
+/// non-empty, asking it at each run's end as the scalar loop does at every sample; a skip out
+/// of the batch starts the next one past it. `composite` gives the new colour and opacity,
+/// and where the opacity reached the ray's stop, the sample it stopped at (counted from the
+/// run's first). Gives the colour, the opacity and the samples taken.
+#[inline(always)]
+pub(super) fn march<B>(
+    m: &Marcher,
+    s: &RaySamples,
+    batch: impl Fn(u32) -> B,
+    composite: impl Fn(&B, std::ops::Range<usize>, Vec4, f32) -> (Vec4, f32, Option<usize>),
+) -> (Vec4, f32, u64) {
     let (mut acc, mut w) = (Vec4::ZERO, 0.0f32);
     let mut taken = 0u64;
     let mut bricks = BrickCursor::new(s, &m.empty);
@@ -245,9 +302,7 @@ unsafe fn cells_v3(m: &Marcher, grid: &LaneGrid, s: &RaySamples) -> Traced {
             k = next;
             continue;
         }
-        let entries = lanes.entries(k);
-        // The batch's samples in order, in runs the brick cursor has found non-empty,
-        // asking it at each run's end as the scalar loop does at every sample.
+        let lanes = batch(k);
         let n = (s.count - k).min(8);
         let mut j = 0;
         while j < n {
@@ -263,8 +318,7 @@ unsafe fn cells_v3(m: &Marcher, grid: &LaneGrid, s: &RaySamples) -> Traced {
                 }
             }
             let end = n.min(bricks.until() - k);
-            let (color, opacity, stopped) =
-                composite(table, &entries[j as usize..end as usize], acc, w, stop);
+            let (color, opacity, stopped) = composite(&lanes, j as usize..end as usize, acc, w);
             (acc, w) = (color, opacity);
             if let Some(at) = stopped {
                 taken += at as u64 + 1;
@@ -275,10 +329,7 @@ unsafe fn cells_v3(m: &Marcher, grid: &LaneGrid, s: &RaySamples) -> Traced {
         }
         k += n;
     }
-    Traced {
-        color: acc,
-        samples: taken,
-    }
+    (acc, w, taken)
 }
 
 #[cfg(test)]

@@ -181,6 +181,18 @@ impl<'a> Marcher<'a> {
         &self.lut_pm
     }
 
+    /// The table [`Self::classify`] reads, `[r, g, b, a_step]` (never empty).
+    #[inline(always)]
+    pub fn table(&self) -> &[Vec4] {
+        &self.lut.table
+    }
+
+    /// [`VolumeLights::headlight_by_squaring`] of the frame's lights.
+    #[inline]
+    pub fn headlight_by_squaring(&self) -> Option<(super::shade::Reflectance, u32)> {
+        self.lights.headlight_by_squaring()
+    }
+
     /// The factor from a fractional 16-bit level to the table's index (before its `+ ½`).
     #[inline(always)]
     pub fn q_to_index(&self) -> f32 {

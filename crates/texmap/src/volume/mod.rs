@@ -50,6 +50,7 @@ pub mod scene_volume;
 pub mod sdf;
 pub mod section;
 mod shade;
+mod shaded_lanes;
 pub mod slice;
 pub mod transfer;
 

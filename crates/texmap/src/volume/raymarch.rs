@@ -25,6 +25,7 @@ use super::marcher::{Marcher, Traced};
 use super::output::{check_request, display_to_frame};
 use super::params::{Classification, MarchParams, Mode};
 use super::rays::{clip_to_box, pixel_hash, CameraRays, RaySamples, VoxelRay};
+use super::shaded_lanes::{self, ShadedGrid};
 use super::transfer::TransferFunction;
 use crate::camera::Camera;
 use crate::frame::{Frame, FrameStats};
@@ -43,6 +44,10 @@ enum RayLoop<'a> {
     /// [`RayLoop::Cells`] unshaded, eight samples in AVX2 lanes
     /// ([`composite_lanes::cells`]) when the CPU has them and the grid fits.
     CellsInLanes(LaneGrid),
+    /// [`RayLoop::Cells`] shaded by the headlight, eight samples in AVX2 lanes
+    /// ([`shaded_lanes::cells`]) when the CPU has them, the grid fits and the specular power
+    /// is whole.
+    ShadedInLanes(ShadedGrid, &'a [[i8; 4]]),
     /// Any other composite case ([`composite::general`]).
     Composite,
     /// MIP or X-ray ([`intensity::project`]).
@@ -62,7 +67,11 @@ impl<'a> RayLoop<'a> {
             {
                 match (m.normals, LaneGrid::new(m)) {
                     (None, Some(grid)) => RayLoop::CellsInLanes(grid),
-                    (normals, _) => RayLoop::Cells { normals },
+                    (Some(nv), Some(_)) => match ShadedGrid::new(m, nv) {
+                        Some(grid) => RayLoop::ShadedInLanes(grid, nv),
+                        None => RayLoop::Cells { normals: Some(nv) },
+                    },
+                    (normals, None) => RayLoop::Cells { normals },
                 }
             }
             Mode::Composite => RayLoop::Composite,
@@ -197,6 +206,13 @@ fn trace(m: &Marcher, rays: RayLoop, eye: Vec3, dir: Vec3, t_max: f32, jitter: f
             m,
             &grid,
             &RaySamples::by_reciprocal(ray, span, step, jitter),
+        ),
+        RayLoop::ShadedInLanes(grid, nv) => shaded_lanes::cells(
+            m,
+            &grid,
+            &RaySamples::by_reciprocal(ray, span, step, jitter),
+            m.headlight.unwrap_or(dir),
+            nv,
         ),
         RayLoop::Composite => composite::general(m, &RaySamples::new(ray, span, step, jitter), dir),
         RayLoop::Intensity => intensity::project(m, &RaySamples::new(ray, span, step, jitter)),

@@ -70,6 +70,15 @@ impl VolumeLights {
         }
     }
 
+    /// The coefficients and the whole specular power when the headlight shades with a
+    /// power raised by squaring (the loops in lanes take only that case).
+    pub fn headlight_by_squaring(&self) -> Option<(Reflectance, u32)> {
+        match self.whole_power {
+            Some(n) if self.lights.is_empty() => Some((self.k, n)),
+            _ => None,
+        }
+    }
+
     /// `x^power`, by multiplications when the power is a small integer (powf costs more than
     /// the rest of the shading).
     #[inline(always)]
