@@ -13,8 +13,10 @@
 //!   raises the specular term by inline squaring: the same bits as the scalar code, about a
 //!   third of the shaded frame's instructions fewer with the lanes of `cell` and `bricks`.
 //! - A variant of [`cells`] that kept four samples in flight (independent load → interpolate
-//!   → table chains) measured no faster, so the simpler loop stays. Unshaded, with AVX2,
-//!   [`super::composite_lanes`] runs instead: eight samples' reads in lanes, the same bits.
+//!   → table chains) measured no faster, so the simpler loop stays. With AVX2,
+//!   [`super::composite_lanes`] (unshaded) and [`super::shaded_lanes`] (shaded by the
+//!   headlight with a whole specular power) run instead: eight samples in lanes, the same
+//!   bits. This loop runs for CPUs without AVX2, `TEXMAP_CPU=baseline` and scene lights.
 //! - Pre-classification classifies the eight voxels and interpolates premultiplied colour;
 //!   pre-integration classifies each segment between two samples from its table, and starts
 //!   again (no segment) after a skipped brick.
