@@ -731,3 +731,59 @@ fn the_depth_pre_pass_changes_no_pixel_and_shades_fewer() {
         without_stats.pixels_shaded
     );
 }
+
+#[test]
+fn a_tile_its_first_primitive_covers_is_drawn_as_if_cleared() {
+    // A screen-filling opaque square (it owns every tile it covers: no clear, no depth test),
+    // a nearer square drawn over it, a farther one it hides, and a square at the far plane's
+    // edge (too near the clear depth to own its tiles).
+    let square = |x0: f32, y0: f32, x1: f32, y1: f32, z: f32| {
+        [(x0, y0), (x1, y0), (x1, y1), (x0, y0), (x1, y1), (x0, y1)].map(|(x, y)| ClipVertex {
+            clip: Vec4::new(x, y, z, 1.0),
+            varyings: [0.0; MAX_VARYINGS],
+        })
+    };
+    let scenes: [Vec<Vec<ClipVertex>>; 2] = [
+        vec![
+            square(-1.0, -1.0, 1.0, 1.0, 0.0).to_vec(),
+            square(-0.3, -0.5, 0.4, 0.8, -0.6).to_vec(),
+            square(-0.8, -0.8, 0.7, 0.6, 0.4).to_vec(),
+        ],
+        vec![square(-1.0, -1.0, 1.0, 1.0, 0.99999).to_vec()],
+    ];
+    let indices: Vec<u32> = (0..6).collect();
+    let run = |draws: &[Vec<ClipVertex>], owner: bool| {
+        let calls: Vec<DrawCall> = draws
+            .iter()
+            .enumerate()
+            .map(|(k, v)| DrawCall {
+                vertices: v,
+                indices: &indices,
+                state: DrawState {
+                    keeps_all: owner && k == 0,
+                    ..Default::default()
+                },
+            })
+            .collect();
+        pipeline::draw(&calls, &ByDraw, &target(200, 150, 1)).0
+    };
+    let bits = |c: &[Vec4]| {
+        c.iter()
+            .flat_map(|v| v.to_array().map(f32::to_bits))
+            .collect::<Vec<_>>()
+    };
+    // Tiles are drawn in per-thread buffers kept across frames: a frame of other colours and
+    // nearer depths first leaves them full of what an owned tile must not show.
+    let stale = vec![square(-1.0, -1.0, 1.0, 1.0, -0.9).to_vec(); 4];
+    for draws in &scenes {
+        run(&stale, false);
+        let owned = run(draws, true);
+        run(&stale, false);
+        let cleared = run(draws, false);
+        assert_eq!(bits(&owned), bits(&cleared));
+    }
+    // The nearer square shows over the screen-filling one; the farther one nowhere.
+    let owned = run(&scenes[0], true);
+    assert!(owned.iter().any(|c| c.x == 2.0));
+    assert!(owned.iter().all(|c| c.x == 1.0 || c.x == 2.0));
+}

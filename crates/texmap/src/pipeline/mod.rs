@@ -37,6 +37,7 @@ pub mod interpolate;
 mod quad_edges;
 pub mod raster;
 pub mod setup;
+mod tile_plan;
 pub mod transform;
 
 use crate::pixels::Pixels;

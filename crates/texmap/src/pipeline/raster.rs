@@ -24,6 +24,12 @@
 //! keeps the quads it covers (`covered.rs`), and the shading pass reads them back instead of
 //! walking those primitives' coverage a second time.
 //!
+//! Without a pre-pass, a tile whose first primitive to reach it covers every pixel of it,
+//! opaque, writing depth below the clear depth ([`super::tile_plan`]), is not cleared: that
+//! primitive is drawn without the depth test, and its colours and depths replace whatever the
+//! thread's tile buffer held (the plane's and large triangles' tiles; 4 % of the nearest
+//! plane's instructions were the clear and the depth reads).
+//!
 //! MSAA sample positions are Direct3D's standard patterns (in 1/16 pixel from the centre),
 //! exact in the 1/256-pixel fixed-point grid.
 
@@ -33,9 +39,10 @@ use super::batch::{Batch, Pending};
 use super::bin::{Bins, TileRect};
 use super::covered::{with_covered, Covered, CoveredQuad};
 use super::framebuffer::{stream_fence, stream_fill, TileBuffer};
-use super::interpolate::{depth_plane, Plane, Planes};
+use super::interpolate::Planes;
 use super::quad_edges::{QuadEdges, QuadStep};
 use super::setup::{Edges, EXTRA_VERTEX};
+use super::tile_plan::{could_hide, edge_range, owner, prepassed, quad_extent};
 use super::transform::PostVertex;
 use super::transform::ScreenCall;
 use super::{FragmentShader, Prim, Target};
@@ -90,7 +97,7 @@ pub struct RasterContext<'a> {
 
 impl<'a> RasterContext<'a> {
     #[inline(always)]
-    fn vertex(&self, call: &'a ScreenCall<'a>, r: u32) -> &'a PostVertex {
+    pub(super) fn vertex(&self, call: &'a ScreenCall<'a>, r: u32) -> &'a PostVertex {
         if r & EXTRA_VERTEX != 0 {
             &self.extra[(r & !EXTRA_VERTEX) as usize]
         } else {
@@ -127,35 +134,38 @@ pub fn rasterize_tile(
     }
     // Colour and depth live in the tile buffer (in cache) and go to the target's rows once,
     // with streaming stores.
-    buf.clear(ctx.target.clear_color);
+    let hide = buf.samples == 1 && could_hide(ctx, rect, prims);
+    let owned = if buf.samples == 1 && !hide {
+        owner(ctx, rect, prims)
+    } else {
+        None
+    };
+    if owned.is_none() {
+        buf.clear(ctx.target.clear_color);
+    }
     let (color, depth, zmin) = (&mut buf.color[..], &mut buf.depth[..], &mut buf.zmin[..]);
     match buf.samples {
         1 => {
             // The depth pre-pass, when two primitives or more could hide each other.
-            if could_hide(ctx, rect, prims) {
+            if hide {
                 zmin.fill(1.0);
                 with_covered(|covered| {
                     let z = Depths {
                         zmin: &mut *zmin,
                         covered: Some(&mut *covered),
+                        owned: None,
                     };
                     raster_prims::<1, true>(ctx, rect, prims, color, depth, z, &mut stats);
                     let z = Depths {
                         zmin,
                         covered: Some(covered),
+                        owned: None,
                     };
                     raster_prims::<1, false>(ctx, rect, prims, color, depth, z, &mut stats);
                 });
             } else {
-                raster_prims::<1, false>(
-                    ctx,
-                    rect,
-                    prims,
-                    color,
-                    depth,
-                    Depths::none(),
-                    &mut stats,
-                );
+                let z = Depths::owned(owned);
+                raster_prims::<1, false>(ctx, rect, prims, color, depth, z, &mut stats);
             }
         }
         2 => raster_prims::<2, false>(ctx, rect, prims, color, depth, Depths::none(), &mut stats),
@@ -179,89 +189,15 @@ pub fn sample_count(target: &Target) -> usize {
     }
 }
 
-/// Whether primitive `pi` takes part in the depth pre-pass: its draw tests and writes depth,
-/// does not blend and keeps every pixel it shades ([`super::DrawState::keeps_all`]).
-#[inline]
-fn prepassed(ctx: &RasterContext, pi: u32) -> bool {
-    let state = ctx.calls[ctx.prims[pi as usize].call as usize].state;
-    state.keeps_all && state.depth_test && state.depth_write && !state.blend
-}
-
-/// The quads' extent of `prim` in tile `rect`, `(x0, y0, x1, y1)` (`x0`, `y0` even, ends
-/// inclusive): its bounding box clipped to the tile; `None` when they do not meet.
-#[inline]
-fn quad_extent(prim: &Prim, rect: TileRect) -> Option<(i32, i32, i32, i32)> {
-    let x0 = prim.bbox[0].max(rect.x0 as i32) & !1;
-    let y0 = prim.bbox[1].max(rect.y0 as i32) & !1;
-    let x1 = prim.bbox[2].min(rect.x1 as i32 - 1);
-    let y1 = prim.bbox[3].min(rect.y1 as i32 - 1);
-    (x0 <= x1 && y0 <= y1).then_some((x0, y0, x1, y1))
-}
-
-/// The least and greatest value of edge `k` over the rectangle of pixel centres `ext_x` ×
-/// `ext_y` pixels from the edges' reference pixel (edges are linear: at its corners).
-#[inline]
-fn edge_range(edges: &Edges, k: usize, ext_x: i64, ext_y: i64) -> (i64, i64) {
-    let (ax, ay) = (edges.dx[k] * ext_x, edges.dy[k] * ext_y);
-    (
-        edges.e[k] + ax.min(0) + ay.min(0),
-        edges.e[k] + ax.max(0) + ay.max(0),
-    )
-}
-
-/// Whether primitive `pi` may cover a pixel centre of tile `rect`: false when its box misses
-/// the tile or one edge is negative at every pixel centre of its quads there (the walk's own
-/// skip at one sample a pixel).
-fn reaches(ctx: &RasterContext, rect: TileRect, pi: u32) -> bool {
-    let prim = &ctx.prims[pi as usize];
-    let Some((x0, y0, x1, y1)) = quad_extent(prim, rect) else {
-        return false;
-    };
-    let call = &ctx.calls[prim.call as usize];
-    let v = prim.v.map(|r| ctx.vertex(call, r));
-    let edges = Edges::new(v, x0, y0);
-    let (ext_x, ext_y) = ((x1 - x0) as i64 | 1, (y1 - y0) as i64 | 1);
-    (0..3).all(|k| edge_range(&edges, k, ext_x, ext_y).1 >= 0)
-}
-
-/// Whether the pre-passed primitives of tile `rect` could hide one another: two of them at
-/// least reach it, and not all lie in one plane. Primitives that only share the tile's box
-/// cannot hide each other, nor can the pieces of one flat surface (a clipped polygon's fan,
-/// a quad's two triangles), which meet only along their edges: a pre-pass over them would
-/// spare no shading. (The image is the same either way: the pre-pass only skips the
-/// shading of what ends up hidden.)
-fn could_hide(ctx: &RasterContext, rect: TileRect, prims: &[u32]) -> bool {
-    let mut first: Option<Plane> = None;
-    for &pi in prims {
-        if !(prepassed(ctx, pi) && reaches(ctx, rect, pi)) {
-            continue;
-        }
-        let prim = &ctx.prims[pi as usize];
-        let call = &ctx.calls[prim.call as usize];
-        let v = prim.v.map(|r| ctx.vertex(call, r));
-        let z = depth_plane(v, rect.x0 as i32, rect.y0 as i32);
-        match first {
-            None => first = Some(z),
-            Some(f) if !same_plane(f, z) => return true,
-            Some(_) => {}
-        }
-    }
-    false
-}
-
-/// Whether depth planes `a` and `b` (relative to a tile's first pixel) agree over the tile
-/// within a few units in the last place of a depth near 1: one plane, set up from two
-/// triangles' vertices.
-fn same_plane(a: Plane, b: Plane) -> bool {
-    let t = super::bin::TILE as f32;
-    (a.c - b.c).abs() + t * ((a.dx - b.dx).abs() + (a.dy - b.dy).abs()) <= 4.0e-6
-}
-
 /// The nearest depth per pixel of the pre-passed primitives (one sample a pixel, the depth
 /// buffer's layout) and their covered quads, when this tile has a pre-pass.
 struct Depths<'a> {
     zmin: &'a mut [f32],
     covered: Option<&'a mut Covered>,
+    /// Without a pre-pass, the position of the primitive that owns the tile
+    /// ([`owner`]): drawn without the depth test, which the tile's depths, not cleared,
+    /// cannot answer.
+    owned: Option<usize>,
 }
 
 impl Depths<'static> {
@@ -270,6 +206,15 @@ impl Depths<'static> {
         Depths {
             zmin: &mut [],
             covered: None,
+            owned: None,
+        }
+    }
+
+    /// No pre-pass; the primitive at position `n` owns the tile.
+    fn owned(n: Option<usize>) -> Self {
+        Depths {
+            owned: n,
+            ..Depths::none()
         }
     }
 }
@@ -279,7 +224,9 @@ impl Depths<'static> {
 /// pre-passed primitives ([`prepassed`]) are walked: their nearest depths go to `z.zmin`,
 /// their covered quads to `z.covered`. After it (`z.covered` given, not `PRE`), those
 /// primitives' kept quads are shaded where they reach `z.zmin` (module docs), the others
-/// walked as without a pre-pass. Compiled twice, for the CPU's level ([`crate::cpu`]).
+/// walked as without a pre-pass. With `z.owned` (one sample a pixel, no pre-pass), the
+/// primitive at that position owns the tile ([`owner`]): its quads skip the depth test.
+/// Compiled twice, for the CPU's level ([`crate::cpu`]).
 #[inline(always)]
 fn raster_prims_in<const S: usize, const PRE: bool>(
     ctx: &RasterContext,
@@ -290,17 +237,22 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
     z: Depths,
     stats: &mut TileStats,
 ) {
-    let Depths { zmin, mut covered } = z;
+    let Depths {
+        zmin,
+        mut covered,
+        owned,
+    } = z;
     let positions = sample_positions(S as u32);
     let tile = super::bin::TILE as usize;
     let mut batch = Batch::new();
     // Set up in place at a primitive's first covered quad (`Planes::set`: no copy, no
     // clearing of the unused varyings' planes).
     let mut planes = Planes::empty();
-    for &pi in prims {
+    for (n, &pi) in prims.iter().enumerate() {
         let prim = &ctx.prims[pi as usize];
         let call = &ctx.calls[prim.call as usize];
         let state = call.state;
+        let depth_test = state.depth_test && owned != Some(n);
         let nearest = covered.is_some() && prepassed(ctx, pi);
         if PRE && !nearest {
             continue;
@@ -480,10 +432,10 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
                         // offset is zero; the tile buffer holds whole quads, so the reads
                         // stay inside it at the tile's edges).
                         // (`pass` stays unset: with one sample the quad's mask says it.)
-                        let i = ly * tile + lx;
-                        let d = &depth[i..i + tile + 2];
-                        let stored = Vec4::new(d[0], d[1], d[tile], d[tile + 1]);
-                        let nearer = if state.depth_test {
+                        let nearer = if depth_test {
+                            let i = ly * tile + lx;
+                            let d = &depth[i..i + tile + 2];
+                            let stored = Vec4::new(d[0], d[1], d[tile], d[tile + 1]);
                             Vec4::from_array(zp).cmplt(stored).bitmask() as u8
                         } else {
                             0b1111
@@ -619,41 +571,6 @@ fn shade_kept(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn pieces_of_one_plane_share_it_and_other_planes_do_not() {
-        use super::super::transform::Viewport;
-        use super::super::MAX_VARYINGS;
-        use glam::{Mat4, Vec3};
-        // A ground plane seen at a grazing angle (the peers' plane), split into a fan of
-        // triangles, against the same fan lifted a hundredth of a unit or tilted a little.
-        let vp = Viewport::new(1920, 1080);
-        let proj = Mat4::perspective_rh_gl(60f32.to_radians(), 16.0 / 9.0, 0.05, 1000.0)
-            * Mat4::look_at_rh(Vec3::Y, Vec3::new(0.0, 0.0, -50.0), Vec3::Y);
-        let vertex = |p: Vec3| PostVertex::new(proj * p.extend(1.0), [0.0; MAX_VARYINGS], &vp);
-        let fan = |lift: f32, tilt: f32| {
-            let points = [
-                (-3.0, -4.0),
-                (3.0, -4.0),
-                (4.0, -12.0),
-                (0.0, -30.0),
-                (-5.0, -9.0),
-            ];
-            points
-                .iter()
-                .map(|&(x, z)| vertex(Vec3::new(x, lift + tilt * x, z)))
-                .collect::<Vec<_>>()
-        };
-        let (px, py) = (896, 576);
-        let plane = |v: &[PostVertex], k: usize| depth_plane([&v[0], &v[k], &v[k + 1]], px, py);
-        let flat = fan(0.0, 0.0);
-        for k in 1..4 {
-            assert!(same_plane(plane(&flat, 1), plane(&flat, k)), "piece {k}");
-        }
-        for other in [fan(0.01, 0.0), fan(0.0, 0.001)] {
-            assert!(!same_plane(plane(&flat, 1), plane(&other, 1)));
-        }
-    }
 
     #[test]
     fn sample_patterns_have_the_right_counts_and_stay_inside_the_pixel() {
