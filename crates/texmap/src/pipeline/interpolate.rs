@@ -40,6 +40,9 @@ pub struct Planes {
     /// 1/w (perspective) — unused when affine.
     pub q: Plane,
     pub a: [Plane; MAX_VARYINGS],
+    /// Each plane's steps from a quad's first pixel to the others, `(0, dx, 0, dx)` and
+    /// `(0, 0, dy, dy)`: `q`'s, then the varyings'.
+    steps: [[Vec4; 2]; MAX_VARYINGS + 1],
 }
 
 struct Gradient {
@@ -88,6 +91,15 @@ impl Gradient {
     }
 }
 
+/// `p`'s steps from a quad's first pixel to the others (lane `j` is pixel `j`): `(0, dx, 0,
+/// dx)` and `(0, 0, dy, dy)`, added in that order.
+fn steps(p: &Plane) -> [Vec4; 2] {
+    [
+        Vec4::new(0.0, p.dx, 0.0, p.dx),
+        Vec4::new(0.0, 0.0, p.dy, p.dy),
+    ]
+}
+
 /// The window depth plane of triangle `v` relative to the centre of pixel `(px, py)`:
 /// [`Planes::set`]'s `z`.
 #[inline]
@@ -115,6 +127,7 @@ impl Planes {
             z: Plane::default(),
             q: Plane::default(),
             a: [Plane::default(); MAX_VARYINGS],
+            steps: [[Vec4::ZERO; 2]; MAX_VARYINGS + 1],
         }
     }
 
@@ -128,6 +141,7 @@ impl Planes {
         self.perspective = perspective;
         self.z = g.plane(v[0].z as f64, v[1].z as f64, v[2].z as f64);
         self.q = g.plane(q[0], q[1], q[2]);
+        self.steps[0] = steps(&self.q);
         for i in 0..n.min(MAX_VARYINGS) {
             let f = v.map(|v| v.varyings[i] as f64);
             self.a[i] = if perspective {
@@ -135,6 +149,7 @@ impl Planes {
             } else {
                 g.plane(f[0], f[1], f[2])
             };
+            self.steps[i + 1] = steps(&self.a[i]);
         }
     }
 
@@ -150,18 +165,17 @@ impl Planes {
     #[inline]
     pub fn quad(&self, x: f32, y: f32, out: &mut [Vec4; MAX_VARYINGS]) {
         // Lane j adds dx when j & 1, then dy when j >> 1 (pixel 3: (b + dx) + dy).
-        let along = |p: &Plane| {
-            let b = Vec4::splat(p.at(x, y));
-            b + Vec4::new(0.0, p.dx, 0.0, p.dx) + Vec4::new(0.0, 0.0, p.dy, p.dy)
-        };
+        let along = |p: &Plane, [sx, sy]: [Vec4; 2]| Vec4::splat(p.at(x, y)) + sx + sy;
+        let n = self.n.min(MAX_VARYINGS);
+        let (planes, steps) = (&self.a[..n], &self.steps[1..=n]);
         if self.perspective {
-            let w = Vec4::ONE / along(&self.q).max(Vec4::splat(f32::MIN_POSITIVE));
-            for (o, p) in out.iter_mut().zip(&self.a[..self.n]) {
-                *o = along(p) * w;
+            let w = Vec4::ONE / along(&self.q, self.steps[0]).max(Vec4::splat(f32::MIN_POSITIVE));
+            for ((o, p), &s) in out.iter_mut().zip(planes).zip(steps) {
+                *o = along(p, s) * w;
             }
         } else {
-            for (o, p) in out.iter_mut().zip(&self.a[..self.n]) {
-                *o = along(p);
+            for ((o, p), &s) in out.iter_mut().zip(planes).zip(steps) {
+                *o = along(p, s);
             }
         }
     }
