@@ -674,16 +674,18 @@ impl FragmentShader for ByDraw {
     }
 }
 
+/// The two triangles of the rectangle `x0..x1` × `y0..y1` in clip space at depth `z`.
+fn square(x0: f32, y0: f32, x1: f32, y1: f32, z: f32) -> [ClipVertex; 6] {
+    [(x0, y0), (x1, y0), (x1, y1), (x0, y0), (x1, y1), (x0, y1)].map(|(x, y)| ClipVertex {
+        clip: Vec4::new(x, y, z, 1.0),
+        varyings: [0.0; MAX_VARYINGS],
+    })
+}
+
 #[test]
 fn the_depth_pre_pass_changes_no_pixel_and_shades_fewer() {
     // Overlapping opaque draws: a far square, a nearer one, the far one again (a tie the
     // first draw wins), a discarding draw between them, and a tilted triangle crossing them.
-    let square = |x0: f32, y0: f32, x1: f32, y1: f32, z: f32| {
-        [(x0, y0), (x1, y0), (x1, y1), (x0, y0), (x1, y1), (x0, y1)].map(|(x, y)| ClipVertex {
-            clip: Vec4::new(x, y, z, 1.0),
-            varyings: [0.0; MAX_VARYINGS],
-        })
-    };
     let tilted =
         [(-0.9, -0.8, -0.5), (0.8, -0.6, 0.9), (0.1, 0.9, 0.1)].map(|(x, y, z)| ClipVertex {
             clip: Vec4::new(x, y, z, 1.0),
@@ -737,12 +739,6 @@ fn a_tile_its_first_primitive_covers_is_drawn_as_if_cleared() {
     // A screen-filling opaque square (it owns every tile it covers: no clear, no depth test),
     // a nearer square drawn over it, a farther one it hides, and a square at the far plane's
     // edge (too near the clear depth to own its tiles).
-    let square = |x0: f32, y0: f32, x1: f32, y1: f32, z: f32| {
-        [(x0, y0), (x1, y0), (x1, y1), (x0, y0), (x1, y1), (x0, y1)].map(|(x, y)| ClipVertex {
-            clip: Vec4::new(x, y, z, 1.0),
-            varyings: [0.0; MAX_VARYINGS],
-        })
-    };
     let scenes: [Vec<Vec<ClipVertex>>; 2] = [
         vec![
             square(-1.0, -1.0, 1.0, 1.0, 0.0).to_vec(),

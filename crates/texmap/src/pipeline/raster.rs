@@ -25,7 +25,7 @@
 //! walking those primitives' coverage a second time.
 //!
 //! Without a pre-pass, a tile whose first primitive to reach it covers every pixel of it,
-//! opaque, writing depth below the clear depth ([`super::tile_plan`]), is not cleared: that
+//! opaque, writing depth below the clear depth (`tile_plan.rs`), is not cleared: that
 //! primitive is drawn without the depth test, and its colours and depths replace whatever the
 //! thread's tile buffer held (the plane's and large triangles' tiles; 4 % of the nearest
 //! plane's instructions were the clear and the depth reads).
