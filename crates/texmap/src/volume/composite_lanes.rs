@@ -286,6 +286,7 @@ unsafe fn cells_v3(m: &Marcher, grid: &LaneGrid, s: &RaySamples) -> Traced {
 /// of the batch starts the next one past it. `composite` gives the new colour and opacity,
 /// and where the opacity reached the ray's stop, the sample it stopped at (counted from the
 /// run's first). Gives the colour, the opacity and the samples taken.
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 pub(super) fn march<B>(
     m: &Marcher,
