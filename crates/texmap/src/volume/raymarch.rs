@@ -67,7 +67,7 @@ impl<'a> RayLoop<'a> {
             {
                 match (m.normals, LaneGrid::new(m)) {
                     (None, Some(grid)) => RayLoop::CellsInLanes(grid),
-                    (Some(nv), Some(_)) => match ShadedGrid::new(m, nv) {
+                    (Some(nv), Some(grid)) => match ShadedGrid::new(grid, m, nv) {
                         Some(grid) => RayLoop::ShadedInLanes(grid, nv),
                         None => RayLoop::Cells { normals: Some(nv) },
                     },
