@@ -94,6 +94,7 @@ impl Texture2D {
             mip::for_each_level(
                 width,
                 height,
+                false,
                 |x, y| base[(y * width + x) as usize],
                 |w, h, t| chain.push(tex.store_linear(w, h, t)),
             );

@@ -6,6 +6,7 @@
 use glam::Vec4;
 use rayon::prelude::*;
 
+use super::linear16::premultiplied16_row;
 use super::{mip, texel_index, Layout, Level, Texture2D};
 use crate::texture::format::{with_codec, Codec, CodecRgba8, ColorSpace, Format};
 
@@ -56,14 +57,9 @@ impl Texture2D {
     pub(super) fn store_linear(&self, width: u32, height: u32, texels: &[Vec4]) -> Level {
         let (stored, cs) = (self.stored, self.color_space);
         if stored == Format::Rgba16Premultiplied {
-            // `Format::encode`'s arm for this format, inlined: the same values.
-            return self.fill_level(width, height, |x, y, out| {
-                let c = mip::unpremultiply(texels[(y * width + x) as usize]);
-                let a = c.w.clamp(0.0, 1.0);
-                let p = (c.truncate() * a).extend(a);
-                for (o, v) in out.chunks_exact_mut(2).zip(p.to_array()) {
-                    o.copy_from_slice(&((v.clamp(0.0, 1.0) * 65535.0 + 0.5) as u16).to_le_bytes());
-                }
+            return self.fill_rows(width, height, |y, out| {
+                let w = width as usize;
+                premultiplied16_row(&texels[y as usize * w..(y as usize + 1) * w], out);
             });
         }
         self.fill_level(width, height, |x, y, out| {
@@ -93,17 +89,19 @@ impl Texture2D {
         }
         if format == Format::Rgb8 && self.stored == Format::Rgba16Premultiplied {
             // Alpha 1: unpremultiplying and premultiplying again change nothing, so each
-            // channel is the code's linear value rounded to 16 bits.
-            let q: Vec<[u8; 2]> = lut
-                .iter()
-                .map(|v| ((v.clamp(0.0, 1.0) * 65535.0 + 0.5) as u16).to_le_bytes())
-                .collect();
-            return self.fill_level(width, height, |x, y, out| {
-                let t = &texels[at(x, y)..at(x, y) + 3];
-                out[0..2].copy_from_slice(&q[t[0] as usize]);
-                out[2..4].copy_from_slice(&q[t[1] as usize]);
-                out[4..6].copy_from_slice(&q[t[2] as usize]);
-                out[6..8].copy_from_slice(&u16::MAX.to_le_bytes());
+            // channel is the code's linear value rounded to 16 bits: a table of them, shifted
+            // to each channel's place in the little-endian texel.
+            let q: [u64; 256] =
+                std::array::from_fn(|c| u64::from((lut[c].clamp(0.0, 1.0) * 65535.0 + 0.5) as u16));
+            let opaque = u64::from(u16::MAX) << 48;
+            return self.fill_rows(width, height, |y, out| {
+                let row = &texels[at(0, y)..at(0, y + 1)];
+                for (o, t) in out.iter_mut().zip(row.chunks_exact(3)) {
+                    let c = q[usize::from(t[0])]
+                        | q[usize::from(t[1])] << 16
+                        | q[usize::from(t[2])] << 32;
+                    *o = (c | opaque).to_le_bytes();
+                }
             });
         }
         if format == Format::Rgb8 && self.stored == Format::Rgba8 {
@@ -140,7 +138,9 @@ impl Texture2D {
     }
 
     /// Every level below level 0 (given as row-major texels of `format`, decoded with `lut`),
-    /// built in linear light and stored as each is made.
+    /// built in linear light and stored as each is made. The default storage of 8-bit colour
+    /// with sides multiples of four makes levels 1 and 2 together in strips
+    /// ([`Texture2D::first_two_levels`]); the same bytes.
     pub(super) fn chain_from_given(
         &self,
         width: u32,
@@ -151,15 +151,33 @@ impl Texture2D {
     ) -> Vec<Level> {
         let bpp = format.bytes_per_texel();
         let mut levels = Vec::new();
-        with_codec!(format, C => mip::for_each_level(
-            width,
-            height,
-            |x, y| {
+        with_codec!(format, C => {
+            let read = |x: u32, y: u32| {
                 let i = (y * width + x) as usize * bpp;
                 C::decode_premultiplied(&texels[i..i + bpp], lut)
-            },
-            |w, h, t| levels.push(self.store_linear(w, h, t)),
-        ));
+            };
+            let store = |w, h, t: &[Vec4]| self.store_linear(w, h, t);
+            if self.stored == Format::Rgba16Premultiplied && format.is_unorm()
+                && width.is_multiple_of(4) && height.is_multiple_of(4)
+            {
+                // Levels 1 and 2 together, level 1 never held whole in floats.
+                let (level1, level2) = self.first_two_levels(width, height, read);
+                let (w2, h2) = (width / 4, height / 4);
+                levels.push(level1);
+                levels.push(store(w2, h2, &level2));
+                mip::for_each_level(
+                    w2,
+                    h2,
+                    true,
+                    |x, y| level2[(y * w2 + x) as usize],
+                    |w, h, t| levels.push(store(w, h, t)),
+                );
+            } else {
+                mip::for_each_level(width, height, format.is_unorm(), read, |w, h, t| {
+                    levels.push(store(w, h, t));
+                });
+            }
+        });
         levels
     }
 

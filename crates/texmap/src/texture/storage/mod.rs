@@ -29,6 +29,7 @@ use crate::{Error, Result};
 
 mod blocks;
 mod fill;
+mod linear16;
 
 use blocks::BlockRef;
 

@@ -229,3 +229,87 @@ fn rgba8_storage_level_is_the_encoded_average_of_the_one_above() {
         }
     }
 }
+
+/// The default storage of 8-bit sRGB colour takes faster paths (`linear16.rs`: level 0 by
+/// rows, levels 1 and 2 in strips, `mip::halve_row` for even sides): every level must hold
+/// the bytes of the general paths — each texel decoded, the chain reduced with its weights
+/// (`mip::for_each_level` without the unorm shortcut), each level encoded by
+/// `Format::encode`.
+#[test]
+fn the_linear16_chain_is_the_general_paths_bit_for_bit() {
+    use crate::texture::format::{Codec, CodecRgb8, CodecRgba8};
+    let mut r = crate::xorshift(0x16c4_a1f5);
+    // Multiples of four (levels 1 and 2 in strips, whole and partial bands), even sides
+    // only, odd sides, and a side reaching 1 before the other.
+    for (w, h) in [
+        (8, 8),
+        (12, 20),
+        (16, 4),
+        (4, 12),
+        (24, 8),
+        (40, 36),
+        (6, 10),
+        (13, 7),
+        (32, 2),
+    ] {
+        for format in [Format::Rgb8, Format::Rgba8] {
+            let bpp = format.bytes_per_texel();
+            // Alpha 0, 255 and between; every texel random.
+            let bytes: Vec<u8> = (0..w * h * bpp as u32)
+                .map(|i| match (i as usize % bpp == 3, r() % 4) {
+                    (true, 0) => 0,
+                    (true, 1) => 255,
+                    _ => r() as u8,
+                })
+                .collect();
+            let lut = crate::color::lut8(ColorSpace::Srgb);
+            let decode = |x: u32, y: u32| {
+                let t = &bytes[(y * w + x) as usize * bpp..][..bpp];
+                match format {
+                    Format::Rgb8 => CodecRgb8::decode_premultiplied(t, lut),
+                    _ => CodecRgba8::decode_premultiplied(t, lut),
+                }
+            };
+            let encode = |c: Vec4| {
+                let mut out = [0u8; 8];
+                Format::Rgba16Premultiplied.encode(
+                    mip::unpremultiply(c),
+                    ColorSpace::Srgb,
+                    &mut out,
+                );
+                out
+            };
+            let mut want = vec![(
+                w,
+                h,
+                (0..w * h)
+                    .map(|i| encode(decode(i % w, i / w)))
+                    .collect::<Vec<_>>(),
+            )];
+            mip::for_each_level(w, h, false, decode, |lw, lh, t| {
+                want.push((lw, lh, t.iter().map(|&c| encode(c)).collect()));
+            });
+            for layout in [Layout::Tiled4x4, Layout::RowMajor] {
+                let options = TextureOptions::default()
+                    .with_storage(Storage::Linear16)
+                    .with_layout(layout);
+                let tex = Texture2D::from_texels(w, h, format, ColorSpace::Srgb, &bytes, options)
+                    .unwrap();
+                assert_eq!(tex.storage_format(), Format::Rgba16Premultiplied);
+                assert_eq!(tex.levels.len(), want.len());
+                for (l, (level, (lw, lh, texels))) in tex.levels.iter().zip(&want).enumerate() {
+                    assert_eq!((level.width, level.height), (*lw, *lh));
+                    for (i, t) in texels.iter().enumerate() {
+                        let (x, y) = (i as u32 % lw, i as u32 / lw);
+                        let at = texel_index(layout, level.tiles_x, *lw, x, y) * 8;
+                        assert_eq!(
+                            &level.data[at..at + 8],
+                            t,
+                            "{w}x{h} {format:?} {layout:?} level {l} texel ({x}, {y})"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
