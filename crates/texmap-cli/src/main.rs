@@ -54,8 +54,8 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    // Before any thread starts: freed images and levels leave the process (render/heap.rs).
-    render::keep_large_blocks_unmapped();
+    // Before any thread starts: the allocator's thresholds (render/heap.rs).
+    render::set_up_allocator();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(*args).map(Some),

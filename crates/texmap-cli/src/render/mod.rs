@@ -23,7 +23,7 @@ mod shard;
 use args::ColorSpaceArg;
 pub use args::{parse_size, RenderArgs};
 pub(crate) use args::{parse_storage, Switch};
-pub(crate) use heap::keep_large_blocks_unmapped;
+pub(crate) use heap::set_up_allocator;
 pub(crate) use prepare::{prepare, Prepared};
 
 use std::path::Path;

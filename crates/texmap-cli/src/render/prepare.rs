@@ -45,8 +45,6 @@ pub(crate) struct Prepared {
 /// Loads `args.scene` and makes everything its frames share.
 pub(crate) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Error> {
     let setup_start = Instant::now();
-    // A batch's next scene: its load's freed buffers go back as it goes.
-    super::heap::frames_keep_freed_memory(false);
     let pool = &common.pool;
     let Built {
         mut scene,
@@ -228,7 +226,6 @@ pub(crate) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Er
     let prefiltered = pool.install(|| prefilter_environment(&scene, &settings));
     let prefilter_ms = prefilter_start.elapsed().as_secs_f64() * 1e3;
     super::heap::release_free_memory();
-    super::heap::frames_keep_freed_memory(true);
     Ok(Prepared {
         scene,
         volumes,
