@@ -14,12 +14,17 @@
 # frame (its encoding and file between the frames, not in their times, but in the caches the
 # next frame finds).
 #
+# FRAMES defaults to 60: on the 2-core VM the first 10–15 frames of either renderer run up to
+# twice as slow as the rest (a start-up phase of the machine, not of a renderer: llvmpipe's
+# frames after its warm-up show it too), and a 20-frame median falls in or out of it from run
+# to run.
+#
 #   bash tools/frame_speed.sh [FRAMES] [ROUNDS]   (needs bash ../shared/peers/setup.sh once)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 P=${PEERS:-../shared/peers}
 PY=$P/.venv/bin/python
-N=${1:-20}
+N=${1:-60}
 ROUNDS=${2:-3}
 cargo build --release --quiet
 TEXMAP=target/release/texmap
