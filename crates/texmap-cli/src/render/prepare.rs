@@ -45,6 +45,8 @@ pub(crate) struct Prepared {
 /// Loads `args.scene` and makes everything its frames share.
 pub(crate) fn prepare(args: &RenderArgs, common: &Common) -> Result<Prepared, Error> {
     let setup_start = Instant::now();
+    // A batch's next scene: what the scene before it freed goes back before this one loads.
+    super::heap::release_free_memory();
     let pool = &common.pool;
     let Built {
         mut scene,
