@@ -7,7 +7,7 @@ use glam::Vec4;
 use rayon::prelude::*;
 
 use super::linear16::premultiplied16_row;
-use super::{mip, texel_index, Layout, Level, Texture2D};
+use super::{mip, texel_index, Bands, Layout, Level, Texture2D};
 use crate::texture::format::{with_codec, Codec, CodecRgba8, ColorSpace, Format};
 
 impl Texture2D {
@@ -20,17 +20,7 @@ impl Texture2D {
         f: impl Fn(u32, u32, &mut [u8]) + Sync,
     ) -> Level {
         let bpp = self.stored.bytes_per_texel();
-        let tiles_x = width.div_ceil(4);
-        // Texels in a band of four rows (a row of tiles, padding included).
-        let band = match self.layout {
-            Layout::RowMajor => width as usize * 4,
-            Layout::Tiled4x4 => tiles_x as usize * 16,
-        };
-        let bands = height.div_ceil(4) as usize;
-        let len = match self.layout {
-            Layout::RowMajor => (width * height) as usize,
-            Layout::Tiled4x4 => band * bands,
-        };
+        let Bands { tiles_x, band, len } = Bands::of(self.layout, width, height);
         let mut data = vec![0u8; len * bpp];
         let layout = self.layout;
         data.par_chunks_mut(band * bpp)

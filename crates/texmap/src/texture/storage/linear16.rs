@@ -12,7 +12,7 @@
 use glam::Vec4;
 use rayon::prelude::*;
 
-use super::{mip, Layout, Level, Texture2D};
+use super::{mip, Bands, Layout, Level, Texture2D};
 use crate::texture::format::Format;
 
 impl Texture2D {
@@ -27,14 +27,9 @@ impl Texture2D {
         row: impl Fn(u32, &mut [[u8; N]]) + Sync,
     ) -> Level {
         debug_assert_eq!(N, self.stored.bytes_per_texel());
-        let (w, tiles_x) = (width as usize, width.div_ceil(4));
-        // Texels in a band of four rows (a row of tiles, padding included).
-        let band = match self.layout {
-            Layout::RowMajor => w * 4,
-            Layout::Tiled4x4 => tiles_x as usize * 16,
-        };
-        let bands = height.div_ceil(4) as usize;
-        let mut data = vec![0u8; band * bands * N];
+        let w = width as usize;
+        let Bands { tiles_x, band, len } = Bands::of(self.layout, width, height);
+        let mut data = vec![0u8; len * N];
         let layout = self.layout;
         data.par_chunks_mut(band * N)
             .enumerate()
@@ -49,11 +44,6 @@ impl Texture2D {
                     place_row(layout, chunk, r, &texels);
                 }
             });
-        let len = match layout {
-            Layout::RowMajor => w * height as usize,
-            Layout::Tiled4x4 => band * bands,
-        };
-        data.truncate(len * N);
         Level {
             width,
             height,
@@ -78,13 +68,8 @@ impl Texture2D {
         debug_assert!(w.is_multiple_of(4) && h.is_multiple_of(4));
         debug_assert_eq!(self.stored, Format::Rgba16Premultiplied);
         let (w1, h1, w2, h2) = (w / 2, h / 2, w / 4, h / 4);
-        let tiles_x = w1.div_ceil(4);
-        let band = match self.layout {
-            Layout::RowMajor => w1 as usize * 4,
-            Layout::Tiled4x4 => tiles_x as usize * 16,
-        };
-        let bands = h1.div_ceil(4) as usize;
-        let mut data = vec![0u8; band * bands * 8];
+        let Bands { tiles_x, band, len } = Bands::of(self.layout, w1, h1);
+        let mut data = vec![0u8; len * 8];
         let mut level2 = vec![Vec4::ZERO; (w2 * h2) as usize];
         let (layout, w1s) = (self.layout, w1 as usize);
         data.par_chunks_mut(band * 8)
@@ -104,9 +89,6 @@ impl Texture2D {
                     mip::halve_row(2 * r as u32, level1, out);
                 }
             });
-        if layout == Layout::RowMajor {
-            data.truncate(w1s * h1 as usize * 8);
-        }
         let level1 = Level {
             width: w1,
             height: h1,

@@ -261,6 +261,30 @@ fn check_chain(
     Ok(given)
 }
 
+/// A `width`×`height` level's bands of four rows in `layout`, as the parallel writers cut it:
+/// tiles per row, texels a band holds (a row of tiles, padding included) and the level's
+/// texel count (a row-major level's last band may be short).
+#[derive(Clone, Copy)]
+struct Bands {
+    tiles_x: u32,
+    band: usize,
+    len: usize,
+}
+
+impl Bands {
+    fn of(layout: Layout, width: u32, height: u32) -> Self {
+        let tiles_x = width.div_ceil(4);
+        let (band, len) = match layout {
+            Layout::RowMajor => (width as usize * 4, (width * height) as usize),
+            Layout::Tiled4x4 => {
+                let band = tiles_x as usize * 16;
+                (band, band * height.div_ceil(4) as usize)
+            }
+        };
+        Bands { tiles_x, band, len }
+    }
+}
+
 /// Size of a texel index within a level, and its memory offset.
 #[inline(always)]
 fn texel_index(layout: Layout, tiles_x: u32, width: u32, x: u32, y: u32) -> usize {
