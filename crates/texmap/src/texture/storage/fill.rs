@@ -1,5 +1,6 @@
-//! Filling a level in place: each texel written straight into the level's layout (tiled or
-//! row-major), bands of four rows in parallel (rayon), with no row-major copy in between.
+//! Filling a level in place: each row made in a scratch row and put into the level's layout
+//! (tiled or row-major), bands of four rows in parallel (rayon), with no row-major copy of the
+//! level in between.
 //! Every texel is a function of its position alone, so the bytes are the same whatever the
 //! thread count.
 
@@ -20,18 +21,37 @@ impl Texture2D {
         f: impl Fn(u32, u32, &mut [u8]) + Sync,
     ) -> Level {
         let bpp = self.stored.bytes_per_texel();
+        self.fill_rows(width, height, |y, row| {
+            for (x, texel) in (0..).zip(row.chunks_exact_mut(bpp)) {
+                f(x, y, texel);
+            }
+        })
+    }
+
+    /// A `width`×`height` level of the stored format whose row `y` is made by `row(y,
+    /// bytes)` (the row's texels in order) and then put in its layout ([`place_row`]): bands
+    /// of four rows in parallel, each band's rows made in one scratch row.
+    pub(super) fn fill_rows(
+        &self,
+        width: u32,
+        height: u32,
+        row: impl Fn(u32, &mut [u8]) + Sync,
+    ) -> Level {
+        let bpp = self.stored.bytes_per_texel();
         let Bands { tiles_x, band, len } = Bands::of(self.layout, width, height);
         let mut data = vec![0u8; len * bpp];
         let layout = self.layout;
         data.par_chunks_mut(band * bpp)
             .enumerate()
             .for_each(|(b, chunk)| {
-                let start = b * band;
-                for y in (b as u32 * 4)..(b as u32 * 4 + 4).min(height) {
-                    for x in 0..width {
-                        let i = super::texel_index(layout, tiles_x, width, x, y) - start;
-                        f(x, y, &mut chunk[i * bpp..(i + 1) * bpp]);
+                let mut bytes = vec![0u8; width as usize * bpp];
+                for r in 0..4 {
+                    let y = (4 * b + r) as u32;
+                    if y >= height {
+                        break;
                     }
+                    row(y, &mut bytes);
+                    place_row(layout, chunk, r, bpp, &bytes);
                 }
             });
         Level {
@@ -86,11 +106,11 @@ impl Texture2D {
             let opaque = u64::from(u16::MAX) << 48;
             return self.fill_rows(width, height, |y, out| {
                 let row = &texels[at(0, y)..at(0, y + 1)];
-                for (o, t) in out.iter_mut().zip(row.chunks_exact(3)) {
+                for (o, t) in out.chunks_exact_mut(8).zip(row.chunks_exact(3)) {
                     let c = q[usize::from(t[0])]
                         | q[usize::from(t[1])] << 16
                         | q[usize::from(t[2])] << 32;
-                    *o = (c | opaque).to_le_bytes();
+                    o.copy_from_slice(&(c | opaque).to_le_bytes());
                 }
             });
         }
@@ -259,6 +279,26 @@ impl Texture2D {
                 out.put(x, [channel(0), channel(8), channel(16), 255]);
             }
         }))
+    }
+}
+
+/// Puts row `r` of a band of four rows (`chunk`, in `layout`) in place from its texels' bytes
+/// in order, `bpp` bytes a texel.
+#[inline]
+pub(super) fn place_row(layout: Layout, chunk: &mut [u8], r: usize, bpp: usize, texels: &[u8]) {
+    match layout {
+        Layout::RowMajor => {
+            let n = texels.len();
+            chunk[r * n..(r + 1) * n].copy_from_slice(texels);
+        }
+        // Each tile's row of four texels to its place in the tile: a band holds its tiles one
+        // after another, 16 texels each, row `r` of a tile at texel `4r` in it.
+        Layout::Tiled4x4 => {
+            for (t, four) in texels.chunks(4 * bpp).enumerate() {
+                let o = (16 * t + 4 * r) * bpp;
+                chunk[o..o + four.len()].copy_from_slice(four);
+            }
+        }
     }
 }
 

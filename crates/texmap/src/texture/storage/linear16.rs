@@ -1,7 +1,7 @@
-//! Writing the default storage of 8-bit colour ([`Format::Rgba16Premultiplied`]) fast: a
-//! level made a row at a time and put in its layout ([`Texture2D::fill_rows`]), and the first
-//! two levels of a chain made together in strips ([`Texture2D::first_two_levels`]), so that
-//! level 1 is never held whole in floats.
+//! Writing the default storage of 8-bit colour ([`Format::Rgba16Premultiplied`]) fast: its
+//! texels encoded a row at a time (for [`Texture2D::fill_rows`]), and the first two levels of
+//! a chain made together in strips ([`Texture2D::first_two_levels`]), so that level 1 is never
+//! held whole in floats.
 //!
 //! Loading DamagedHelmet (one thread), each 2048² sRGB map spent 22 ms storing level 0 texel
 //! by texel and 27–30 ms building its chain, 12 ms of it reducing level 0 into a 16 MiB
@@ -12,47 +12,11 @@
 use glam::Vec4;
 use rayon::prelude::*;
 
-use super::{mip, Bands, Layout, Level, Texture2D};
+use super::fill::place_row;
+use super::{mip, Bands, Level, Texture2D};
 use crate::texture::format::Format;
 
 impl Texture2D {
-    /// A `width`×`height` level of `N`-byte texels in the texture's layout whose row `y` is
-    /// made by `row(y, texels)` (the row's `width` texels in order) and then put in place:
-    /// bands of four rows in parallel, as [`Texture2D::fill_level`] makes them, without its
-    /// index arithmetic and call per texel.
-    pub(super) fn fill_rows<const N: usize>(
-        &self,
-        width: u32,
-        height: u32,
-        row: impl Fn(u32, &mut [[u8; N]]) + Sync,
-    ) -> Level {
-        debug_assert_eq!(N, self.stored.bytes_per_texel());
-        let w = width as usize;
-        let Bands { tiles_x, band, len } = Bands::of(self.layout, width, height);
-        let mut data = vec![0u8; len * N];
-        let layout = self.layout;
-        data.par_chunks_mut(band * N)
-            .enumerate()
-            .for_each(|(b, chunk)| {
-                let mut texels = vec![[0u8; N]; w];
-                for r in 0..4 {
-                    let y = (4 * b + r) as u32;
-                    if y >= height {
-                        break;
-                    }
-                    row(y, &mut texels);
-                    place_row(layout, chunk, r, &texels);
-                }
-            });
-        Level {
-            width,
-            height,
-            tiles_x,
-            data,
-            block_id: None,
-        }
-    }
-
     /// Levels 1 and 2 of a `w`×`h` base of unorm values whose texel `(x, y)` is `read(x, y)`
     /// (both sides multiples of four; stored as [`Format::Rgba16Premultiplied`]): level 1
     /// stored, level 2 as floats (row-major) for the rest of the chain. Each band of four
@@ -78,11 +42,11 @@ impl Texture2D {
             .for_each(|(b, (chunk, two))| {
                 let rows = (h1 as usize - 4 * b).min(4);
                 let mut floats = vec![Vec4::ZERO; 4 * w1s];
-                let mut texels = vec![[0u8; 8]; w1s];
+                let mut texels = vec![0u8; 8 * w1s];
                 for (r, out) in floats.chunks_exact_mut(w1s).take(rows).enumerate() {
                     mip::halve_row(2 * (4 * b + r) as u32, &read, out);
                     premultiplied16_row(out, &mut texels);
-                    place_row(layout, chunk, r, &texels);
+                    place_row(layout, chunk, r, 8, &texels);
                 }
                 for (r, out) in two.chunks_exact_mut(w2 as usize).enumerate() {
                     let level1 = |x: u32, y: u32| floats[y as usize * w1s + x as usize];
@@ -100,29 +64,10 @@ impl Texture2D {
     }
 }
 
-/// Puts row `r` of a band of four rows (`chunk`, in `layout`) in place from its texels in
-/// order.
-#[inline]
-fn place_row<const N: usize>(layout: Layout, chunk: &mut [u8], r: usize, texels: &[[u8; N]]) {
-    match layout {
-        Layout::RowMajor => {
-            let w = texels.len();
-            chunk[r * w * N..(r + 1) * w * N].copy_from_slice(texels.as_flattened());
-        }
-        // Each tile's row of four texels to its place in the tile.
-        Layout::Tiled4x4 => {
-            for (t, four) in texels.chunks(4).enumerate() {
-                let o = (16 * t + 4 * r) * N;
-                chunk[o..o + four.len() * N].copy_from_slice(four.as_flattened());
-            }
-        }
-    }
-}
-
-/// [`premultiplied16`] of each texel of `row` into `out`.
-pub(super) fn premultiplied16_row(row: &[Vec4], out: &mut [[u8; 8]]) {
-    for (o, &t) in out.iter_mut().zip(row) {
-        *o = premultiplied16(t);
+/// [`premultiplied16`] of each texel of `row` into `out` (eight bytes a texel).
+pub(super) fn premultiplied16_row(row: &[Vec4], out: &mut [u8]) {
+    for (o, &t) in out.chunks_exact_mut(8).zip(row) {
+        o.copy_from_slice(&premultiplied16(t));
     }
 }
 
