@@ -7,7 +7,8 @@
 //! for reuse (its mmap threshold rises to 32 MiB after the first large free), so they stay
 //! resident while the frames allocate their own buffers beside them: on DamagedHelmet
 //! about 60 MB of the peak. `malloc_trim(0)` returns every arena's free pages once the
-//! scene is set up; a fixed mmap threshold keeps the rise from happening. Elsewhere (other
+//! scene is set up (and before a batch's next scene loads); a fixed mmap threshold keeps the
+//! rise from happening. Elsewhere (other
 //! allocators, other systems) both do nothing.
 
 /// Blocks of at least this many bytes get their own mapping, unmapped when freed
@@ -37,8 +38,9 @@ const TRIM_THRESHOLD: libc::c_int = 256 << 20;
 /// triangles, their bins): at glibc's 128 KiB every frame faulted them in again (2,200 page
 /// faults a frame on the 199,200-triangle sphere at 1080p). Loading DamagedHelmet with
 /// the load's tops handed back as at 128 KiB: 63,800 page faults against 54,700 (one
-/// thread), its load + setup 0.931× (ten alternated rounds), its peak RSS 175.2 → 178.9 MB. The load's freed memory goes back by [`release_free_memory`]
-/// before the frames.
+/// thread), its load + setup 0.931× (ten alternated rounds), its peak RSS 175.2 → 178.9 MB.
+/// What a load frees goes back by [`release_free_memory`] before the frames, and what a
+/// batch's scene freed before the next scene loads.
 pub(crate) fn set_up_allocator() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: `mallopt` only sets an allocator parameter; it takes no pointer, and runs
