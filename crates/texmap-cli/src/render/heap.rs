@@ -8,8 +8,7 @@
 //! resident while the frames allocate their own buffers beside them: on DamagedHelmet
 //! about 60 MB of the peak. `malloc_trim(0)` returns every arena's free pages once the
 //! scene is set up (and before a batch's next scene loads); a fixed mmap threshold keeps the
-//! rise from happening. Elsewhere (other
-//! allocators, other systems) both do nothing.
+//! rise from happening. Elsewhere (other allocators, other systems) both do nothing.
 
 /// Blocks of at least this many bytes get their own mapping, unmapped when freed
 /// ([`set_up_allocator`]).

@@ -101,8 +101,8 @@ impl Texture2D {
             // Alpha 1: unpremultiplying and premultiplying again change nothing, so each
             // channel is the code's linear value rounded to 16 bits: a table of them, shifted
             // to each channel's place in the little-endian texel.
-            let q: [u64; 256] =
-                std::array::from_fn(|c| u64::from((lut[c].clamp(0.0, 1.0) * 65535.0 + 0.5) as u16));
+            let q16 = |v: f32| u64::from((v.clamp(0.0, 1.0) * 65535.0 + 0.5) as u16);
+            let q: [u64; 256] = std::array::from_fn(|c| q16(lut[c]));
             let opaque = u64::from(u16::MAX) << 48;
             return self.fill_rows(width, height, |y, out| {
                 let row = &texels[at(0, y)..at(0, y + 1)];
