@@ -230,26 +230,24 @@ pub(in super::super) fn read_level_quads(
             }
         } else {
             // `linear_quad` on one level: its taps weighted ONE in all, summed, finished.
-            let mut taps = [sse2::Taps::default(); LEVEL_QUADS];
             if lanes {
-                // Two quads' taps at once (the same taps).
+                // Two quads' taps at once (the same taps), into an array not zeroed first.
+                let mut taps = [const { std::mem::MaybeUninit::uninit() }; LEVEL_QUADS];
                 // SAFETY: the CPU has x86-64-v3 (`cpu::level`).
-                unsafe { super::avx2::level_taps(&lv, tiles_x, s, coords, &mut taps) };
-                for (i, t) in taps.iter().enumerate().take(n) {
+                let taps = unsafe { super::avx2::level_taps(&lv, tiles_x, s, coords, &mut taps) };
+                for (i, t) in taps.iter().enumerate() {
                     prefetch(i, &[&t.offsets[0], &t.offsets[3]]);
                 }
-            } else {
-                for (i, (c, t)) in coords.iter().zip(&mut taps).enumerate() {
-                    *t = sse2::taps(&lv, tiles_x, s, c.u, c.v, super::ONE);
-                    prefetch(i, &[&t.offsets[0], &t.offsets[3]]);
-                }
-            }
-            if lanes {
                 // Two pixels to a 256-bit vector (the same sums).
                 // SAFETY: the CPU has x86-64-v3 (`cpu::level`); the taps index `data`, the
                 // level they were made for.
-                unsafe { super::avx2::gather_quads(data, texels, &taps[..n], masks, out) };
+                unsafe { super::avx2::gather_quads(data, texels, taps, masks, out) };
                 return true;
+            }
+            let mut taps = [sse2::Taps::default(); LEVEL_QUADS];
+            for (i, (c, t)) in coords.iter().zip(&mut taps).enumerate() {
+                *t = sse2::taps(&lv, tiles_x, s, c.u, c.v, super::ONE);
+                prefetch(i, &[&t.offsets[0], &t.offsets[3]]);
             }
             for ((t, &mask), out) in taps.iter().zip(masks).zip(out).take(n) {
                 // SAFETY: SSE2 is part of x86_64.

@@ -132,12 +132,14 @@ fn a_levels_quads_two_at_a_time_take_the_sse2_taps_and_indices() {
                 }
                 coords[0].u.x = f32::NAN;
                 let coords = &coords[..n];
-                let (mut paired, mut offsets) = ([Taps::default(); 16], [[0; 4]; 16]);
+                let mut offsets = [[0; 4]; 16];
+                let mut out = [const { std::mem::MaybeUninit::uninit() }; 16];
                 // SAFETY: the CPU has x86-64-v3 (checked above).
-                unsafe {
-                    level_taps(&lv, tiles_x, &s, coords, &mut paired);
+                let paired = unsafe {
                     level_nearest(&lv, tiles_x, &s, coords, &mut offsets);
-                }
+                    level_taps(&lv, tiles_x, &s, coords, &mut out)
+                };
+                assert_eq!(paired.len(), n);
                 for (i, c) in coords.iter().enumerate() {
                     let case = format!("level {index} {wrap:?} quad {i} of {n}");
                     assert_eq!(paired[i], taps(&lv, tiles_x, &s, c.u, c.v, ONE), "{case}");
