@@ -23,12 +23,30 @@ const LINE: usize = 4;
 /// for free (`calloc`: a frame's size is the system's fresh pages, which nothing writes until
 /// the tiles write their pixels, in parallel), where a 64-byte alignment is allocated and
 /// then zeroed on one thread (33 MB of stores, and their page faults, for a 1080p frame).
+///
+/// A draw into them (`pipeline::draw_into`) leaves a note of the tiles it filled with the
+/// clear colour alone; the next draw of the same size and clear colour does not write such a
+/// tile again when it is empty again ([`ClearTiles`]). Any mutable borrow of the pixels
+/// forgets the note, so it never outlives what it describes.
 #[derive(Default)]
 pub struct Pixels {
     buf: Vec<Vec4>,
     /// The index in `buf` of the first pixel, the first on a line.
     start: usize,
     len: usize,
+    /// The tiles known to hold the clear colour alone, since the last draw into them.
+    clear: Option<Box<ClearTiles>>,
+}
+
+/// The tiles of a `width × height` frame that the draw into it filled with `color` alone (its
+/// bits), tile `t` at `tiles[t]` (the rasterizer's tile order): what [`Pixels`] remembers of
+/// its last draw.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ClearTiles {
+    pub width: u32,
+    pub height: u32,
+    pub color: [u32; 4],
+    pub tiles: Vec<bool>,
 }
 
 impl Pixels {
@@ -56,7 +74,24 @@ impl Pixels {
         };
         // `Vec4`s are 16-byte aligned: the first line boundary is at most three pixels on.
         let start = (buf.as_ptr() as usize).wrapping_neg() % 64 / 16;
-        Pixels { buf, start, len: n }
+        Pixels {
+            buf,
+            start,
+            len: n,
+            clear: None,
+        }
+    }
+
+    /// The note of the tiles the last draw into these pixels left holding its clear colour
+    /// alone, taken (none after any mutable borrow since that draw).
+    pub fn take_clear_tiles(&mut self) -> Option<Box<ClearTiles>> {
+        self.clear.take()
+    }
+
+    /// Notes that the tiles `clear` names hold its colour alone: for the draw that just
+    /// wrote them (`pipeline::draw_into`).
+    pub fn set_clear_tiles(&mut self, clear: Box<ClearTiles>) {
+        self.clear = Some(clear);
     }
 
     /// `n` pixels of `c`.
@@ -89,6 +124,8 @@ impl Deref for Pixels {
 impl DerefMut for Pixels {
     #[inline(always)]
     fn deref_mut(&mut self) -> &mut [Vec4] {
+        // Whatever is written through the borrow, the note of clear tiles no longer holds.
+        self.clear = None;
         // SAFETY: as in `deref`, borrowed mutably with `self`.
         unsafe { std::slice::from_raw_parts_mut(self.buf.as_mut_ptr().add(self.start), self.len) }
     }

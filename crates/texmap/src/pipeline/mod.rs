@@ -40,7 +40,7 @@ pub mod setup;
 mod tile_plan;
 pub mod transform;
 
-use crate::pixels::Pixels;
+use crate::pixels::{ClearTiles, Pixels};
 use glam::Vec4;
 use rayon::prelude::*;
 
@@ -331,10 +331,30 @@ pub fn draw_into(
     // Tiles in parallel, each writing its own rows of the target: many more tasks than
     // threads, so the costly tiles (the floor at the horizon) balance out.
     let (w, h) = (target.width as usize, target.height as usize);
+    // The tiles the last draw into `color` left holding the clear colour alone (taken before
+    // anything borrows the pixels mutably, which forgets it).
+    let known = color.take_clear_tiles();
     if color.len() != w * h {
         // Every tile writes all its pixels: a new frame needs no clearing pass.
         *color = Pixels::zeroed(w * h);
     }
+    let clear = ClearTiles {
+        width: target.width,
+        height: target.height,
+        color: target.clear_color.to_array().map(f32::to_bits),
+        tiles: (0..bins.tile_count())
+            .map(|t| bins.tile_prims(t).is_empty())
+            .collect(),
+    };
+    // An empty tile that holds the clear colour already is not written again (the turntable's
+    // background: on the 1080p plane, the sky's half of the frame).
+    let unchanged = |t: usize| {
+        clear.tiles[t]
+            && known.as_ref().is_some_and(|k| {
+                (k.width, k.height, k.color) == (clear.width, clear.height, clear.color)
+                    && k.tiles[t]
+            })
+    };
     // Each tile's rows of the target, tile after tile in one vector (a few allocations a
     // frame, not one a tile): a band of tiles' rows cut into their tiles' pieces, taken
     // tile by tile.
@@ -362,11 +382,15 @@ pub fn draw_into(
         .into_par_iter()
         .enumerate()
         .map(|(t, rows)| {
+            if unchanged(t) {
+                return TileStats::default();
+            }
             TileBuffer::with_thread_buffer(samples, |buf| {
                 raster::rasterize_tile(&ctx, &bins, t, buf, rows)
             })
         })
         .collect();
+    color.set_clear_tiles(Box::new(clear));
     for ts in tile_stats {
         stats.pixels_shaded += ts.pixels_shaded;
         stats.texture_samples += ts.texture_samples;
