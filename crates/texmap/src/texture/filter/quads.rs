@@ -484,7 +484,7 @@ pub(super) fn far_quads(texture: &Texture2D, sampler: &Sampler, coords: &[QuadCo
     if sampler.min_lod > FAR_LOD {
         return u32::MAX >> (32 - coords.len().clamp(1, 32));
     }
-    let limit = exp2_exact(2.0 * (FAR_LOD - sampler.lod_bias));
+    let limit = (2.0 * (FAR_LOD - sampler.lod_bias)).exp2();
     let size = Vec2::new(texture.width() as f32, texture.height() as f32);
     let mut far = 0;
     for (i, c) in coords.iter().enumerate().take(32) {
@@ -497,27 +497,6 @@ pub(super) fn far_quads(texture: &Texture2D, sampler: &Sampler, coords: &[QuadCo
         far |= u32::from(arg > limit) << i;
     }
     far
-}
-
-/// 2^`e`: by its bits for a whole `e` in the normal range (the unbiased sampler's limit,
-/// every batch: `exp2f` was 1 % of the 1080p bilinear plane's time, and of the nearest
-/// plane's, whose batches the compiler had compute it without using it), else by `exp2`
-/// (which gives the same power of two for a whole `e`).
-#[inline(always)]
-pub(super) fn exp2_exact(e: f32) -> f32 {
-    if e == e.trunc() && e.abs() <= 126.0 {
-        f32::from_bits(((e as i32 + 127) as u32) << 23)
-    } else {
-        exp2_call(e)
-    }
-}
-
-/// `e.exp2()` behind a call the compiler does not move: inlined, `exp2` was computed ahead of
-/// the test that decides whether it is needed (it has no side effects).
-#[cold]
-#[inline(never)]
-fn exp2_call(e: f32) -> f32 {
-    e.exp2()
 }
 
 /// [`sample_quads_lanes`] of several textures read at the same coordinates through one

@@ -689,23 +689,6 @@ fn ewa_reads_round_footprints_exactly() {
     }
 }
 
-/// The far quads' limit by its bits is `exp2`'s, whole exponents or not.
-#[test]
-fn the_far_limit_is_exp2() {
-    use super::quads::exp2_exact;
-    for e in -130..=130 {
-        let e = e as f32;
-        assert_eq!(exp2_exact(e).to_bits(), e.exp2().to_bits(), "2^{e}");
-        assert_eq!(
-            exp2_exact(e + 0.25).to_bits(),
-            (e + 0.25).exp2().to_bits(),
-            "2^{e}.25"
-        );
-    }
-    assert_eq!(exp2_exact(2.0), 4.0);
-    assert!(exp2_exact(f32::NAN).is_nan());
-}
-
 proptest! {
     /// The quads whose texels a bilinear read on level 0 asks for first are those whose λ,
     /// biased and clamped by the sampler, is over `FAR_LOD`: the logarithm-free test against
