@@ -3,24 +3,14 @@
 //! tile does not write that tile again when it is empty again; the pixels are what a draw into
 //! fresh ones gives, frame after frame, and a mutable borrow of them forgets the note.
 
+mod common;
+
+use common::Uv;
 use glam::{Vec2, Vec4};
 use texmap::pipeline::{
-    self, ClipVertex, DrawCall, DrawState, FragmentShader, Interpolation, Quad, Target,
-    MAX_VARYINGS,
+    self, ClipVertex, DrawCall, DrawState, Interpolation, Target, MAX_VARYINGS,
 };
 use texmap::pixels::Pixels;
-
-/// Writes varyings 0 and 1 as the colour, alpha 1.
-struct Uv;
-impl FragmentShader for Uv {
-    fn shade(&self, _: u32, q: &Quad, out: &mut [Vec4; 4]) -> u8 {
-        for (j, o) in out.iter_mut().enumerate() {
-            let v = q.pixel(j);
-            *o = Vec4::new(v[0], v[1], 0.0, 1.0);
-        }
-        q.mask
-    }
-}
 
 /// A triangle over the clip-space box `lo`–`hi` (x right, y up), its uv the corners'.
 fn triangle(lo: Vec2, hi: Vec2) -> Vec<ClipVertex> {

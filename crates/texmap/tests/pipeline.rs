@@ -2,6 +2,8 @@
 
 mod common;
 
+use common::Uv;
+
 use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -21,18 +23,6 @@ struct Count;
 impl FragmentShader for Count {
     fn shade(&self, _: u32, q: &Quad, out: &mut [Vec4; 4]) -> u8 {
         *out = [Vec4::new(1.0, 0.0, 0.0, 0.0); 4];
-        q.mask
-    }
-}
-
-/// Writes varyings 0 and 1 as the colour.
-struct Uv;
-impl FragmentShader for Uv {
-    fn shade(&self, _: u32, q: &Quad, out: &mut [Vec4; 4]) -> u8 {
-        for (j, o) in out.iter_mut().enumerate() {
-            let v = q.pixel(j);
-            *o = Vec4::new(v[0], v[1], 0.0, 1.0);
-        }
         q.mask
     }
 }

@@ -10,8 +10,22 @@
 
 use std::path::PathBuf;
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use texmap::metrics::compare_rgb8;
+use texmap::pipeline::{FragmentShader, Quad};
+
+/// A fragment shader writing varyings 0 and 1 as the colour, alpha 1.
+pub struct Uv;
+
+impl FragmentShader for Uv {
+    fn shade(&self, _: u32, q: &Quad, out: &mut [Vec4; 4]) -> u8 {
+        for (j, o) in out.iter_mut().enumerate() {
+            let v = q.pixel(j);
+            *o = Vec4::new(v[0], v[1], 0.0, 1.0);
+        }
+        q.mask
+    }
+}
 
 /// The shared asset corpus (`../shared/assets`), or `None` after printing `SKIPPED` when it
 /// is absent (tests over it then pass without running).
