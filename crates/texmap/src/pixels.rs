@@ -43,9 +43,12 @@ pub struct Pixels {
 /// its last draw.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ClearTiles {
+    /// The frame's size in pixels.
     pub width: u32,
     pub height: u32,
+    /// The clear colour's bits (`f32::to_bits` of its four channels).
     pub color: [u32; 4],
+    /// Whether tile `t` holds the clear colour alone.
     pub tiles: Vec<bool>,
 }
 

@@ -253,7 +253,11 @@ pub fn draw(
 }
 
 /// [`draw`] into `color`, which is resized to `width·height` and overwritten: reusing one
-/// buffer across frames spares the page faults of a fresh one (tens of megabytes at 1080p).
+/// buffer across frames spares the page faults of a fresh one (tens of megabytes at 1080p),
+/// and the writes of the tiles that hold the clear colour already: an empty tile that the
+/// last draw into `color` left holding the same clear colour alone, at the same size, is not
+/// written again (the note `Pixels::take_clear_tiles` gives; a mutable borrow of `color`
+/// forgets it). The pixels are those a fresh buffer would get.
 pub fn draw_into(
     calls: &[DrawCall],
     shader: &dyn FragmentShader,
