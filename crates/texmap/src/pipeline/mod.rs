@@ -335,13 +335,6 @@ pub fn draw_into(
     // Tiles in parallel, each writing its own rows of the target: many more tasks than
     // threads, so the costly tiles (the floor at the horizon) balance out.
     let (w, h) = (target.width as usize, target.height as usize);
-    // The tiles the last draw into `color` left holding the clear colour alone (taken before
-    // anything borrows the pixels mutably, which forgets it).
-    let known = color.take_clear_tiles();
-    if color.len() != w * h {
-        // Every tile writes all its pixels: a new frame needs no clearing pass.
-        *color = Pixels::zeroed(w * h);
-    }
     let clear = ClearTiles {
         width: target.width,
         height: target.height,
@@ -350,15 +343,19 @@ pub fn draw_into(
             .map(|t| bins.tile_prims(t).is_empty())
             .collect(),
     };
+    // The tiles the last draw into `color` left holding the clear colour alone, if it was of
+    // this size and clear colour (taken before anything borrows the pixels mutably, which
+    // forgets it).
+    let known = color
+        .take_clear_tiles()
+        .filter(|k| (k.width, k.height, k.color) == (clear.width, clear.height, clear.color));
+    if color.len() != w * h {
+        // Every tile writes all its pixels: a new frame needs no clearing pass.
+        *color = Pixels::zeroed(w * h);
+    }
     // An empty tile that holds the clear colour already is not written again (the turntable's
     // background: on the 1080p plane, the sky's half of the frame).
-    let unchanged = |t: usize| {
-        clear.tiles[t]
-            && known.as_ref().is_some_and(|k| {
-                (k.width, k.height, k.color) == (clear.width, clear.height, clear.color)
-                    && k.tiles[t]
-            })
-    };
+    let unchanged = |t: usize| clear.tiles[t] && known.as_ref().is_some_and(|k| k.tiles[t]);
     // Each tile's rows of the target, tile after tile in one vector (a few allocations a
     // frame, not one a tile): a band of tiles' rows cut into their tiles' pieces, taken
     // tile by tile.
