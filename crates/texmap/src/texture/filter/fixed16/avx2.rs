@@ -31,7 +31,7 @@ use crate::texture::storage::LevelRef;
 use crate::texture::{MipChoice, QuadCoords, Sampler, Wrap};
 
 mod gather;
-use gather::{finish, gather, zero, Sums};
+use gather::{finish, gather, gather_weighted, weights, zero, Sums};
 
 /// A level's view, tiled texels and tiles per row (as `tiled_texels` gives them).
 type Level<'a> = (&'a LevelRef<'a>, &'a [u8], u32);
@@ -268,10 +268,12 @@ pub(super) unsafe fn linear_pair_shared(
             if w <= 0 {
                 continue;
             }
+            // SAFETY: the CPU has AVX2 (this function's contract).
+            let weights = unsafe { weights(t) };
             // Each texture's level is of the first one's size and tiling (checked when the
             // level was looked up), so the first one's indices are in range for every one.
             for ((data, &texels), acc) in lv.data.iter().zip(&texels[..count]).zip(acc.iter_mut()) {
-                unsafe { gather(data, texels, t, acc) };
+                unsafe { gather_weighted(data, texels, t, &weights, acc) };
             }
         }
     }

@@ -76,9 +76,11 @@ pub(in super::super) unsafe fn finish(acc: &Sums, mask: u8) -> [Vec4; 4] {
 pub(in super::super) unsafe fn gather(data: &[u8], texels: Texels, t: &Taps, acc: &mut Sums) {
     match texels {
         // SAFETY: the CPU has AVX2 (this function's contract).
-        Texels::Linear16 => unsafe { gather16(data, t, acc) },
+        Texels::Linear16 => unsafe { gather16(data, t, &weights(t), acc) },
         // Opaque linear codes (data maps: normals, metallic-roughness, occlusion).
-        Texels::Rgba8(r) if r.srgb15.is_none() && r.opaque => unsafe { gather8(data, t, acc) },
+        Texels::Rgba8(r) if r.srgb15.is_none() && r.opaque => unsafe {
+            gather8(data, t, &weights(t), acc)
+        },
         // SAFETY: the CPU has AVX2 (this function's contract).
         _ => unsafe {
             let mut part = [_mm_setzero_si128(); 4];
@@ -89,13 +91,64 @@ pub(in super::super) unsafe fn gather(data: &[u8], texels: Texels, t: &Taps, acc
     }
 }
 
+/// A tap set's packed weights as [`gather_pairs`] multiplies them: `[j / 2][0]` the top
+/// pair's and `[j / 2][1]` the bottom pair's of pixels `j` and `j + 1` (each pixel's in its
+/// half). Made once where several textures are read through the same taps
+/// ([`gather_weighted`]).
+pub(in super::super) type Weights = [[__m256i; 2]; 2];
+
+/// The [`Weights`] of taps `t`.
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[inline(always)]
+pub(in super::super) unsafe fn weights(t: &Taps) -> Weights {
+    // SAFETY: the CPU has AVX2 (this function's contract).
+    unsafe {
+        let top = _mm256_castsi128_si256(_mm_loadu_si128(t.top.as_ptr().cast()));
+        let bottom = _mm256_castsi128_si256(_mm_loadu_si128(t.bottom.as_ptr().cast()));
+        // Written out: as `array::map` the closure was left as a call (in every gather).
+        let pair = |j: i32| {
+            let lanes = _mm256_setr_epi32(j, j, j, j, j + 1, j + 1, j + 1, j + 1);
+            [
+                _mm256_permutevar8x32_epi32(top, lanes),
+                _mm256_permutevar8x32_epi32(bottom, lanes),
+            ]
+        };
+        [pair(0), pair(2)]
+    }
+}
+
+/// [`gather`] with the taps' [`Weights`] made beforehand (`w` = `weights(t)`): the same sums.
+/// The shared reads gather every texture through one level's taps, so they make the weights
+/// once (8 instructions a texture a quad fewer).
+///
+/// # Safety
+/// As [`gather`]; `w` must be `weights(t)`.
+#[inline(always)]
+pub(in super::super) unsafe fn gather_weighted(
+    data: &[u8],
+    texels: Texels,
+    t: &Taps,
+    w: &Weights,
+    acc: &mut Sums,
+) {
+    match texels {
+        // SAFETY: the CPU has AVX2 (this function's contract).
+        Texels::Linear16 => unsafe { gather16(data, t, w, acc) },
+        Texels::Rgba8(r) if r.srgb15.is_none() && r.opaque => unsafe { gather8(data, t, w, acc) },
+        // SAFETY: the CPU has AVX2 (this function's contract).
+        _ => unsafe { gather(data, texels, t, acc) },
+    }
+}
+
 /// [`gather`] of the 16-bit storage.
 ///
 /// # Safety
 /// The CPU must have AVX2; `t`'s offsets index 8-byte texels of `data` (as `sse2::taps`
-/// makes them).
+/// makes them); `w` = `weights(t)`.
 #[inline(always)]
-unsafe fn gather16(data: &[u8], t: &Taps, acc: &mut Sums) {
+unsafe fn gather16(data: &[u8], t: &Taps, w: &Weights, acc: &mut Sums) {
     let base = data.as_ptr();
     // SAFETY (the loads): each reads one 8-byte texel at an index below `data.len() / 8`
     // (the offsets' level has this size, see `sse2::taps`); the CPU has AVX2.
@@ -103,6 +156,7 @@ unsafe fn gather16(data: &[u8], t: &Taps, acc: &mut Sums) {
         let q = |i: i32| _mm_loadl_epi64(base.add(i as usize * 8).cast());
         gather_pairs(
             t,
+            w,
             acc,
             |o0: i32, o1: i32| _mm_unpacklo_epi16(q(o0), q(o1)),
             |v| v,
@@ -115,9 +169,9 @@ unsafe fn gather16(data: &[u8], t: &Taps, acc: &mut Sums) {
 /// for both at once. The same 15-bit values, so the same sums.
 ///
 /// # Safety
-/// The CPU must have AVX2; `t`'s offsets index 4-byte texels of `data`.
+/// The CPU must have AVX2; `t`'s offsets index 4-byte texels of `data`; `w` = `weights(t)`.
 #[inline(always)]
-unsafe fn gather8(data: &[u8], t: &Taps, acc: &mut Sums) {
+unsafe fn gather8(data: &[u8], t: &Taps, w: &Weights, acc: &mut Sums) {
     let base = data.as_ptr();
     // SAFETY (the loads): each reads one 4-byte texel at an index below `data.len() / 4`
     // (the offsets' level has this size, see `sse2::taps`); the CPU has AVX2.
@@ -125,6 +179,7 @@ unsafe fn gather8(data: &[u8], t: &Taps, acc: &mut Sums) {
         let q = |i: i32| _mm_cvtsi32_si128(base.add(i as usize * 4).cast::<i32>().read_unaligned());
         gather_pairs(
             t,
+            w,
             acc,
             |o0: i32, o1: i32| _mm_unpacklo_epi8(q(o0), q(o1)),
             |v| _mm256_unpacklo_epi8(v, v),
@@ -134,7 +189,7 @@ unsafe fn gather8(data: &[u8], t: &Taps, acc: &mut Sums) {
 
 /// The gathers' sums: for pixels `j` and `j + 1` at once, each pixel's two pairs of taps
 /// (`pair` interleaves two taps' channels in the low 8 or 16 bytes; `widen` makes both
-/// pixels' 16-bit values) taken to 15 bits and multiplied by their packed weights, each
+/// pixels' 16-bit values) taken to 15 bits and multiplied by their packed weights `w`, each
 /// pixel's four products added into its sums.
 ///
 /// # Safety
@@ -142,14 +197,13 @@ unsafe fn gather8(data: &[u8], t: &Taps, acc: &mut Sums) {
 #[inline(always)]
 unsafe fn gather_pairs(
     t: &Taps,
+    w: &Weights,
     acc: &mut Sums,
     pair: impl Fn(i32, i32) -> __m128i,
     widen: impl Fn(__m256i) -> __m256i,
 ) {
     // SAFETY: the CPU has AVX2 (this function's contract).
     unsafe {
-        let top = _mm256_castsi128_si256(_mm_loadu_si128(t.top.as_ptr().cast()));
-        let bottom = _mm256_castsi128_si256(_mm_loadu_si128(t.bottom.as_ptr().cast()));
         for j in [0, 2] {
             // Taps `k0` and `k1` of pixels `j` and `j + 1`, interleaved, as 15 bits.
             let pair = |k0: usize, k1: usize| {
@@ -158,19 +212,10 @@ unsafe fn gather_pairs(
                 let hi = pair(o.0[j + 1], o.1[j + 1]);
                 _mm256_srli_epi16::<1>(widen(_mm256_set_m128i(hi, lo)))
             };
-            let lanes = _mm256_setr_epi32(
-                j as i32,
-                j as i32,
-                j as i32,
-                j as i32,
-                j as i32 + 1,
-                j as i32 + 1,
-                j as i32 + 1,
-                j as i32 + 1,
-            );
+            let [top, bottom] = w[j / 2];
             let sum = _mm256_add_epi32(
-                _mm256_madd_epi16(pair(0, 1), _mm256_permutevar8x32_epi32(top, lanes)),
-                _mm256_madd_epi16(pair(2, 3), _mm256_permutevar8x32_epi32(bottom, lanes)),
+                _mm256_madd_epi16(pair(0, 1), top),
+                _mm256_madd_epi16(pair(2, 3), bottom),
             );
             acc[j / 2] = _mm256_add_epi32(acc[j / 2], sum);
         }
