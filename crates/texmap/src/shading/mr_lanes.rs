@@ -9,7 +9,7 @@
 
 use std::f32::consts::PI;
 
-use glam::Vec4;
+use glam::{Vec2, Vec4};
 
 use super::albedo::{albedo_table, ALBEDO_N};
 use super::lanes::{incidence, normalize_lanes, sqrt4, transpose, Lanes3, QuadFactors};
@@ -226,26 +226,25 @@ pub fn specular_albedo_quad(n_dot_v: Vec4, roughness: Vec4) -> (Vec4, Vec4) {
     let (i, j) = (cell(x), cell(y));
     let fx = x - Vec4::from_array(i.map(|i| i as f32));
     let fy = y - Vec4::from_array(j.map(|j| j as f32));
-    let corners = |k: usize| {
+    // Each lane's cell: its two rows of two texels, (A, B) of the left one then of the right
+    // one (one bounds check a cell); the four lanes' rows transposed give each corner's A and
+    // B in lanes.
+    let cell = |k: usize| {
         let at = j[k] * N + i[k];
-        [table[at], table[at + 1], table[at + N], table[at + N + 1]]
+        let c = &table[at..at + N + 2];
+        let row = |l: Vec2, r: Vec2| Vec4::new(l.x, l.y, r.x, r.y);
+        (row(c[0], c[1]), row(c[N], c[N + 1]))
     };
-    let texels = [corners(0), corners(1), corners(2), corners(3)];
-    let lane = |t: usize, c: usize| {
-        Vec4::new(
-            texels[0][t][c],
-            texels[1][t][c],
-            texels[2][t][c],
-            texels[3][t][c],
-        )
-    };
+    let cells = [cell(0), cell(1), cell(2), cell(3)];
+    let [a0, b0, a1, b1] = transpose(cells.map(|c| c.0));
+    let [a2, b2, a3, b3] = transpose(cells.map(|c| c.1));
     let lerp = |a: Vec4, b: Vec4, f: Vec4| a * (one - f) + b * f;
-    let blend = |c: usize| {
-        let top = lerp(lane(0, c), lane(1, c), fx);
-        let bottom = lerp(lane(2, c), lane(3, c), fx);
+    let blend = |[c0, c1, c2, c3]: [Vec4; 4]| {
+        let top = lerp(c0, c1, fx);
+        let bottom = lerp(c2, c3, fx);
         lerp(top, bottom, fy)
     };
-    (blend(0), blend(1))
+    (blend([a0, a1, a2, a3]), blend([b0, b1, b2, b3]))
 }
 
 #[cfg(test)]
