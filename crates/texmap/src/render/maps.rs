@@ -408,17 +408,10 @@ impl QuadMaps {
             shininess,
             lobes,
         } = self;
-        let texels = [
-            normals,
-            object_normals,
-            occlusion,
-            emission,
-            metal_rough,
-            ambient,
-        ];
-        for m in texels.into_iter().chain([specular, shininess]) {
-            *m = None;
-        }
+        // One assignment, not a loop over the fields: the loop was not unrolled, and cost a
+        // lit DamagedHelmet frame 5.8 M instructions (1.6 %).
+        (*normals, *object_normals, *occlusion, *emission) = (None, None, None, None);
+        (*metal_rough, *ambient, *specular, *shininess) = (None, None, None, None);
         (*bumps, *lobes) = (None, None);
     }
 }
