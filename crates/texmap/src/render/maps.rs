@@ -408,8 +408,8 @@ impl QuadMaps {
             shininess,
             lobes,
         } = self;
-        // One assignment, not a loop over the fields: the loop was not unrolled, and cost a
-        // lit DamagedHelmet frame 5.8 M instructions (1.6 %).
+        // Assignments, not a loop over the fields: the loop was not unrolled, and with it a
+        // lit 1080p DamagedHelmet frame took 13.3 M instructions more (3.7 %).
         (*normals, *object_normals, *occlusion, *emission) = (None, None, None, None);
         (*metal_rough, *ambient, *specular, *shininess) = (None, None, None, None);
         (*bumps, *lobes) = (None, None);

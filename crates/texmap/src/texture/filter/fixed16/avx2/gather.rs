@@ -74,6 +74,8 @@ pub(in super::super) unsafe fn finish(acc: &Sums, mask: u8) -> [Vec4; 4] {
 /// The CPU must have AVX2 ([`crate::cpu::level`] is x86-64-v3).
 #[inline(always)]
 pub(in super::super) unsafe fn gather(data: &[u8], texels: Texels, t: &Taps, acc: &mut Sums) {
+    // Its own match, not `gather_weighted(.., &weights(t), ..)`: that made the 1080p plane's
+    // frame 1.2 % more instructions (bilinear), aniso6's 1.4 %.
     match texels {
         // SAFETY: the CPU has AVX2 (this function's contract).
         Texels::Linear16 => unsafe { gather16(data, t, &weights(t), acc) },
@@ -136,6 +138,7 @@ pub(in super::super) unsafe fn gather_weighted(
     match texels {
         // SAFETY: the CPU has AVX2 (this function's contract).
         Texels::Linear16 => unsafe { gather16(data, t, w, acc) },
+        // Opaque linear codes (data maps: normals, metallic-roughness, occlusion).
         Texels::Rgba8(r) if r.srgb15.is_none() && r.opaque => unsafe { gather8(data, t, w, acc) },
         // SAFETY: the CPU has AVX2 (this function's contract).
         _ => unsafe { gather(data, texels, t, acc) },
