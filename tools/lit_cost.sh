@@ -10,10 +10,11 @@
 # time and the median of the per-round ratios with their range (Markdown table). Exits with a
 # message when the scene is not there (the shared asset corpus is not part of the repository).
 set -euo pipefail
-cd "$(dirname "$0")/.."
 ROUNDS=${1:-12}
 FRAMES=${2:-40}
-SCENE=${3:-../shared/assets/gltf/DamagedHelmet/glTF-Binary/DamagedHelmet.glb}
+# A scene named on the command line is found from where the script was called.
+SCENE=$(realpath -m "${3:-$(dirname "$0")/../../shared/assets/gltf/DamagedHelmet/glTF-Binary/DamagedHelmet.glb}")
+cd "$(dirname "$0")/.."
 if [ ! -f "$SCENE" ]; then
     echo "lit_cost.sh: $SCENE: no such scene (DamagedHelmet is in ../shared/assets)" >&2
     exit 1
