@@ -12,8 +12,15 @@
 set -euo pipefail
 ROUNDS=${1:-12}
 FRAMES=${2:-40}
+for n in "$ROUNDS" "$FRAMES"; do
+    if ! [[ $n =~ ^[1-9][0-9]*$ ]]; then
+        echo "lit_cost.sh: $n: ROUNDS and FRAMES must be positive whole numbers" >&2
+        exit 1
+    fi
+done
 # A scene named on the command line is found from where the script was called.
-SCENE=$(realpath -m "${3:-$(dirname "$0")/../../shared/assets/gltf/DamagedHelmet/glTF-Binary/DamagedHelmet.glb}")
+HELMET=$(dirname "$0")/../../shared/assets/gltf/DamagedHelmet/glTF-Binary/DamagedHelmet.glb
+SCENE=$(realpath -m "${3:-$HELMET}")
 cd "$(dirname "$0")/.."
 if [ ! -f "$SCENE" ]; then
     echo "lit_cost.sh: $SCENE: no such scene (DamagedHelmet is in ../shared/assets)" >&2
