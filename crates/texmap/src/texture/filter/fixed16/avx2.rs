@@ -26,12 +26,16 @@ use std::mem::MaybeUninit;
 use glam::{Vec2, Vec4};
 
 use super::sse2::{self, Taps};
-use super::{Probe, Texels, ONE};
+use super::{Probe, Texels, LEVEL_QUADS, ONE};
 use crate::texture::storage::LevelRef;
 use crate::texture::{MipChoice, QuadCoords, Sampler, Wrap};
 
 mod gather;
 use gather::{finish, gather, gather_weighted, weights, zero, Sums};
+
+/// The size of a level's texels above which [`quad_pairs`] asks for its quads' lines before
+/// it reads them: more than an L1 data cache holds (32–48 KiB on the machines measured).
+const PREFETCH_BYTES: usize = 64 << 10;
 
 /// A level's view, tiled texels and tiles per row (as `tiled_texels` gives them).
 type Level<'a> = (&'a LevelRef<'a>, &'a [u8], u32);
@@ -135,15 +139,20 @@ pub(super) unsafe fn probe_quad_inlined(
 }
 
 /// Bilinear reads of quads on a pair of levels, two quads at a time (`quads.rs`,
-/// `trilinear.rs`): both quads' taps on a level computed at once ([`taps2`]), each quad's
-/// texels then gathered as [`sse2::linear_weighted_on`] gathers them (a level weighted 0
-/// not read), an odd last quad by `linear_weighted_on`. The same values: `out[i]` for
-/// `coords[i]`, `weights[i]` (the first level's and the second's 15-bit weights) and
-/// `masks[i]`.
+/// `trilinear.rs`): both quads' taps on a level computed at once ([`taps2`]), every pair's
+/// first, then each quad's texels gathered as [`sse2::linear_weighted_on`] gathers them (a
+/// level weighted 0 not read), an odd last quad by `linear_weighted_on`. The same values:
+/// `out[i]` for `coords[i]`, `weights[i]` (the first level's and the second's 15-bit
+/// weights) and `masks[i]`.
+///
+/// On a level larger than [`PREFETCH_BYTES`] each quad's lines are asked for as its taps
+/// are made ([`super::prefetch::prefetch_corners`]), so that the run's misses overlap
+/// rather than wait one pair after another: the 1080p plane's near rows read levels 0 and 1
+/// of its 1024² checker (8 and 2 MiB), which no cache near the core holds.
 ///
 /// # Safety
-/// The CPU must have x86-64-v3 ([`crate::cpu::level`]); `weights`, `masks` and `out` at
-/// least as long as `coords` (checked).
+/// The CPU must have x86-64-v3 ([`crate::cpu::level`]); `coords` at most [`LEVEL_QUADS`]
+/// long, `weights`, `masks` and `out` at least as long as it (checked).
 #[allow(clippy::too_many_arguments)]
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
 pub(super) unsafe fn quad_pairs(
@@ -157,26 +166,63 @@ pub(super) unsafe fn quad_pairs(
     out: &mut [[Vec4; 4]],
 ) {
     let n = coords.len();
-    assert!(weights.len() >= n && masks.len() >= n && out.len() >= n);
-    let mut i = 0;
-    while i + 1 < n {
-        let (c, m) = (&coords[i..i + 2], &masks[i..i + 2]);
-        let wa = [weights[i][0], weights[i + 1][0]];
-        let wb = [weights[i][1], weights[i + 1][1]];
+    assert!(n <= LEVEL_QUADS && weights.len() >= n && masks.len() >= n && out.len() >= n);
+    let pairs = n / 2;
+    let pair_weights = |p: usize| {
+        let (w0, w1) = (weights[2 * p], weights[2 * p + 1]);
+        ([w0[0], w1[0]], [w0[1], w1[1]])
+    };
+    // First every pair's taps on both levels (the second skipped where both quads weight
+    // it 0), each level's lines asked for as soon as its taps are known where the level is
+    // larger than an L1 cache ...
+    let (size, far) = (sse2::bpp(texels), first.1.len() > PREFETCH_BYTES);
+    let mut taps = [[const { MaybeUninit::<[Taps; 2]>::uninit() }; 2]; LEVEL_QUADS / 2];
+    for (p, t) in taps.iter_mut().enumerate().take(pairs) {
+        let c = &coords[2 * p..2 * p + 2];
         let (u, v) = ([c[0].u, c[1].u], [c[0].v, c[1].v]);
-        let mut acc = [zero(); 2];
-        // Each level by its own call (not a loop over an array of the two: the weights,
-        // just stored as two halves, were loaded back whole, a store the load could not
-        // take its value from).
+        let (wa, wb) = pair_weights(p);
         // SAFETY: the CPU has AVX2 (this function's contract).
-        unsafe {
-            level_pair(first, texels, s, (u, v), wa, &mut acc);
-            level_pair(second, texels, s, (u, v), wb, &mut acc);
+        let ta = t[0].write(unsafe { taps2(first.0, first.2, s, u, v, wa) });
+        if far {
+            super::prefetch::prefetch_corners(first.1, size, &ta[0]);
+            super::prefetch::prefetch_corners(first.1, size, &ta[1]);
         }
-        out[i] = finish(&acc[0], m[0]);
-        out[i + 1] = finish(&acc[1], m[1]);
-        i += 2;
+        if wb[0] > 0 || wb[1] > 0 {
+            // SAFETY: as above.
+            let tb = t[1].write(unsafe { taps2(second.0, second.2, s, u, v, wb) });
+            if far && second.1.len() > PREFETCH_BYTES {
+                super::prefetch::prefetch_corners(second.1, size, &tb[0]);
+                super::prefetch::prefetch_corners(second.1, size, &tb[1]);
+            }
+        }
     }
+    // ... then the texels read, pair by pair.
+    for (p, t) in taps.iter().enumerate().take(pairs) {
+        let i = 2 * p;
+        let (wa, wb) = pair_weights(p);
+        let mut acc = [zero(); 2];
+        // SAFETY: the CPU has AVX2 (this function's contract); the first level's taps were
+        // written above, the second's where a weight on it is positive (read only there).
+        // Spelled out for the two quads and levels (as a loop it stayed one, its sums kept
+        // in memory).
+        unsafe {
+            if wa[0] > 0 {
+                gather(first.1, texels, &t[0].assume_init_ref()[0], &mut acc[0]);
+            }
+            if wa[1] > 0 {
+                gather(first.1, texels, &t[0].assume_init_ref()[1], &mut acc[1]);
+            }
+            if wb[0] > 0 {
+                gather(second.1, texels, &t[1].assume_init_ref()[0], &mut acc[0]);
+            }
+            if wb[1] > 0 {
+                gather(second.1, texels, &t[1].assume_init_ref()[1], &mut acc[1]);
+            }
+        }
+        out[i] = finish(&acc[0], masks[i]);
+        out[i + 1] = finish(&acc[1], masks[i + 1]);
+    }
+    let i = 2 * pairs;
     if i < n {
         let c = &coords[i];
         out[i] = sse2::linear_weighted_on(first, second, texels, s, weights[i], c.u, c.v, masks[i]);

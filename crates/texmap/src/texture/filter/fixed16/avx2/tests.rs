@@ -171,3 +171,77 @@ fn a_nan_coordinate_takes_the_sse2_indices() {
         }
     }
 }
+
+/// [`quad_pairs`] is each quad's [`sse2::linear_weighted_on`], bit for bit: on a first level
+/// larger than [`PREFETCH_BYTES`] (its lines asked for before the reads) and on smaller
+/// ones, runs of every length up to [`LEVEL_QUADS`], levels weighted 0 for one quad of a
+/// pair or for both, and partial masks.
+#[test]
+fn quad_pairs_are_each_quads_sse2_read() {
+    if !crate::cpu::available(crate::cpu::Level::V3) {
+        eprintln!("skipped: this CPU has no x86-64-v3 (AVX2), where quads pair");
+        return;
+    }
+    let mut r = crate::xorshift(0x51ed_270b);
+    let (w, h) = (160u32, 128u32);
+    let rgba: Vec<u8> = (0..w * h * 4).map(|_| r() as u8).collect();
+    let tex = Texture2D::from_rgba8(w, h, ColorSpace::Srgb, &rgba).unwrap();
+    assert!(tex.level(0).tiled_texels(8).0.len() > PREFETCH_BYTES);
+    assert!(tex.level(1).tiled_texels(8).0.len() <= PREFETCH_BYTES);
+    let mut next = move || r() as f32 / u32::MAX as f32;
+    let mut compared = 0;
+    for first in 0..3 {
+        let (la, lb) = (tex.level(first), tex.level(first + 1));
+        let ((da, ta), (db, tb)) = (la.tiled_texels(8), lb.tiled_texels(8));
+        for wrap in [Wrap::Repeat, Wrap::ClampToEdge] {
+            let s = Sampler::new(Filter::TRILINEAR, wrap);
+            for n in 1..=LEVEL_QUADS {
+                let mut coords = [QuadCoords::default(); LEVEL_QUADS];
+                let mut weights = [[0; 2]; LEVEL_QUADS];
+                let mut masks = [0u8; LEVEL_QUADS];
+                for i in 0..n {
+                    let mut lanes = || Vec4::new(next(), next(), next(), next()) * 3.0 - 1.0;
+                    (coords[i].u, coords[i].v) = (lanes(), lanes());
+                    let wa = match (next() * 4.0) as u32 {
+                        0 => 0,
+                        1 => ONE,
+                        _ => (next() * ONE as f32) as i32,
+                    };
+                    weights[i] = [wa, ONE - wa];
+                    masks[i] = 1 + (next() * 15.0) as u8;
+                }
+                let mut out = [[Vec4::splat(-1.0); 4]; LEVEL_QUADS];
+                let (a, b) = ((&la, da, ta), (&lb, db, tb));
+                // SAFETY: the CPU has x86-64-v3 (checked above); the slices are of length n.
+                unsafe {
+                    quad_pairs(
+                        a,
+                        b,
+                        Texels::Linear16,
+                        &s,
+                        &coords[..n],
+                        &weights[..n],
+                        &masks[..n],
+                        &mut out[..n],
+                    );
+                }
+                for i in 0..n {
+                    let c = &coords[i];
+                    let want = sse2::linear_weighted_on(
+                        a,
+                        b,
+                        Texels::Linear16,
+                        &s,
+                        weights[i],
+                        c.u,
+                        c.v,
+                        masks[i],
+                    );
+                    assert_eq!(out[i], want, "level {first} {wrap:?} quad {i} of {n}");
+                    compared += 1;
+                }
+            }
+        }
+    }
+    assert!(compared >= 800);
+}
