@@ -199,6 +199,11 @@ pub(crate) struct QuadPlan {
 }
 
 impl QuadPlan {
+    /// The levels its probes read.
+    #[inline(always)]
+    pub(crate) fn choice(&self) -> MipChoice {
+        self.choice
+    }
     /// A placeholder, for arrays of plans.
     pub(crate) const NONE: QuadPlan = QuadPlan {
         choice: MipChoice::LEVEL0,

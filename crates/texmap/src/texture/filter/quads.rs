@@ -121,6 +121,9 @@ trait Plans {
     const NONE: Self::Plan;
     /// The plans of up to four quads (plan `k` for `coords[k]`).
     fn plan4(&self, tex: &Texture2D, s: &Sampler, coords: &[QuadCoords]) -> [Self::Plan; 4];
+    /// The level choice whose first level a quad's probes read, for its prefetch (`None`:
+    /// nothing asked for).
+    fn first_level(&self, plan: &Self::Plan) -> Option<MipChoice>;
     /// Quad `c`'s reads as `plan` says, by the batch's `reader`.
     fn read(
         &self,
@@ -142,6 +145,10 @@ impl Plans for AnisotropicPlans {
     #[inline(always)]
     fn plan4(&self, tex: &Texture2D, s: &Sampler, coords: &[QuadCoords]) -> [Self::Plan; 4] {
         anisotropic::quad_plans4(tex, s, coords, self.0)
+    }
+    #[inline(always)]
+    fn first_level(&self, plan: &Self::Plan) -> Option<MipChoice> {
+        Some(plan.choice())
     }
     #[inline(always)]
     fn read(
@@ -168,6 +175,13 @@ impl Plans for EwaPlans {
         ewa_probes::quad_plans4(tex, s, coords, self.0)
     }
     #[inline(always)]
+    fn first_level(&self, plan: &Self::Plan) -> Option<MipChoice> {
+        match plan {
+            ewa_probes::Plan::Probes { choice, .. } => Some(*choice),
+            _ => None,
+        }
+    }
+    #[inline(always)]
     fn read(
         &self,
         reader: &mut fixed16::ProbeReader,
@@ -183,7 +197,8 @@ impl Plans for EwaPlans {
 }
 
 /// Quads whose reads follow a plan made from their derivatives (anisotropic filtering,
-/// `ewa`): each chunk's plans first, four quads at a time, then each quad read by one
+/// `ewa`): each chunk's plans first, four quads at a time, then the texels of each quad's
+/// first level asked for where that level is large, then each quad read by one
 /// [`fixed16::ProbeReader`] for the whole batch (the storage checked once, each level
 /// looked up once while consecutive quads read it). Every quad's plan waits on square
 /// roots, divisions and a logarithm; made before any read, they no longer wait one after
@@ -210,6 +225,13 @@ fn staged_plans<P: Plans>(
     {
         for (plans, coords) in plans.chunks_mut(4).zip(coords.chunks(4)) {
             plans.copy_from_slice(&planner.plan4(texture, sampler, coords)[..plans.len()]);
+        }
+        // Each quad's texels on its first level asked for before the chunk's reads, where
+        // that level is larger than an L1 cache (`fixed16::prefetch_planned`).
+        for ((c, &m), plan) in coords.iter().zip(masks).zip(&plans) {
+            if let Some(choice) = planner.first_level(plan) {
+                fixed16::prefetch_planned(texture, sampler, c, choice, m);
+            }
         }
         for (((c, &m), o), plan) in coords.iter().zip(masks).zip(out).zip(&plans) {
             *o = planner.read(&mut reader, texture, sampler, c, plan, m);

@@ -25,6 +25,7 @@ use std::mem::MaybeUninit;
 
 use glam::{Vec2, Vec4};
 
+use super::prefetch::PREFETCH_BYTES;
 use super::sse2::{self, Taps};
 use super::{Probe, Texels, LEVEL_QUADS, ONE};
 use crate::texture::storage::LevelRef;
@@ -32,10 +33,6 @@ use crate::texture::{MipChoice, QuadCoords, Sampler, Wrap};
 
 mod gather;
 use gather::{finish, gather, gather_weighted, weights, zero, Sums};
-
-/// The size of a level's texels above which [`quad_pairs`] asks for its quads' lines before
-/// it reads them: more than an L1 data cache holds (32–48 KiB on the machines measured).
-const PREFETCH_BYTES: usize = 64 << 10;
 
 /// A level's view, tiled texels and tiles per row (as `tiled_texels` gives them).
 type Level<'a> = (&'a LevelRef<'a>, &'a [u8], u32);
