@@ -79,9 +79,9 @@ mod quads;
 pub(super) use quads::{read_level_quads, read_quad, read_quads, LEVEL_QUADS};
 
 mod prefetch;
+pub(super) use prefetch::prefetch_quads;
 #[cfg(target_arch = "x86_64")]
 pub(super) use prefetch::prefetch_shared;
-pub(super) use prefetch::{prefetch_planned, prefetch_quads};
 
 mod trilinear;
 pub(super) use trilinear::read_trilinear;

@@ -227,10 +227,10 @@ fn staged_plans<P: Plans>(
             plans.copy_from_slice(&planner.plan4(texture, sampler, coords)[..plans.len()]);
         }
         // Each quad's texels on its first level asked for before the chunk's reads, where
-        // that level is larger than an L1 cache (`fixed16::prefetch_planned`).
+        // that level is larger than an L1 cache (`ProbeReader::prefetch`).
         for ((c, &m), plan) in coords.iter().zip(masks).zip(&plans) {
             if let Some(choice) = planner.first_level(plan) {
-                fixed16::prefetch_planned(texture, sampler, c, choice, m);
+                reader.prefetch(sampler, choice, (c.u, c.v), m);
             }
         }
         for (((c, &m), o), plan) in coords.iter().zip(masks).zip(out).zip(&plans) {

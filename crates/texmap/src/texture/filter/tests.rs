@@ -367,13 +367,15 @@ proptest! {
     }
 
     #[test]
-    fn batched_quads_equal_quads_read_one_by_one(fps in proptest::collection::vec(footprint_strategy(), 1..40), f in 0usize..22, w in 0usize..5, storage in 0usize..4, lod in 0usize..3) {
+    fn batched_quads_equal_quads_read_one_by_one(fps in proptest::collection::vec(footprint_strategy(), 1..40), f in 0usize..22, w in 0usize..5, storage in 0usize..4, lod in 0usize..3, big in any::<bool>()) {
         // The default storage, or 8-bit RGBA (sRGB or linear, opaque or not); batches longer
         // than one chunk of level choices too; the sampler's λ as it is, biased, or biased
-        // and clamped.
+        // and clamped. 13×9, or 160×120: a first level over the 64 KiB above which batches
+        // ask for their texels ahead (`fixed16/prefetch.rs`), in either storage.
+        let (tw, th) = if big { (160, 120) } else { (13, 9) };
         let tex = match storage {
-            0 => noisy(13, 9),
-            k => noisy8(13, 9, if k == 1 { ColorSpace::Srgb } else { ColorSpace::Linear }, k != 3),
+            0 => noisy(tw, th),
+            k => noisy8(tw, th, if k == 1 { ColorSpace::Srgb } else { ColorSpace::Linear }, k != 3),
         };
         let mut s = Sampler::new(every_filter()[f], WRAPS[w]);
         (s.lod_bias, s.min_lod, s.max_lod) = [

@@ -20,7 +20,7 @@
 //! 0.955–0.979× as long, the unlit DamagedHelmet's 0.947× (frames with and without them
 //! alternated in one process); levels of 64 KiB or less are not asked for. The anisotropic
 //! and `ewa` batches ask for each quad's first-level texels between planning a chunk and
-//! reading it ([`prefetch_planned`]): `aniso5-area` 0.958×, `ewa` 0.966× (frames with and
+//! reading it (`ProbeReader::prefetch`, `probed.rs`): `aniso5-area` 0.958×, `ewa` 0.966× (frames with and
 //! without, in one process).
 //!
 //! A material's maps read together ([`prefetch_shared`]) are the other: four or five
@@ -34,7 +34,7 @@ use super::super::super::{MipChoice, Sampler, Texture2D};
 use super::super::QuadCoords;
 
 /// The size of a level's texels above which mipmapped reads ask for their lines ahead
-/// ([`prefetch_corners`], [`prefetch_planned`]): more than an L1 data cache holds (32–48 KiB
+/// ([`prefetch_corners`], `ProbeReader::prefetch`): more than an L1 data cache holds (32–48 KiB
 /// on the machines measured).
 pub(super) const PREFETCH_BYTES: usize = 64 << 10;
 
@@ -157,39 +157,4 @@ pub(super) fn prefetch_corners(data: &[u8], size: usize, t: &super::sse2::Taps) 
             _mm_prefetch::<_MM_HINT_T0>(data.as_ptr().wrapping_add(o * size).cast::<i8>());
         }
     }
-}
-
-/// Asks the cache for a planned quad's texels (anisotropic and `ewa` probes, whose plan
-/// names `choice`) on its first level, where that level is larger than [`PREFETCH_BYTES`]:
-/// each covered pixel's first and last bilinear taps at its own coordinates (the centre of
-/// its probes, which spread along an axis from there), as
-/// [`prefetch_quads`] asks for them (the four corners of the quad's taps instead: 0.956×
-/// against 0.930× for aniso5-area, 1.035× against 0.989× for `ewa`). A batch asks for every
-/// quad's after planning them and before reading any (`quads.rs`). Nothing is read or
-/// changed. (The storage and the level are looked up here for every quad, though the batch's
-/// reader has checked the storage already: a few tens of instructions a quad of the ~1,800 an
-/// `aniso5-area` quad costs.)
-#[inline(always)]
-pub(in super::super) fn prefetch_planned(
-    tex: &Texture2D,
-    s: &Sampler,
-    c: &QuadCoords,
-    choice: MipChoice,
-    mask: u8,
-) {
-    let Some(texels) = super::texels_of(tex, s) else {
-        return;
-    };
-    #[cfg(target_arch = "x86_64")]
-    if tex
-        .level(choice.level)
-        .tiled_texels(super::bpp(texels))
-        .0
-        .len()
-        > PREFETCH_BYTES
-    {
-        prefetch_quad(tex, texels, s, choice, c.u, c.v, mask);
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (texels, c, choice, mask);
 }
