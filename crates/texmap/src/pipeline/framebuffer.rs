@@ -96,16 +96,29 @@ pub fn stream_copy(dst: &mut [Vec4], src: &[Vec4]) {
     assert_eq!(dst.len(), src.len(), "stream_copy: lengths differ");
     #[cfg(target_arch = "x86_64")]
     {
-        use std::arch::x86_64::_mm_stream_ps;
-        for (d, s) in dst.iter_mut().zip(src) {
-            // SAFETY: SSE is part of x86_64; `Vec4` is 16-byte aligned on x86_64 (asserted at
-            // compile time above), as `_mm_stream_ps` requires, and `d` is a valid, exclusive
-            // target.
-            unsafe { _mm_stream_ps(std::ptr::from_mut(d).cast::<f32>(), (*s).into()) };
+        // Four pixels (a cache line) a step, then the rest: pixel by pixel the loop was six
+        // instructions a pixel, 3 % of the trilinear plane's frame.
+        let (mut d4, mut s4) = (dst.chunks_exact_mut(4), src.chunks_exact(4));
+        for (d, s) in (&mut d4).zip(&mut s4) {
+            for k in 0..4 {
+                stream(&mut d[k], s[k]);
+            }
+        }
+        for (d, s) in d4.into_remainder().iter_mut().zip(s4.remainder()) {
+            stream(d, *s);
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
     dst.copy_from_slice(src);
+}
+
+/// One streaming store of `v` to `d`.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn stream(d: &mut Vec4, v: Vec4) {
+    // SAFETY: SSE is part of x86_64; `Vec4` is 16-byte aligned on x86_64 (asserted at compile
+    // time above), as `_mm_stream_ps` requires, and `d` is a valid, exclusive target.
+    unsafe { std::arch::x86_64::_mm_stream_ps(std::ptr::from_mut(d).cast::<f32>(), v.into()) };
 }
 
 /// [`stream_copy`] of one value into every element of `dst`.
@@ -113,10 +126,15 @@ pub fn stream_copy(dst: &mut [Vec4], src: &[Vec4]) {
 pub fn stream_fill(dst: &mut [Vec4], v: Vec4) {
     #[cfg(target_arch = "x86_64")]
     {
-        use std::arch::x86_64::_mm_stream_ps;
-        for d in dst.iter_mut() {
-            // SAFETY: as in `stream_copy`.
-            unsafe { _mm_stream_ps(std::ptr::from_mut(d).cast::<f32>(), v.into()) };
+        // Four pixels a step, as `stream_copy`.
+        let mut d4 = dst.chunks_exact_mut(4);
+        for d in &mut d4 {
+            for d in d {
+                stream(d, v);
+            }
+        }
+        for d in d4.into_remainder() {
+            stream(d, v);
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
@@ -190,5 +208,31 @@ mod tests {
         assert_eq!(out[0], Vec4::splat(0.25));
         let src = Pixels::from(vec![Vec4::ONE, Vec4::ZERO, Vec4::ZERO, Vec4::ZERO]);
         assert_eq!(downsample_box(src, 1, 1, 2)[0], Vec4::splat(0.25));
+    }
+
+    #[test]
+    fn streaming_copies_and_fills_write_exactly_their_slice() {
+        // Every length around the four-pixel steps, at every offset in a cache line: the
+        // slice written, the pixels around it untouched.
+        for len in 0..14 {
+            for start in 0..4 {
+                let src: Vec<Vec4> = (0..len).map(|i| Vec4::splat(i as f32 + 1.0)).collect();
+                let mut buf = vec![Vec4::splat(-1.0); len + 8];
+                stream_copy(&mut buf[start..start + len], &src);
+                stream_fence();
+                assert_eq!(&buf[start..start + len], &src[..], "copy {len} at {start}");
+                let outside = buf[..start].iter().chain(&buf[start + len..]);
+                assert!(outside.into_iter().all(|&p| p == Vec4::splat(-1.0)));
+                let v = Vec4::new(0.25, 0.5, 0.75, 1.0);
+                stream_fill(&mut buf[start..start + len], v);
+                stream_fence();
+                assert!(
+                    buf[start..start + len].iter().all(|&p| p == v),
+                    "fill {len}"
+                );
+                let outside = buf[..start].iter().chain(&buf[start + len..]);
+                assert!(outside.into_iter().all(|&p| p == Vec4::splat(-1.0)));
+            }
+        }
     }
 }
