@@ -269,12 +269,18 @@ mod tests {
         fn fast_log2_4_is_the_scalar_function_lane_by_lane(bits in proptest::array::uniform4(any::<u32>()), pick in proptest::array::uniform4(0usize..16)) {
             // Any bits, or values of every kind: zeros, subnormals, the normal range's ends,
             // infinities, NaN, negatives.
-            const KINDS: [f32; 12] = [0.0, -0.0, 1e-40, f32::MIN_POSITIVE, 1.0, 0.5, f32::MAX, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, -1.0, -1e-40];
-            let x: [f32; 4] = std::array::from_fn(|k| KINDS.get(pick[k]).copied().unwrap_or(f32::from_bits(bits[k])));
+            const KINDS: [f32; 12] = [
+                0.0, -0.0, 1e-40, f32::MIN_POSITIVE, 1.0, 0.5, f32::MAX,
+                f32::INFINITY, f32::NEG_INFINITY, f32::NAN, -1.0, -1e-40,
+            ];
+            let x: [f32; 4] = std::array::from_fn(|k| {
+                KINDS.get(pick[k]).copied().unwrap_or(f32::from_bits(bits[k]))
+            });
             let four = fast_log2_4(Vec4::from_array(x));
             for k in 0..4 {
                 let one = fast_log2(x[k]);
-                prop_assert!(four[k] == one || (four[k].is_nan() && one.is_nan()), "lane {}: {:e} gives {} vs {}", k, x[k], four[k], one);
+                let same = four[k] == one || (four[k].is_nan() && one.is_nan());
+                prop_assert!(same, "lane {}: {:e} gives {} vs {}", k, x[k], four[k], one);
             }
         }
 

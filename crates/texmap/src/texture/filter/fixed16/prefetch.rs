@@ -20,8 +20,8 @@
 //! 0.955–0.979× as long, the unlit DamagedHelmet's 0.947× (frames with and without them
 //! alternated in one process); levels of 64 KiB or less are not asked for. The anisotropic
 //! and `ewa` batches ask for each quad's first-level texels between planning a chunk and
-//! reading it (`ProbeReader::prefetch`, `probed.rs`): `aniso5-area` 0.958×, `ewa` 0.966× (frames with and
-//! without, in one process).
+//! reading it, through their reader (`ProbeReader::prefetch`, `probed.rs`): `aniso5-area`
+//! 0.958×, `ewa` 0.966× (frames with and without, in one process).
 //!
 //! A material's maps read together ([`prefetch_shared`]) are the other: four or five
 //! textures' lines a quad, on levels the frame streams through (DamagedHelmet's 2048² maps
@@ -34,8 +34,8 @@ use super::super::super::{MipChoice, Sampler, Texture2D};
 use super::super::QuadCoords;
 
 /// The size of a level's texels above which mipmapped reads ask for their lines ahead
-/// ([`prefetch_corners`], `ProbeReader::prefetch`): more than an L1 data cache holds (32–48 KiB
-/// on the machines measured).
+/// ([`prefetch_corners`], `ProbeReader::prefetch`): more than an L1 data cache holds
+/// (32–48 KiB on the machines measured).
 pub(super) const PREFETCH_BYTES: usize = 64 << 10;
 
 /// Asks the cache for the texels [`super::read_quad`] will read for each quad `i` of a batch
