@@ -121,9 +121,8 @@ trait Plans {
     const NONE: Self::Plan;
     /// The plans of up to four quads (plan `k` for `coords[k]`).
     fn plan4(&self, tex: &Texture2D, s: &Sampler, coords: &[QuadCoords]) -> [Self::Plan; 4];
-    /// The level choice whose first level a quad's probes read, for its prefetch (`None`:
-    /// nothing asked for).
-    fn first_level(&self, plan: &Self::Plan) -> Option<MipChoice>;
+    /// The first level a quad's probes read, for its prefetch (`None`: nothing asked for).
+    fn first_level(&self, plan: &Self::Plan) -> Option<usize>;
     /// Quad `c`'s reads as `plan` says, by the batch's `reader`.
     fn read(
         &self,
@@ -147,8 +146,8 @@ impl Plans for AnisotropicPlans {
         anisotropic::quad_plans4(tex, s, coords, self.0)
     }
     #[inline(always)]
-    fn first_level(&self, plan: &Self::Plan) -> Option<MipChoice> {
-        Some(plan.choice())
+    fn first_level(&self, plan: &Self::Plan) -> Option<usize> {
+        Some(plan.choice().level)
     }
     #[inline(always)]
     fn read(
@@ -175,9 +174,9 @@ impl Plans for EwaPlans {
         ewa_probes::quad_plans4(tex, s, coords, self.0)
     }
     #[inline(always)]
-    fn first_level(&self, plan: &Self::Plan) -> Option<MipChoice> {
+    fn first_level(&self, plan: &Self::Plan) -> Option<usize> {
         match plan {
-            ewa_probes::Plan::Probes { choice, .. } => Some(*choice),
+            ewa_probes::Plan::Probes { choice, .. } => Some(choice.level),
             _ => None,
         }
     }
@@ -229,8 +228,8 @@ fn staged_plans<P: Plans>(
         // Each quad's texels on its first level asked for before the chunk's reads, where
         // that level is larger than an L1 cache (`ProbeReader::prefetch`).
         for ((c, &m), plan) in coords.iter().zip(masks).zip(&plans) {
-            if let Some(choice) = planner.first_level(plan) {
-                reader.prefetch(sampler, choice, (c.u, c.v), m);
+            if let Some(level) = planner.first_level(plan) {
+                reader.prefetch(sampler, level, (c.u, c.v), m);
             }
         }
         for (((c, &m), o), plan) in coords.iter().zip(masks).zip(out).zip(&plans) {

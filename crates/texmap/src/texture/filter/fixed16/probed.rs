@@ -55,25 +55,25 @@ impl<'t> ProbeReader<'t> {
         }
     }
 
-    /// Asks the cache for quad `(u, v)`'s texels on the first level of `choice` (its plan's),
-    /// where that level is larger than [`PREFETCH_BYTES`]: each covered pixel's first and
-    /// last bilinear taps at its own coordinates (the centre of its probes, which spread
-    /// along an axis from there), as [`super::prefetch_quads`] asks for a quad's (the four
-    /// corners of the quad's taps instead: 0.956× against 0.930× for `aniso5-area`, 1.035×
-    /// against 0.989× for `ewa`). A batch asks for every quad's after planning them and
+    /// Asks the cache for quad `(u, v)`'s texels on `level`, the first level its plan reads
+    /// (bilinear taps, as every probe reads), where that level is larger than
+    /// [`PREFETCH_BYTES`]: each covered pixel's first and last bilinear taps at its own
+    /// coordinates (the centre of its probes, which spread along an axis from there), as
+    /// [`super::prefetch_quads`] asks for a quad's (the four corners of the quad's taps
+    /// instead: 0.956× against 0.930× for `aniso5-area`, 1.035× against 0.989× for `ewa`). A batch asks for every quad's after planning them and
     /// before reading any (`quads.rs`). The level is the reader's, looked up only when the
     /// quad's is another (as for a read). Nothing is read or changed.
     #[inline(always)]
     pub(in super::super) fn prefetch(
         &mut self,
         s: &Sampler,
-        choice: MipChoice,
+        level: usize,
         (u, v): (Vec4, Vec4),
         mask: u8,
     ) {
         #[cfg(target_arch = "x86_64")]
         {
-            let (lv, data, tiles_x) = self.level(0, choice.level);
+            let (lv, data, tiles_x) = self.level(0, level);
             if data.len() > PREFETCH_BYTES {
                 let t = sse2::taps(&lv, tiles_x, s, u, v, ONE);
                 let size = sse2::bpp(self.texels);
@@ -81,7 +81,7 @@ impl<'t> ProbeReader<'t> {
             }
         }
         #[cfg(not(target_arch = "x86_64"))]
-        let _ = (s, choice, u, v, mask);
+        let _ = (s, level, u, v, mask);
     }
 
     /// [`super::read_probes`] of quad `(u, v)`: the same values. `choice` must read linear
