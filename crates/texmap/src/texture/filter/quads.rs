@@ -480,15 +480,19 @@ fn adjusted_lods<const N: usize>(
 /// clamps; lanes past `coords` read zero derivatives).
 #[inline(always)]
 fn lod4(size: Vec2, sampler: &Sampler, coords: &[QuadCoords]) -> Vec4 {
-    let lane = |f: &dyn Fn(&QuadCoords) -> f32| {
-        Vec4::from_array(std::array::from_fn(|i| coords.get(i).map_or(0.0, f)))
+    // Each quad's four derivatives in texels as one vector, then the four transposed into
+    // lanes (the same products: it was sixteen scalar loads, products and inserts, each
+    // load behind its own bounds test).
+    let scale = Vec4::new(size.x, size.y, size.x, size.y);
+    let quad = |i: usize| {
+        coords.get(i).map_or(Vec4::ZERO, |c| {
+            Vec4::new(c.duv_dx.x, c.duv_dx.y, c.duv_dy.x, c.duv_dy.y) * scale
+        })
     };
-    sampler.lod_rule.lod4(
-        lane(&|c| c.duv_dx.x * size.x),
-        lane(&|c| c.duv_dx.y * size.y),
-        lane(&|c| c.duv_dy.x * size.x),
-        lane(&|c| c.duv_dy.y * size.y),
-    )
+    let t = glam::Mat4::from_cols(quad(0), quad(1), quad(2), quad(3)).transpose();
+    sampler
+        .lod_rule
+        .lod4(t.x_axis, t.y_axis, t.z_axis, t.w_axis)
 }
 
 /// The mask of `coords`' quads (at most 32; bit `i` for quad `i`) whose λ is over

@@ -1,11 +1,11 @@
 //! Trilinear batches (`LinearMipmapLinear`, bilinear when magnified): each quad's first
-//! level and its two levels' 15-bit weights straight from its λ ([`level_weights`]), with no
+//! level and its two levels' 15-bit weights straight from its λ ([`level_weights4`]), with no
 //! [`MipChoice`](crate::texture::MipChoice) made and none converted back to weights; then the quads read in runs that
 //! share their first level, two quads at a time where the CPU has AVX2
 //! (`avx2::quad_pairs`). A batch whose λ crosses an integer reads each run on its own
 //! pair of levels (the general path read such a batch quad by quad).
 //!
-//! The values are [`super::read_quads`]'s: `level_weights` is [`MipChoice::gl`](crate::texture::MipChoice::gl)'s choice
+//! The values are [`super::read_quads`]'s: `level_weights4` is, lane by lane, [`MipChoice::gl`](crate::texture::MipChoice::gl)'s choice
 //! for this filter pair followed by `sse2::first_weight` and `sse2::second_weight`, the same
 //! operations (tested on every kind of λ below), and each quad's read depends on its levels
 //! and weights alone, not on the quad it is paired with.
@@ -18,43 +18,52 @@ use super::super::QuadCoords;
 use super::sse2;
 use super::{texels_of, LEVEL_QUADS, ONE};
 
-/// The first level a trilinear read takes at λ `lod` (after the sampler's bias and clamps)
-/// on a texture whose last level is `last`, and the 15-bit weights of that level and the
-/// next: [`MipChoice::gl`](crate::texture::MipChoice::gl) of `LinearMipmapLinear` with a bilinear magnification, then
-/// `sse2::first_weight` and `sse2::second_weight` of the choice. A magnified quad (λ ≤ 0 or
-/// NaN) reads level 0 alone, a quad at the last level that level alone (second weight 0).
+/// Four quads' first levels and weights straight from their λ (one per lane, after the
+/// sampler's bias and clamps) on a texture whose last level is `last`: each lane's first
+/// level and that level's 15-bit weight (the second level's is `ONE` less it). The scalar
+/// rule's operations (`level_weights` in the tests) in lanes, so the same values (tested on
+/// every kind of λ below): `l − ⌊l⌋` with ⌊l⌋ the truncation (l > 0), and the weight
+/// rounded half away from zero as `f32::round` is compiled, `trunc(y + copysign(0.5⁻, y))`
+/// with y ≥ 0; a magnified or NaN lane level 0, weight `ONE`. (Lane by lane it was 27
+/// instructions a quad.)
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 #[must_use]
-pub(in super::super) fn level_weights(lod: f32, last: usize) -> (usize, [i32; 2]) {
-    if !(lod > 0.0) {
-        return (0, [ONE, 0]);
-    }
-    let l = lod.min(last as f32);
-    let d = l.floor();
-    let f = l - d;
-    // `first_weight`: f ∈ [0, 1), so its clamp changes nothing; where f = 0 (no blend) the
-    // first level takes ONE and the second 0, as `second_weight` gives without a blend.
-    // SAFETY: both are finite and in range (no saturating casts' compares): λ > 0 and not
-    // NaN, so `l` ∈ (0, last] and `d` an integer in [0, last]; f ∈ [0, 1), so the first
-    // weight is in [0, ONE].
-    let (d, wa) = unsafe {
-        (
-            d.to_int_unchecked::<u32>(),
-            ((1.0 - f) * ONE as f32).round().to_int_unchecked::<i32>(),
-        )
+pub(in super::super) fn level_weights4(lod: Vec4, last: usize) -> ([i32; 4], [i32; 4]) {
+    use std::arch::x86_64::{
+        __m128i, _mm_and_si128, _mm_andnot_si128, _mm_castps_si128, _mm_cmpgt_ps, _mm_cvtepi32_ps,
+        _mm_cvttps_epi32, _mm_or_si128, _mm_set1_epi32, _mm_setzero_ps,
     };
-    (d as usize, [wa, ONE - wa])
+    // SAFETY: SSE2 is part of x86_64.
+    unsafe {
+        let minified = _mm_castps_si128(_mm_cmpgt_ps(lod.into(), _mm_setzero_ps()));
+        let l = lod.min(Vec4::splat(last as f32));
+        // In range (l ∈ (0, last] in the lanes kept): the truncation is the floor.
+        let d = _mm_cvttps_epi32(l.into());
+        let f = l - Vec4::from(_mm_cvtepi32_ps(d));
+        let y = (Vec4::ONE - f) * ONE as f32;
+        let wa = _mm_cvttps_epi32((y + Vec4::splat(0.5f32.next_down())).into());
+        let keep = |x: __m128i, other: i32| {
+            _mm_or_si128(
+                _mm_and_si128(minified, x),
+                _mm_andnot_si128(minified, _mm_set1_epi32(other)),
+            )
+        };
+        let as_lanes = |x: __m128i| std::mem::transmute::<__m128i, [i32; 4]>(x);
+        (as_lanes(keep(d, 0)), as_lanes(keep(wa, ONE)))
+    }
 }
 
 /// Trilinear reads of a batch (at most [`LEVEL_QUADS`] quads): `out[i]` for `coords[i]`, its
-/// λ `lods[i]` (after the sampler's bias and clamps) and `masks[i]`, the values
+/// λ `lods[i]` (after the sampler's bias and clamps; `lods` padded to a multiple of four,
+/// the padding's λ any) and `masks[i]`, the values
 /// [`super::read_quads`] gives for the choices [`MipChoice::gl`](crate::texture::MipChoice::gl) makes of those λ with
 /// `LinearMipmapLinear` and a bilinear magnification. `false`, and nothing read, when this
 /// texture or sampler is not one this path handles.
 ///
 /// # Panics
-/// If `lods`, `masks` or `out` is shorter than `coords`, or `coords` is longer than
-/// [`LEVEL_QUADS`].
+/// If `masks` or `out` is shorter than `coords`, `lods` shorter than its length rounded up
+/// to a multiple of four, or `coords` is longer than [`LEVEL_QUADS`].
 #[inline(always)]
 pub(in super::super) fn read_trilinear(
     tex: &Texture2D,
@@ -68,14 +77,20 @@ pub(in super::super) fn read_trilinear(
         return false;
     };
     let n = coords.len();
-    assert!(n <= LEVEL_QUADS && lods.len() >= n && masks.len() >= n && out.len() >= n);
+    assert!(n <= LEVEL_QUADS && lods.len() >= n.next_multiple_of(4));
+    assert!(masks.len() >= n && out.len() >= n);
     #[cfg(target_arch = "x86_64")]
     {
         let last = tex.levels().len() - 1;
         let mut levels = [0usize; LEVEL_QUADS];
         let mut weights = [[0i32; 2]; LEVEL_QUADS];
-        for ((level, w), &lod) in levels.iter_mut().zip(&mut weights).zip(lods).take(n) {
-            (*level, *w) = level_weights(lod, last);
+        // Four quads' at a time (`lods` is long enough: asserted above).
+        for (k, lods) in lods.chunks_exact(4).take(n.div_ceil(4)).enumerate() {
+            let (d, wa) = level_weights4(Vec4::from_slice(lods), last);
+            for i in 0..4 {
+                levels[4 * k + i] = d[i] as usize;
+                weights[4 * k + i] = [wa[i], ONE - wa[i]];
+            }
         }
         let size = sse2::bpp(texels);
         let lanes = crate::cpu::level() == crate::cpu::Level::V3;
@@ -134,9 +149,35 @@ mod tests {
     use super::*;
     use crate::texture::{MagFilter, MinFilter, MipChoice};
 
-    /// `level_weights` against the general path's choice and weights, on λ of every kind:
-    /// magnified, NaN, integers, just above and below them, the last level and past it,
-    /// and many values in between.
+    /// The scalar rule [`level_weights4`] follows lane by lane: the first level a trilinear
+    /// read takes at λ `lod` (after the sampler's bias and clamps) on a texture whose last level is `last`, and the 15-bit weights of that level and the
+    /// next: [`MipChoice::gl`](crate::texture::MipChoice::gl) of `LinearMipmapLinear` with a bilinear magnification, then
+    /// `sse2::first_weight` and `sse2::second_weight` of the choice. A magnified quad (λ ≤ 0 or
+    /// NaN) reads level 0 alone, a quad at the last level that level alone (second weight 0).
+    fn level_weights(lod: f32, last: usize) -> (usize, [i32; 2]) {
+        if !(lod > 0.0) {
+            return (0, [ONE, 0]);
+        }
+        let l = lod.min(last as f32);
+        let d = l.floor();
+        let f = l - d;
+        // `first_weight`: f ∈ [0, 1), so its clamp changes nothing; where f = 0 (no blend) the
+        // first level takes ONE and the second 0, as `second_weight` gives without a blend.
+        // SAFETY: both are finite and in range (no saturating casts' compares): λ > 0 and not
+        // NaN, so `l` ∈ (0, last] and `d` an integer in [0, last]; f ∈ [0, 1), so the first
+        // weight is in [0, ONE].
+        let (d, wa) = unsafe {
+            (
+                d.to_int_unchecked::<u32>(),
+                ((1.0 - f) * ONE as f32).round().to_int_unchecked::<i32>(),
+            )
+        };
+        (d as usize, [wa, ONE - wa])
+    }
+
+    /// `level_weights` against the general path's choice and weights, and
+    /// `level_weights4` against it, on λ of every kind: magnified, NaN, integers, just above
+    /// and below them, the last level and past it, and many values in between.
     #[test]
     fn level_weights_are_the_choices_weights() {
         let mut lods = vec![
@@ -187,6 +228,18 @@ mod tests {
                     expected,
                     "λ {lod:e}, {levels} levels"
                 );
+            }
+            // Four at a time, each lane at every position among the others.
+            #[cfg(target_arch = "x86_64")]
+            for shift in 0..4 {
+                for four in lods[shift..].chunks_exact(4) {
+                    let (d, wa) = level_weights4(Vec4::from_slice(four), last);
+                    for i in 0..4 {
+                        let (level, w) = level_weights(four[i], last);
+                        let lanes = (d[i] as usize, [wa[i], ONE - wa[i]]);
+                        assert_eq!(lanes, (level, w), "λ {:e}, {levels} levels", four[i]);
+                    }
+                }
             }
         }
     }
