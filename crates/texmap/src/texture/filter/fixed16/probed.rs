@@ -60,8 +60,9 @@ impl<'t> ProbeReader<'t> {
     /// [`PREFETCH_BYTES`]: each covered pixel's first and last bilinear taps at its own
     /// coordinates (the centre of its probes, which spread along an axis from there), as
     /// [`super::prefetch_quads`] asks for a quad's (the four corners of the quad's taps
-    /// instead: 0.956× against 0.930× for `aniso5-area`, 1.035× against 0.989× for `ewa`). A batch asks for every quad's after planning them and
-    /// before reading any (`quads.rs`). The level is the reader's, looked up only when the
+    /// instead: 0.956× against 0.930× for `aniso5-area`, 1.035× against 0.989× for `ewa`).
+    /// A batch asks for every quad's after planning them and before reading any
+    /// (`quads.rs`). The level is the reader's, looked up only when the
     /// quad's is another (as for a read). Nothing is read or changed.
     #[inline(always)]
     pub(in super::super) fn prefetch(
