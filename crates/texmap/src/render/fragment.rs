@@ -55,36 +55,76 @@ impl FragmentShader for SceneShader<'_> {
     }
 }
 
-crate::cpu::dispatch! {
-    /// [`shade_batch_in`] at the CPU's level.
-    fn shade_batch(
-        shader: &SceneShader,
-        draw: u32,
-        quads: &[Quad],
-        out: &mut [[Vec4; 4]],
-        kept: &mut [u8],
-    ) => shade_batch_in, shade_batch_v3
-}
-
-/// The batch's colours (`FragmentShader::shade_batch`), compiled twice, for the CPU's level
-/// ([`crate::cpu`]).
-#[inline(always)]
-fn shade_batch_in(
+/// The batch's colours (`FragmentShader::shade_batch`): plain draws' and the others' in
+/// functions of their own, each compiled twice, for the CPU's level ([`crate::cpu`]). (One
+/// function held both, and every plain batch allocated and probed the general path's 41 KB
+/// of scratch: ten stack pages, 1.7 % of the trilinear plane's `perf` samples.)
+fn shade_batch(
     shader: &SceneShader,
     draw: u32,
     quads: &[Quad],
     out: &mut [[Vec4; 4]],
     kept: &mut [u8],
 ) {
-    shader.shade_batch_at(draw, quads, out, kept);
+    if shader.is_plain(&shader.draws[draw as usize]) {
+        plain_batch(shader, draw, quads, out, kept);
+    } else {
+        general_batch(shader, draw, quads, out, kept);
+    }
+}
+
+crate::cpu::dispatch! {
+    /// [`plain_batch_in`] at the CPU's level.
+    fn plain_batch(
+        shader: &SceneShader,
+        draw: u32,
+        quads: &[Quad],
+        out: &mut [[Vec4; 4]],
+        kept: &mut [u8],
+    ) => plain_batch_in, plain_batch_v3
+}
+
+crate::cpu::dispatch! {
+    /// [`general_batch_in`] at the CPU's level.
+    fn general_batch(
+        shader: &SceneShader,
+        draw: u32,
+        quads: &[Quad],
+        out: &mut [[Vec4; 4]],
+        kept: &mut [u8],
+    ) => general_batch_in, general_batch_v3
+}
+
+/// The colours of a batch of a plain draw ([`SceneShader::plain_batch_at`]).
+#[inline(always)]
+fn plain_batch_in(
+    shader: &SceneShader,
+    draw: u32,
+    quads: &[Quad],
+    out: &mut [[Vec4; 4]],
+    kept: &mut [u8],
+) {
+    shader.plain_batch_at(draw, quads, out, kept);
+}
+
+/// The colours of a batch of any other draw ([`SceneShader::general_batch_at`]).
+#[inline(always)]
+fn general_batch_in(
+    shader: &SceneShader,
+    draw: u32,
+    quads: &[Quad],
+    out: &mut [[Vec4; 4]],
+    kept: &mut [u8],
+) {
+    shader.general_batch_at(draw, quads, out, kept);
 }
 
 impl SceneShader<'_> {
-    /// [`shade_batch_in`]'s work, as a method of the shader whose draws it reads.
+    /// [`plain_batch_in`]'s work, as a method of the shader whose draws it reads.
     #[inline(always)]
-    fn shade_batch_at(&self, draw: u32, quads: &[Quad], out: &mut [[Vec4; 4]], kept: &mut [u8]) {
+    fn plain_batch_at(&self, draw: u32, quads: &[Quad], out: &mut [[Vec4; 4]], kept: &mut [u8]) {
         let d = &self.draws[draw as usize];
-        match d.texture.as_ref().filter(|_| self.is_plain(d)) {
+        match d.texture.as_ref() {
             // Plain textured quads: the lighting of every quad, then every texture read
             // (staged across quads), then the colours.
             Some(t) => {
@@ -114,57 +154,61 @@ impl SceneShader<'_> {
                     texels_colors(d, quads, out, kept, |i, _| &factors[i]);
                 }
             }
-            None if self.is_plain(d) => {
+            None => {
                 for ((quad, o), k) in quads.iter().zip(out.iter_mut()).zip(kept.iter_mut()) {
                     *k = self.shade(draw, quad, o);
                 }
             }
-            // Every texture read of the batch first, map by map, then each quad's colours.
-            None => {
-                let mut reads = [QuadReads::default(); BATCH];
-                // Parallax self-shadowing asked for only by draws whose map casts it (most
-                // have none): one test a batch, not a call a quad.
-                let self_shadows = d.parallax.as_ref().is_some_and(|p| p.shadows);
-                // Plain metallic-roughness quads (`DrawInfo::mr_quads`, as `shade_read` takes
-                // them) two at a time in eight lanes, where the CPU has AVX2.
-                let pairs = cfg!(target_arch = "x86_64")
-                    && crate::cpu::level() == crate::cpu::Level::V3
-                    && d.mr_quads()
-                    && !self_shadows;
-                // Parallax's moved copies of a batch (only for draws with parallax).
-                let mut moved = quads
-                    .first()
-                    .filter(|_| d.parallax.is_some())
-                    .map(|q| [*q; BATCH]);
-                for ((quads, out), kept) in quads
-                    .chunks(BATCH)
-                    .zip(out.chunks_mut(BATCH))
-                    .zip(kept.chunks_mut(BATCH))
-                {
-                    // Parallax moves the uvs before any map is read.
-                    let shifted = parallax::shifted(d, quads, self.viewer, moved.as_mut());
-                    read_batch(d, shifted, &mut reads[..shifted.len()]);
-                    if pairs {
-                        // SAFETY: the CPU has x86-64-v3 (`pairs` asked `cpu::level`).
-                        #[cfg(target_arch = "x86_64")]
-                        unsafe {
-                            self.shade_mr_batch(d, shifted, &reads, out, kept);
-                        }
-                        continue;
-                    }
-                    for ((((quad, o), k), r), orig) in shifted
-                        .iter()
-                        .zip(out.iter_mut())
-                        .zip(kept.iter_mut())
-                        .zip(&reads)
-                        .zip(quads)
-                    {
-                        let ss = self_shadows
-                            .then(|| self.self_shadow(d, orig, quad))
-                            .flatten();
-                        *k = self.shade_read(d, quad, r, o, ss.as_ref());
-                    }
+        }
+    }
+
+    /// [`general_batch_in`]'s work, as a method of the shader whose draws it reads.
+    #[inline(always)]
+    fn general_batch_at(&self, draw: u32, quads: &[Quad], out: &mut [[Vec4; 4]], kept: &mut [u8]) {
+        let d = &self.draws[draw as usize];
+        // Every texture read of the batch first, map by map, then each quad's colours.
+        let mut reads = [QuadReads::default(); BATCH];
+        // Parallax self-shadowing asked for only by draws whose map casts it (most
+        // have none): one test a batch, not a call a quad.
+        let self_shadows = d.parallax.as_ref().is_some_and(|p| p.shadows);
+        // Plain metallic-roughness quads (`DrawInfo::mr_quads`, as `shade_read` takes
+        // them) two at a time in eight lanes, where the CPU has AVX2.
+        let pairs = cfg!(target_arch = "x86_64")
+            && crate::cpu::level() == crate::cpu::Level::V3
+            && d.mr_quads()
+            && !self_shadows;
+        // Parallax's moved copies of a batch (only for draws with parallax).
+        let mut moved = quads
+            .first()
+            .filter(|_| d.parallax.is_some())
+            .map(|q| [*q; BATCH]);
+        for ((quads, out), kept) in quads
+            .chunks(BATCH)
+            .zip(out.chunks_mut(BATCH))
+            .zip(kept.chunks_mut(BATCH))
+        {
+            // Parallax moves the uvs before any map is read.
+            let shifted = parallax::shifted(d, quads, self.viewer, moved.as_mut());
+            read_batch(d, shifted, &mut reads[..shifted.len()]);
+            if pairs {
+                // SAFETY: the CPU has x86-64-v3 (`pairs` asked `cpu::level`).
+                #[cfg(target_arch = "x86_64")]
+                unsafe {
+                    self.shade_mr_batch(d, shifted, &reads, out, kept);
                 }
+                continue;
+            }
+            for ((((quad, o), k), r), orig) in shifted
+                .iter()
+                .zip(out.iter_mut())
+                .zip(kept.iter_mut())
+                .zip(&reads)
+                .zip(quads)
+            {
+                let ss = self_shadows
+                    .then(|| self.self_shadow(d, orig, quad))
+                    .flatten();
+                *k = self.shade_read(d, quad, r, o, ss.as_ref());
             }
         }
     }
