@@ -330,41 +330,13 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
         // One sample a pixel: the four pixels' tests at once (quad_edges.rs).
         let (quad_step_x, quad_step_y) = (QuadStep::new(step_x), QuadStep::new(step_y));
         let mut quad_row = QuadEdges::new(edges.e, edges.dx, edges.dy);
-        let mut qy = y0;
-        while qy <= y1 {
-            let mut e = row;
-            let mut quad_e = quad_row;
-            let mut qx = x0;
-            let valid_y = if qy + 1 < rect.y1 as i32 {
-                0b1111
-            } else {
-                0b0011
-            };
-            while qx <= x1 {
-                // Coverage of the four pixels' samples.
-                let mut cov = [all_samples; 4];
-                let mut pmask = 0b1111u8;
-                if S == 1 && !full {
-                    pmask = quad_e.covered();
-                    cov = std::array::from_fn(|j| u32::from(pmask >> j) & 1);
-                }
-                for j in 0..4 {
-                    if full || S == 1 {
-                        break;
-                    }
-                    if j == 0 {
-                        pmask = 0;
-                    }
-                    let p = [e[0] + pix[j][0], e[1] + pix[j][1], e[2] + pix[j][2]];
-                    let mut c = 0u32;
-                    for (s, o) in soff.iter().enumerate() {
-                        if (p[0] + o[0]) | (p[1] + o[1]) | (p[2] + o[2]) >= 0 {
-                            c |= 1 << s;
-                        }
-                    }
-                    cov[j] = c;
-                    pmask |= u8::from(c != 0) << j;
-                }
+        // Each quad's depth test, varyings and batch: `pmask` the covered pixels, `cov` their
+        // samples (kept apart from the edge walk below, so that a rectangle inside every
+        // edge is walked without stepping them; a macro, as a closure it was a call a quad).
+        macro_rules! visit {
+            ($qx:expr, $qy:expr, $valid_y:expr, $pmask:expr, $cov:expr) => {{
+                let (qx, qy, valid_y, mut pmask, cov): (i32, i32, u8, u8, &[u32; 4]) =
+                    ($qx, $qy, $valid_y, $pmask, $cov);
                 let valid_x = if qx + 1 < rect.x1 as i32 {
                     0b1111
                 } else {
@@ -466,11 +438,58 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
                         }
                     }
                 }
-                for k in 0..3 {
-                    e[k] += step_x[k];
+            }};
+        }
+        let mut qy = y0;
+        while qy <= y1 {
+            let valid_y = if qy + 1 < rect.y1 as i32 {
+                0b1111
+            } else {
+                0b0011
+            };
+            if S == 1 && full {
+                // Inside every edge: no tests, and no edges to step.
+                let mut qx = x0;
+                while qx <= x1 {
+                    visit!(qx, qy, valid_y, 0b1111, &[all_samples; 4]);
+                    qx += 2;
                 }
-                quad_e.step(&quad_step_x);
-                qx += 2;
+            } else {
+                let mut e = row;
+                let mut quad_e = quad_row;
+                let mut qx = x0;
+                while qx <= x1 {
+                    // Coverage of the four pixels' samples.
+                    let mut cov = [all_samples; 4];
+                    let mut pmask = 0b1111u8;
+                    if S == 1 && !full {
+                        pmask = quad_e.covered();
+                        cov = std::array::from_fn(|j| u32::from(pmask >> j) & 1);
+                    }
+                    for j in 0..4 {
+                        if full || S == 1 {
+                            break;
+                        }
+                        if j == 0 {
+                            pmask = 0;
+                        }
+                        let p = [e[0] + pix[j][0], e[1] + pix[j][1], e[2] + pix[j][2]];
+                        let mut c = 0u32;
+                        for (s, o) in soff.iter().enumerate() {
+                            if (p[0] + o[0]) | (p[1] + o[1]) | (p[2] + o[2]) >= 0 {
+                                c |= 1 << s;
+                            }
+                        }
+                        cov[j] = c;
+                        pmask |= u8::from(c != 0) << j;
+                    }
+                    visit!(qx, qy, valid_y, pmask, &cov);
+                    for k in 0..3 {
+                        e[k] += step_x[k];
+                    }
+                    quad_e.step(&quad_step_x);
+                    qx += 2;
+                }
             }
             for k in 0..3 {
                 row[k] += step_y[k];
