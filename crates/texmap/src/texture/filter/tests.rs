@@ -691,6 +691,13 @@ fn ewa_reads_round_footprints_exactly() {
     }
 }
 
+/// `far_quads`' limit without a bias is the one its `exp2` gives.
+#[test]
+fn the_far_limit_without_a_bias_is_its_power_of_two() {
+    use super::quads::{FAR_LIMIT, FAR_LOD};
+    assert_eq!((2.0 * FAR_LOD).exp2(), FAR_LIMIT);
+}
+
 proptest! {
     /// The quads whose texels a bilinear read on level 0 asks for first are those whose λ,
     /// biased and clamped by the sampler, is over `FAR_LOD`: the logarithm-free test against
