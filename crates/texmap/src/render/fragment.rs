@@ -56,9 +56,10 @@ impl FragmentShader for SceneShader<'_> {
 }
 
 /// The batch's colours (`FragmentShader::shade_batch`): plain draws' and the others' in
-/// functions of their own, each compiled twice, for the CPU's level ([`crate::cpu`]). (One
-/// function held both, and every plain batch allocated and probed the general path's 41 KB
-/// of scratch: ten stack pages, 1.7 % of the trilinear plane's `perf` samples.)
+/// functions of their own ([`batch`]'s two instances), each compiled twice, for the CPU's
+/// level ([`crate::cpu`]). (One function held both, and every plain batch allocated and
+/// probed the general path's 41 KB of scratch: ten stack pages, 1.7 % of the trilinear
+/// plane's `perf` samples.)
 fn shade_batch(
     shader: &SceneShader,
     draw: u32,
@@ -67,60 +68,42 @@ fn shade_batch(
     kept: &mut [u8],
 ) {
     if shader.is_plain(&shader.draws[draw as usize]) {
-        plain_batch(shader, draw, quads, out, kept);
+        batch::<true>(shader, draw, quads, out, kept);
     } else {
-        general_batch(shader, draw, quads, out, kept);
+        batch::<false>(shader, draw, quads, out, kept);
     }
 }
 
 crate::cpu::dispatch! {
-    /// [`plain_batch_in`] at the CPU's level.
-    fn plain_batch(
+    /// [`batch_in`] at the CPU's level.
+    fn batch<const PLAIN: bool>(
         shader: &SceneShader,
         draw: u32,
         quads: &[Quad],
         out: &mut [[Vec4; 4]],
         kept: &mut [u8],
-    ) => plain_batch_in, plain_batch_v3
+    ) => batch_in, batch_v3
 }
 
-crate::cpu::dispatch! {
-    /// [`general_batch_in`] at the CPU's level.
-    fn general_batch(
-        shader: &SceneShader,
-        draw: u32,
-        quads: &[Quad],
-        out: &mut [[Vec4; 4]],
-        kept: &mut [u8],
-    ) => general_batch_in, general_batch_v3
-}
-
-/// The colours of a batch of a plain draw ([`SceneShader::plain_batch_at`]).
+/// The colours of a batch of a plain draw ([`SceneShader::plain_batch_at`]) or, not
+/// `PLAIN`, of any other ([`SceneShader::general_batch_at`]).
 #[inline(always)]
-fn plain_batch_in(
+fn batch_in<const PLAIN: bool>(
     shader: &SceneShader,
     draw: u32,
     quads: &[Quad],
     out: &mut [[Vec4; 4]],
     kept: &mut [u8],
 ) {
-    shader.plain_batch_at(draw, quads, out, kept);
-}
-
-/// The colours of a batch of any other draw ([`SceneShader::general_batch_at`]).
-#[inline(always)]
-fn general_batch_in(
-    shader: &SceneShader,
-    draw: u32,
-    quads: &[Quad],
-    out: &mut [[Vec4; 4]],
-    kept: &mut [u8],
-) {
-    shader.general_batch_at(draw, quads, out, kept);
+    if PLAIN {
+        shader.plain_batch_at(draw, quads, out, kept);
+    } else {
+        shader.general_batch_at(draw, quads, out, kept);
+    }
 }
 
 impl SceneShader<'_> {
-    /// [`plain_batch_in`]'s work, as a method of the shader whose draws it reads.
+    /// [`batch_in`]'s work for a plain draw, as a method of the shader whose draws it reads.
     #[inline(always)]
     fn plain_batch_at(&self, draw: u32, quads: &[Quad], out: &mut [[Vec4; 4]], kept: &mut [u8]) {
         let d = &self.draws[draw as usize];
@@ -162,7 +145,7 @@ impl SceneShader<'_> {
         }
     }
 
-    /// [`general_batch_in`]'s work, as a method of the shader whose draws it reads.
+    /// [`batch_in`]'s work for any other draw.
     #[inline(always)]
     fn general_batch_at(&self, draw: u32, quads: &[Quad], out: &mut [[Vec4; 4]], kept: &mut [u8]) {
         let d = &self.draws[draw as usize];
