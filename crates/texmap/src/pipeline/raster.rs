@@ -462,7 +462,8 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
                     // Coverage of the four pixels' samples.
                     let mut cov = [all_samples; 4];
                     let mut pmask = 0b1111u8;
-                    if S == 1 && !full {
+                    // (One sample a pixel here is a rectangle not inside every edge.)
+                    if S == 1 {
                         pmask = quad_e.covered();
                         cov = std::array::from_fn(|j| u32::from(pmask >> j) & 1);
                     }

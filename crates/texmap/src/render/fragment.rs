@@ -58,7 +58,7 @@ impl FragmentShader for SceneShader<'_> {
 /// The batch's colours (`FragmentShader::shade_batch`): plain draws' and the others' in
 /// functions of their own ([`batch`]'s two instances), each compiled twice, for the CPU's
 /// level ([`crate::cpu`]). (One function held both, and every plain batch allocated and
-/// probed the general path's 41 KB of scratch: ten stack pages, 1.7 % of the trilinear
+/// probed the general path's 41 KB of scratch: ten stack pages, 1.6 % of the trilinear
 /// plane's `perf` samples.)
 fn shade_batch(
     shader: &SceneShader,
