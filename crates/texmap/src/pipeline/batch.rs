@@ -78,14 +78,15 @@ impl Batch {
         self.len == BATCH
     }
 
-    /// Shades the waiting quads of draw `call` and writes their colours and depths.
+    /// Shades the waiting quads of draw `call` and writes their colours and, with
+    /// `write_depth` (the draw writes depth and a later primitive of the tile may read it),
+    /// their depths.
     pub(super) fn flush<const S: usize>(
         &mut self,
         ctx: &RasterContext,
         call: u32,
         zoff: &[f32; S],
-        color: &mut [Vec4],
-        depth: &mut [f32],
+        (color, depth, write_depth): (&mut [Vec4], &mut [f32], bool),
         stats: &mut TileStats,
     ) {
         let n = std::mem::take(&mut self.len);
@@ -93,51 +94,77 @@ impl Batch {
             return;
         }
         let state = ctx.calls[call as usize].state;
-        let tile = super::bin::TILE as usize;
         ctx.shader.shade_batch(
             call,
             &self.quads[..n],
             &mut self.colors[..n],
             &mut self.kept[..n],
         );
-        for ((quad, p), (colors, &kept)) in self.quads[..n]
-            .iter()
-            .zip(&self.pending[..n])
-            .zip(self.colors[..n].iter().zip(&self.kept[..n]))
-        {
-            let shaded = u64::from(quad.mask.count_ones());
-            stats.pixels_shaded += shaded;
-            stats.texture_samples += shaded * u64::from(state.texture_reads);
-            let kept = kept & quad.mask;
-            if S == 1 && kept == 0b1111 && !state.blend {
-                // The common quad: all four pixels written, one sample each, without a test
-                // per pixel.
-                let i = p.ly * tile + p.lx;
-                let c = &mut color[i..i + tile + 2];
-                c[..2].copy_from_slice(&colors[..2]);
-                c[tile..].copy_from_slice(&colors[2..]);
-                if state.depth_write {
-                    let d = &mut depth[i..i + tile + 2];
-                    d[..2].copy_from_slice(&p.zp[..2]);
-                    d[tile..].copy_from_slice(&p.zp[2..]);
-                }
+        let writes = (color, depth, write_depth, state.blend);
+        let shaded = write_batch::<S>(self, n, zoff, writes);
+        stats.pixels_shaded += shaded;
+        stats.texture_samples += shaded * u64::from(state.texture_reads);
+    }
+}
+
+crate::cpu::dispatch! {
+    /// [`write_batch_in`] at the CPU's level (a function of its own: inlined into the
+    /// raster's loop, its registers spilled there).
+    fn write_batch<const S: usize>(
+        batch: &Batch,
+        n: usize,
+        zoff: &[f32; S],
+        writes: (&mut [Vec4], &mut [f32], bool, bool),
+    ) -> u64 => write_batch_in, write_batch_v3
+}
+
+/// Writes the first `n` shaded quads of `batch` into the tile's colours (blended with
+/// `blend`) and, with `write_depth`, depths; returns the pixels shaded.
+#[inline(always)]
+fn write_batch_in<const S: usize>(
+    batch: &Batch,
+    n: usize,
+    zoff: &[f32; S],
+    (color, depth, write_depth, blend): (&mut [Vec4], &mut [f32], bool, bool),
+) -> u64 {
+    let tile = super::bin::TILE as usize;
+    let mut shaded = 0;
+    for ((quad, p), (colors, &kept)) in batch.quads[..n]
+        .iter()
+        .zip(&batch.pending[..n])
+        .zip(batch.colors[..n].iter().zip(&batch.kept[..n]))
+    {
+        shaded += u64::from(quad.mask.count_ones());
+        let kept = kept & quad.mask;
+        if S == 1 && kept == 0b1111 && !blend {
+            // The common quad: all four pixels written, one sample each, without a test
+            // per pixel.
+            let i = p.ly * tile + p.lx;
+            let c = &mut color[i..i + tile + 2];
+            c[..2].copy_from_slice(&colors[..2]);
+            c[tile..].copy_from_slice(&colors[2..]);
+            if write_depth {
+                let d = &mut depth[i..i + tile + 2];
+                d[..2].copy_from_slice(&p.zp[..2]);
+                d[tile..].copy_from_slice(&p.zp[2..]);
+            }
+            continue;
+        }
+        for j in 0..4 {
+            if kept & (1 << j) == 0 {
                 continue;
             }
-            for j in 0..4 {
-                if kept & (1 << j) == 0 {
-                    continue;
-                }
-                let (x, y) = (p.lx + (j & 1), p.ly + (j >> 1));
-                let base = (y * tile + x) * S;
-                for s in 0..S {
-                    if S == 1 || p.pass[j] & (1 << s) != 0 {
-                        over(&mut color[base + s], colors[j], state.blend);
-                        if state.depth_write {
-                            depth[base + s] = p.zp[j] + zoff[s];
-                        }
+            let (x, y) = (p.lx + (j & 1), p.ly + (j >> 1));
+            let base = (y * tile + x) * S;
+            for s in 0..S {
+                if S == 1 || p.pass[j] & (1 << s) != 0 {
+                    over(&mut color[base + s], colors[j], blend);
+                    if write_depth {
+                        depth[base + s] = p.zp[j] + zoff[s];
                     }
                 }
             }
         }
     }
+    shaded
 }

@@ -253,6 +253,11 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
         let call = &ctx.calls[prim.call as usize];
         let state = call.state;
         let depth_test = state.depth_test && owned != Some(n);
+        // The tile's depths stay in the tile (only colour is resolved): the last primitive
+        // walked writes depths nothing reads, and, not testing either (an owned tile's),
+        // needs none.
+        let write_depth = state.depth_write && n + 1 < prims.len();
+        let need_z = PRE || S > 1 || depth_test || write_depth;
         let nearest = covered.is_some() && prepassed(ctx, pi);
         if PRE && !nearest {
             continue;
@@ -275,8 +280,7 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
                     prim,
                     v,
                     z,
-                    color,
-                    depth,
+                    (color, depth, write_depth),
                     &mut planes,
                     &mut batch,
                     stats,
@@ -367,8 +371,12 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
                     let fy = (qy - rect.y0 as i32) as f32;
                     let lx = (qx - rect.x0 as i32) as usize;
                     let ly = (qy - rect.y0 as i32) as usize;
-                    let z0 = pl.z.at(fx, fy);
-                    let zp = [z0, z0 + pl.z.dx, z0 + pl.z.dy, z0 + pl.z.dx + pl.z.dy];
+                    let zp = if need_z {
+                        let z0 = pl.z.at(fx, fy);
+                        [z0, z0 + pl.z.dx, z0 + pl.z.dy, z0 + pl.z.dx + pl.z.dy]
+                    } else {
+                        [0.0; 4]
+                    };
                     let mut pass = [0u32; 4];
                     let mut qmask = 0u8;
                     if PRE {
@@ -434,7 +442,8 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
                     if qmask != 0 {
                         let p = Pending { lx, ly, pass, zp };
                         if batch.push(prim, qmask, p, rect, pl) {
-                            batch.flush::<S>(ctx, prim.call, &zoff, color, depth, stats);
+                            let tile_buf = (&mut *color, &mut *depth, write_depth);
+                            batch.flush::<S>(ctx, prim.call, &zoff, tile_buf, stats);
                         }
                     }
                 }
@@ -499,7 +508,8 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
             qy += 2;
         }
         if !PRE {
-            batch.flush::<S>(ctx, prim.call, &zoff, color, depth, stats);
+            let tile_buf = (&mut *color, &mut *depth, write_depth);
+            batch.flush::<S>(ctx, prim.call, &zoff, tile_buf, stats);
         }
     }
 }
@@ -535,8 +545,7 @@ fn shade_kept(
     prim: &Prim,
     v: [&PostVertex; 3],
     kept: Kept,
-    color: &mut [Vec4],
-    depth: &mut [f32],
+    (color, depth, write_depth): (&mut [Vec4], &mut [f32], bool),
     planes: &mut Planes,
     batch: &mut Batch,
     stats: &mut TileStats,
@@ -582,10 +591,11 @@ fn shade_kept(
             zp: q.zp,
         };
         if batch.push(prim, qmask, p, rect, planes) {
-            batch.flush::<1>(ctx, prim.call, &zoff, color, depth, stats);
+            let tile_buf = (&mut *color, &mut *depth, write_depth);
+            batch.flush::<1>(ctx, prim.call, &zoff, tile_buf, stats);
         }
     }
-    batch.flush::<1>(ctx, prim.call, &zoff, color, depth, stats);
+    batch.flush::<1>(ctx, prim.call, &zoff, (color, depth, write_depth), stats);
 }
 
 #[cfg(test)]

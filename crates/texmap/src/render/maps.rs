@@ -60,6 +60,28 @@ impl BatchCoords {
     }
 }
 
+crate::cpu::dispatch! {
+    /// [`batch_coords_in`] at the CPU's level (called once a batch by [`MapRead::batch`],
+    /// which the batch's own x86-64-v3 copy does not inline: at the baseline level the loop
+    /// was 36 instructions a quad).
+    fn batch_coords(read: &MapRead, quads: &[Quad], b: &mut BatchCoords) => batch_coords_in,
+        batch_coords_v3
+}
+
+/// The coordinates and masks of `quads` read by `read`, written to `b`.
+///
+/// # Panics
+/// If `quads` is longer than [`BATCH`].
+#[inline(always)]
+fn batch_coords_in(read: &MapRead, quads: &[Quad], b: &mut BatchCoords) {
+    assert!(quads.len() <= BATCH);
+    for ((c, m), q) in b.coords.iter_mut().zip(&mut b.masks).zip(quads) {
+        c.write(read.coords(q));
+        *m = q.mask;
+    }
+    b.n = quads.len();
+}
+
 // A batch of the rasterizer fits one staged read.
 const _: () = assert!(BATCH <= QUADS_STAGED);
 
@@ -141,18 +163,13 @@ impl<'a> MapRead<'a> {
         }
     }
 
-    /// The coordinates and masks of `quads`, written to `b`.
+    /// The coordinates and masks of `quads`, written to `b` ([`batch_coords`]).
     ///
     /// # Panics
     /// If `quads` is longer than [`BATCH`].
     #[inline(always)]
     fn batch(&self, quads: &[Quad], b: &mut BatchCoords) {
-        assert!(quads.len() <= BATCH);
-        for ((c, m), q) in b.coords.iter_mut().zip(&mut b.masks).zip(quads) {
-            c.write(self.coords(q));
-            *m = q.mask;
-        }
-        b.n = quads.len();
+        batch_coords(self, quads, b);
     }
 
     /// Whether [`MapRead::begin`] can request texels ahead of the reads: an image (not a
