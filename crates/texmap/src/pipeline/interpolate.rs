@@ -164,9 +164,21 @@ impl Planes {
     /// `(x + (j & 1), y + (j >> 1))`.
     #[inline]
     pub fn quad(&self, x: f32, y: f32, out: &mut [Vec4; MAX_VARYINGS]) {
+        // A uv set alone (textured draws lit once or unlit) with its count known: the loop
+        // over a count read at run time was a third of the quad's interpolation.
+        if self.n == 2 {
+            self.quad_first::<2>(x, y, out);
+        } else {
+            self.quad_first::<MAX_VARYINGS>(x, y, out);
+        }
+    }
+
+    /// [`Planes::quad`] of the first `N.min(self.n)` varyings.
+    #[inline(always)]
+    fn quad_first<const N: usize>(&self, x: f32, y: f32, out: &mut [Vec4; MAX_VARYINGS]) {
         // Lane j adds dx when j & 1, then dy when j >> 1 (pixel 3: (b + dx) + dy).
         let along = |p: &Plane, [sx, sy]: [Vec4; 2]| Vec4::splat(p.at(x, y)) + sx + sy;
-        let n = self.n.min(MAX_VARYINGS);
+        let n = self.n.min(N);
         let (planes, steps) = (&self.a[..n], &self.steps[1..=n]);
         if self.perspective {
             let w = Vec4::ONE / along(&self.q, self.steps[0]).max(Vec4::splat(f32::MIN_POSITIVE));
