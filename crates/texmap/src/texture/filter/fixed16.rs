@@ -43,21 +43,23 @@ use super::QuadCoords;
 /// The largest 15-bit weight: a read's weights sum to it.
 const ONE: i32 = 32767;
 
-/// How a texture's texels enter the fixed-point sums.
+/// How a texture's texels enter the fixed-point sums. (One word: the RGBA8 widening is
+/// the texture's own, lent. Held by value, its 17 bytes of fields and 7 of padding were
+/// copied at every call that passes it, the padding by two overlapping moves.)
 #[derive(Clone, Copy)]
-enum Texels {
+enum Texels<'t> {
     /// 16-bit linear premultiplied ([`super::super::Storage::Linear16`]): loaded as they are.
     Linear16,
     /// RGBA8 ([`super::super::Storage::Rgba8`]): each channel widened to 16-bit linear (an sRGB
     /// code through a 256-entry table, a linear one as `c · 257`), colour times alpha unless
     /// the texture is opaque.
-    Rgba8(Rgba8Texels),
+    Rgba8(&'t Rgba8Texels),
 }
 
 /// How these reads take `tex`'s texels through `s`, when they serve it: the default storage
 /// or [`super::super::Storage::Rgba8`], tiled, repeat or clamp to edge on both axes.
 #[inline]
-fn texels_of(tex: &Texture2D, s: &Sampler) -> Option<Texels> {
+fn texels_of<'t>(tex: &'t Texture2D, s: &Sampler) -> Option<Texels<'t>> {
     let wrap = |w: Wrap| matches!(w, Wrap::Repeat | Wrap::ClampToEdge);
     if tex.layout() != Layout::Tiled4x4 || !wrap(s.wrap_u) || !wrap(s.wrap_v) {
         return None;
@@ -102,7 +104,7 @@ pub(super) const MAX_SHARED: usize = 5;
 /// all its quads), so the reads only index them.
 pub(super) struct Shared<'a> {
     count: usize,
-    texels: [Texels; MAX_SHARED],
+    texels: [Texels<'a>; MAX_SHARED],
     levels: Vec<SharedLevel<'a>>,
 }
 

@@ -488,8 +488,8 @@ impl Texture2D {
 
     /// For a texture held as [`Storage::Rgba8`], how its texels widen to 16-bit linear.
     #[inline]
-    pub(crate) fn rgba8_texels(&self) -> Option<Rgba8Texels> {
-        self.rgba8
+    pub(crate) fn rgba8_texels(&self) -> Option<&Rgba8Texels> {
+        self.rgba8.as_ref()
     }
     /// The colour space the stored values are in.
     #[must_use]

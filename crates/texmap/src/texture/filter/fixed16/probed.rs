@@ -18,7 +18,7 @@ use super::{texels_of, Probe, Texels};
 /// A batch's reader of probed quads on one texture.
 pub(in super::super) struct ProbeReader<'t> {
     tex: &'t Texture2D,
-    texels: Texels,
+    texels: Texels<'t>,
     /// The levels last read first and second, with their indices.
     #[cfg(target_arch = "x86_64")]
     levels: [Option<(usize, Level<'t>)>; 2],

@@ -193,7 +193,7 @@ pub(super) type Level<'a> = (LevelRef<'a>, &'a [u8], u32);
 
 /// `tex`'s level `index` as [`probes_on`] reads it.
 #[inline(always)]
-pub(super) fn level_of(tex: &Texture2D, texels: Texels, index: usize) -> Level<'_> {
+pub(super) fn level_of<'t>(tex: &'t Texture2D, texels: Texels, index: usize) -> Level<'t> {
     let lv = tex.level(index);
     let (data, tiles_x) = lv.tiled_texels(bpp(texels));
     (lv, data, tiles_x)
