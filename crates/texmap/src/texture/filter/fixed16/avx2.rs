@@ -13,12 +13,15 @@
 //! calls them.
 
 use std::arch::x86_64::{
-    __m256, __m256i, _mm256_add_epi32, _mm256_add_ps, _mm256_and_si256, _mm256_andnot_si256,
-    _mm256_cmpeq_epi32, _mm256_cvtepi32_ps, _mm256_cvtps_epi32, _mm256_cvttps_epi32,
-    _mm256_floor_ps, _mm256_max_ps, _mm256_min_epu32, _mm256_min_ps, _mm256_mul_ps,
-    _mm256_mullo_epi32, _mm256_or_si256, _mm256_set1_epi32, _mm256_set1_ps, _mm256_set_m128,
-    _mm256_set_m128i, _mm256_setzero_ps, _mm256_slli_epi32, _mm256_srli_epi32, _mm256_sub_epi32,
-    _mm256_sub_ps, _mm_set1_epi32,
+    __m128, __m128i, __m256, __m256i, _mm256_add_epi32, _mm256_add_ps, _mm256_and_si256,
+    _mm256_andnot_si256, _mm256_castsi128_si256, _mm256_cmpeq_epi32, _mm256_cvtepi32_ps,
+    _mm256_cvtps_epi32, _mm256_cvttps_epi32, _mm256_floor_ps, _mm256_max_ps, _mm256_min_epu32,
+    _mm256_min_ps, _mm256_mul_ps, _mm256_mullo_epi32, _mm256_or_si256, _mm256_permutevar8x32_epi32,
+    _mm256_set1_epi32, _mm256_set1_ps, _mm256_set_m128, _mm256_set_m128i, _mm256_setr_epi32,
+    _mm256_setzero_ps, _mm256_slli_epi32, _mm256_srli_epi32, _mm256_sub_epi32, _mm256_sub_ps,
+    _mm_add_ps, _mm_and_ps, _mm_castsi128_ps, _mm_cmpgt_epi32, _mm_cvtepi32_ps, _mm_cvttps_epi32,
+    _mm_loadu_si128, _mm_movemask_ps, _mm_mul_ps, _mm_or_ps, _mm_set1_epi32, _mm_set1_ps,
+    _mm_setzero_si128, _mm_shuffle_epi32, _mm_sub_epi32,
 };
 
 use std::mem::MaybeUninit;
@@ -87,11 +90,16 @@ pub(super) unsafe fn probe_quad_inlined(
     let mut rest = probes;
     let (first, second) = levels;
     while let [p, q, tail @ ..] = rest {
+        // Both probes' weights on the first level at once (`sse2::probe_first_weight`'s
+        // rounding in two lanes), and what they leave the second.
+        // SAFETY: `p` and `q` are 16 contiguous bytes of `repr(C)` probes, weights in lanes
+        // 1 and 3; the CPU has AVX2 (this function's contract).
+        let (wa, wb) = unsafe {
+            let w = _mm_shuffle_epi32::<0b11_01_11_01>(_mm_loadu_si128(rest.as_ptr().cast()));
+            let wa = round_away(_mm_mul_ps(_mm_cvtepi32_ps(w), _mm_set1_ps(fa)));
+            (wa, _mm_sub_epi32(w, wa))
+        };
         rest = tail;
-        let wa = [
-            sse2::probe_first_weight(fa, p.weight),
-            sse2::probe_first_weight(fa, q.weight),
-        ];
         let pu = [u + Vec4::splat(step.x * p.t), u + Vec4::splat(step.x * q.t)];
         let pv = [v + Vec4::splat(step.y * p.t), v + Vec4::splat(step.y * q.t)];
         // Each level by its own call, spelled out (as a loop over the two, its iterator's
@@ -100,7 +108,6 @@ pub(super) unsafe fn probe_quad_inlined(
         unsafe {
             level_pair(first, texels, s, (pu, pv), wa, &mut acc);
             if let Some(second) = second {
-                let wb = [p.weight - wa[0], q.weight - wa[1]];
                 level_pair(second, texels, s, (pu, pv), wb, &mut acc);
             }
         }
@@ -259,20 +266,54 @@ unsafe fn level_pair(
     texels: Texels,
     s: &Sampler,
     (u, v): ([Vec4; 2], [Vec4; 2]),
-    w: [i32; 2],
+    w: __m128i,
     acc: &mut impl PairSums,
 ) {
-    if w[0] <= 0 && w[1] <= 0 {
+    // SAFETY: the CPU has AVX2 (this function's contract).
+    let read = unsafe { _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(w, zero128()))) & 3 };
+    if read == 0 {
         return;
     }
-    // SAFETY: the CPU has AVX2 (this function's contract).
-    let taps = unsafe { taps2(lv, tiles_x, s, u, v, w) };
+    // SAFETY: as above.
+    let taps = unsafe {
+        let total = _mm256_permutevar8x32_epi32(
+            _mm256_castsi128_si256(w),
+            _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1),
+        );
+        taps_in(&dims(lv, tiles_x), s, u, v, total)
+    };
     // Spelled out for the two points (as a loop it stayed one, its sums kept in memory).
-    if w[0] > 0 {
+    if read & 1 != 0 {
         unsafe { gather(data, texels, &taps[0], acc.of(0)) };
     }
-    if w[1] > 0 {
+    if read & 2 != 0 {
         unsafe { gather(data, texels, &taps[1], acc.of(1)) };
+    }
+}
+
+/// An all-zero 128-bit vector.
+///
+/// # Safety
+/// The CPU must have SSE2 (every x86_64 has).
+#[inline(always)]
+unsafe fn zero128() -> __m128i {
+    // SAFETY: SSE2 is part of x86_64.
+    unsafe { _mm_setzero_si128() }
+}
+
+/// `x` rounded half away from zero to integers, as `f32::round` and `as i32` round a value
+/// within ±2²³: the bits of `trunc(x + copysign(0.49999997, x))` (the largest float below
+/// ½: ½ itself would take 0.49999997 to 1).
+///
+/// # Safety
+/// The CPU must have SSE2 (every x86_64 has).
+#[inline(always)]
+unsafe fn round_away(x: __m128) -> __m128i {
+    // SAFETY: SSE2 is part of x86_64.
+    unsafe {
+        let sign = _mm_and_ps(x, _mm_set1_ps(-0.0));
+        let below_half = _mm_or_ps(sign, _mm_set1_ps(f32::from_bits(0x3eff_ffff)));
+        _mm_cvttps_epi32(_mm_add_ps(x, below_half))
     }
 }
 
@@ -508,13 +549,38 @@ pub(super) unsafe fn taps2(
     level_weight: [i32; 2],
 ) -> [Taps; 2] {
     // SAFETY: the CPU has AVX2 (the caller's contract).
+    unsafe { taps_in(&dims(lv, tiles_x), s, u, v, totals(level_weight)) }
+}
+
+/// Level `lv`'s width, height and 16 × tiles per row, each in all eight lanes, as
+/// [`taps_in`] takes them (`tiles_x` from its `tiled_texels`).
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[inline(always)]
+unsafe fn dims(lv: &LevelRef, tiles_x: u32) -> (__m256i, __m256i, __m256i) {
+    // SAFETY: the CPU has AVX2 (the caller's contract).
     unsafe {
-        let dims = (
+        (
             _mm256_set1_epi32(lv.w),
             _mm256_set1_epi32(lv.h),
             _mm256_set1_epi32(16 * tiles_x as i32),
-        );
-        taps_in(dims, s, u, v, level_weight)
+        )
+    }
+}
+
+/// Each half's 15-bit level weight in its four lanes, as [`taps_in`] takes them.
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[inline(always)]
+unsafe fn totals(level_weight: [i32; 2]) -> __m256i {
+    // SAFETY: the CPU has AVX2 (the caller's contract).
+    unsafe {
+        _mm256_set_m128i(
+            _mm_set1_epi32(level_weight[1]),
+            _mm_set1_epi32(level_weight[0]),
+        )
     }
 }
 
@@ -541,22 +607,23 @@ pub(super) unsafe fn taps2_levels(
             halves(a.h, b.h),
             halves(16 * tiles_a as i32, 16 * tiles_b as i32),
         );
-        taps_in(dims, s, u, v, level_weight)
+        taps_in(&dims, s, u, v, totals(level_weight))
     }
 }
 
 /// [`taps2`]' and [`taps2_levels`]' work: each half's taps on a level of `dims` (width,
-/// height, 16 × tiles per row, each as that half's four lanes).
+/// height, 16 × tiles per row, each as that half's four lanes), weighted `total` in all (that
+/// half's 15-bit level weight in its four lanes).
 ///
 /// # Safety
 /// The CPU must have AVX2.
 #[inline(always)]
 unsafe fn taps_in(
-    (w, h, stride): (__m256i, __m256i, __m256i),
+    &(w, h, stride): &(__m256i, __m256i, __m256i),
     s: &Sampler,
     u: [Vec4; 2],
     v: [Vec4; 2],
-    level_weight: [i32; 2],
+    total: __m256i,
 ) -> [Taps; 2] {
     // SAFETY: the CPU has AVX2 (the caller's contract), all these intrinsics need.
     unsafe {
@@ -585,14 +652,7 @@ unsafe fn taps_in(
             halves(_mm256_add_epi32(cb, rb)),
         ];
         // Weights in 15 bits, the last one what the others leave (per half, its own total).
-        let lw = _mm256_set_m128(
-            Vec4::splat(level_weight[1] as f32).into(),
-            Vec4::splat(level_weight[0] as f32).into(),
-        );
-        let total = _mm256_set_m128i(
-            _mm_set1_epi32(level_weight[1]),
-            _mm_set1_epi32(level_weight[0]),
-        );
+        let lw = _mm256_cvtepi32_ps(total);
         let round = |w: __m256| _mm256_cvtps_epi32(_mm256_mul_ps(w, lw));
         let w00 = round(_mm256_mul_ps(gx, gy));
         let w10 = round(_mm256_mul_ps(fx, gy));

@@ -8,8 +8,10 @@ use super::ONE;
 pub(in super::super) const MAX_PROBES: usize = 16;
 
 /// A probe of [`super::read_probes`]: its place `t` along the axis (the read at
-/// `uv + t·step`) and its share of the 15-bit total.
+/// `uv + t·step`) and its share of the 15-bit total. (In this order: the AVX2 reads load
+/// two probes as one 16-byte vector, their weights in lanes 1 and 3.)
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
 pub(in super::super) struct Probe {
     pub t: f32,
     pub weight: i32,
