@@ -37,8 +37,20 @@ use crate::texture::{MipChoice, QuadCoords, Sampler, Wrap};
 mod gather;
 use gather::{finish, gather, gather_weighted, weights, zero, Sums};
 
-/// A level's view, tiled texels and tiles per row (as `tiled_texels` gives them).
-type Level<'a> = (&'a LevelRef<'a>, &'a [u8], u32);
+/// A level's width and height ([`size`]), tiled texels and tiles per row (as
+/// `tiled_texels` gives them): the parts of a level the probed reads use, copied where they
+/// are held (a quad's read copied the whole level view before, 96 bytes a level).
+pub(super) type Level<'a> = ((i32, i32), &'a [u8], u32);
+
+/// A level's view, tiled texels and tiles per row, for the reads that also take the SSE2
+/// path's ([`quad_pairs`]' odd last quad).
+type LevelView<'a> = (&'a LevelRef<'a>, &'a [u8], u32);
+
+/// Level `lv`'s width and height, as [`Level`] and [`taps2`] take them.
+#[inline(always)]
+pub(super) fn size(lv: &LevelRef) -> (i32, i32) {
+    (lv.w, lv.h)
+}
 
 /// [`sse2::probes_on`] in AVX2 lanes, the whole quad: the probes two at a time, both
 /// probes' taps on a level computed at once ([`taps2`]), each probe's texels then gathered
@@ -160,8 +172,8 @@ pub(super) unsafe fn probe_quad_inlined(
 #[allow(clippy::too_many_arguments)]
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
 pub(super) unsafe fn quad_pairs(
-    first: Level,
-    second: Level,
+    first: LevelView,
+    second: LevelView,
     texels: Texels,
     s: &Sampler,
     coords: &[QuadCoords],
@@ -186,14 +198,14 @@ pub(super) unsafe fn quad_pairs(
         let (u, v) = ([c[0].u, c[1].u], [c[0].v, c[1].v]);
         let (wa, wb) = pair_weights(p);
         // SAFETY: the CPU has AVX2 (this function's contract).
-        let ta = t[0].write(unsafe { taps2(first.0, first.2, s, u, v, wa) });
+        let ta = t[0].write(unsafe { taps2(self::size(first.0), first.2, s, u, v, wa) });
         if far {
             super::prefetch::prefetch_corners(first.1, size, &ta[0]);
             super::prefetch::prefetch_corners(first.1, size, &ta[1]);
         }
         if wb[0] > 0 || wb[1] > 0 {
             // SAFETY: as above.
-            let tb = t[1].write(unsafe { taps2(second.0, second.2, s, u, v, wb) });
+            let tb = t[1].write(unsafe { taps2(self::size(second.0), second.2, s, u, v, wb) });
             if far && second.1.len() > PREFETCH_BYTES {
                 super::prefetch::prefetch_corners(second.1, size, &tb[0]);
                 super::prefetch::prefetch_corners(second.1, size, &tb[1]);
@@ -347,7 +359,7 @@ pub(super) unsafe fn linear_pair_shared(
         };
         let lv = shared.level(index);
         // SAFETY: the CPU has AVX2 (this function's contract).
-        let taps = unsafe { taps2(&lv.first, lv.tiles_x, s, u, v, w) };
+        let taps = unsafe { taps2(size(&lv.first), lv.tiles_x, s, u, v, w) };
         for ((t, w), acc) in taps.iter().zip(w).zip(&mut acc) {
             if w <= 0 {
                 continue;
@@ -390,7 +402,7 @@ pub(super) unsafe fn level_taps<'o>(
     for (c, o) in (&mut pairs).zip(out.chunks_exact_mut(2)) {
         let (u, v) = ([c[0].u, c[1].u], [c[0].v, c[1].v]);
         // SAFETY: the CPU has AVX2 (this function's contract).
-        let [a, b] = unsafe { taps2(lv, tiles_x, s, u, v, [ONE, ONE]) };
+        let [a, b] = unsafe { taps2(size(lv), tiles_x, s, u, v, [ONE, ONE]) };
         o[0].write(a);
         o[1].write(b);
     }
@@ -531,7 +543,7 @@ pub(super) unsafe fn nearest_rgba8(
     }
 }
 
-/// [`super::sse2::taps`] of level `lv` at two points, `(u[k], v[k])` weighted
+/// [`super::sse2::taps`] of a level of `size` ([`size`]) at two points, `(u[k], v[k])` weighted
 /// `level_weight[k] / ONE` in all: `[taps(u[0], v[0], w[0]), taps(u[1], v[1], w[1])]`, bit
 /// for bit. Inlined into its caller, so that in the hot loops' x86-64-v3 copy
 /// ([`crate::cpu`]) its intrinsics inline too (a `#[target_feature]` function cannot be
@@ -541,7 +553,7 @@ pub(super) unsafe fn nearest_rgba8(
 /// The CPU must have AVX2 ([`crate::cpu::level`] is x86-64-v3).
 #[inline(always)]
 pub(super) unsafe fn taps2(
-    lv: &LevelRef,
+    size: (i32, i32),
     tiles_x: u32,
     s: &Sampler,
     u: [Vec4; 2],
@@ -549,21 +561,21 @@ pub(super) unsafe fn taps2(
     level_weight: [i32; 2],
 ) -> [Taps; 2] {
     // SAFETY: the CPU has AVX2 (the caller's contract).
-    unsafe { taps_in(&dims(lv, tiles_x), s, u, v, totals(level_weight)) }
+    unsafe { taps_in(&dims(size, tiles_x), s, u, v, totals(level_weight)) }
 }
 
-/// Level `lv`'s width, height and 16 × tiles per row, each in all eight lanes, as
+/// A level's width, height (`size`) and 16 × tiles per row, each in all eight lanes, as
 /// [`taps_in`] takes them (`tiles_x` from its `tiled_texels`).
 ///
 /// # Safety
 /// The CPU must have AVX2.
 #[inline(always)]
-unsafe fn dims(lv: &LevelRef, tiles_x: u32) -> (__m256i, __m256i, __m256i) {
+unsafe fn dims((w, h): (i32, i32), tiles_x: u32) -> (__m256i, __m256i, __m256i) {
     // SAFETY: the CPU has AVX2 (the caller's contract).
     unsafe {
         (
-            _mm256_set1_epi32(lv.w),
-            _mm256_set1_epi32(lv.h),
+            _mm256_set1_epi32(w),
+            _mm256_set1_epi32(h),
             _mm256_set1_epi32(16 * tiles_x as i32),
         )
     }
@@ -603,8 +615,8 @@ pub(super) unsafe fn taps2_levels(
     unsafe {
         let halves = |x: i32, y: i32| _mm256_set_m128i(_mm_set1_epi32(y), _mm_set1_epi32(x));
         let dims = (
-            halves(a.w, b.w),
-            halves(a.h, b.h),
+            halves(a.0, b.0),
+            halves(a.1, b.1),
             halves(16 * tiles_a as i32, 16 * tiles_b as i32),
         );
         taps_in(&dims, s, u, v, totals(level_weight))

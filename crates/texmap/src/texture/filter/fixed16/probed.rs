@@ -8,6 +8,8 @@ use glam::{Vec2, Vec4};
 
 use super::super::super::{MipChoice, Sampler, TexelFilter, Texture2D};
 #[cfg(target_arch = "x86_64")]
+use super::avx2;
+#[cfg(target_arch = "x86_64")]
 use super::prefetch::{prefetch_lanes, PREFETCH_BYTES};
 #[cfg(target_arch = "x86_64")]
 use super::sse2::{self, Level};
@@ -53,6 +55,20 @@ impl<'t> ProbeReader<'t> {
                 level
             }
         }
+    }
+
+    /// [`Self::level`]'s parts that the AVX2 reads use ([`avx2::Level`]), copied out of the
+    /// slot rather than the whole level view.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn part(&mut self, slot: usize, index: usize) -> avx2::Level<'t> {
+        if !matches!(self.levels[slot], Some((held, _)) if held == index) {
+            self.levels[slot] = Some((index, sse2::level_of(self.tex, self.texels, index)));
+        }
+        let Some((_, (lv, data, tiles_x))) = &self.levels[slot] else {
+            unreachable!("slot {slot} was just filled")
+        };
+        (avx2::size(lv), data, *tiles_x)
     }
 
     /// Asks the cache for quad `(u, v)`'s texels on `level`, the first level its plan reads
@@ -102,19 +118,16 @@ impl<'t> ProbeReader<'t> {
         debug_assert_eq!(choice.texels, TexelFilter::Linear);
         #[cfg(target_arch = "x86_64")]
         {
-            let first = self.level(0, choice.level);
-            let second = choice.blend.map(|b| self.level(1, b.level));
             if crate::cpu::level() == crate::cpu::Level::V3 {
                 // Inlined, with its intrinsics, where the batch runs at x86-64-v3 (the only
                 // copy in which this branch runs).
-                let second = second
-                    .as_ref()
-                    .map(|(lv, data, tiles_x)| (lv, *data, *tiles_x));
+                let first = self.part(0, choice.level);
+                let second = choice.blend.map(|b| self.part(1, b.level));
                 let fa = sse2::first_share(choice);
                 // SAFETY: the CPU has x86-64-v3 (`cpu::level`).
                 return unsafe {
-                    super::avx2::probe_quad_inlined(
-                        ((&first.0, first.1, first.2), second),
+                    avx2::probe_quad_inlined(
+                        (first, second),
                         self.texels,
                         s,
                         fa,
@@ -125,6 +138,8 @@ impl<'t> ProbeReader<'t> {
                     )
                 };
             }
+            let first = self.level(0, choice.level);
+            let second = choice.blend.map(|b| self.level(1, b.level));
             sse2::probes_on(
                 &first,
                 second.as_ref(),

@@ -223,8 +223,8 @@ pub(super) fn probes_on(
         return unsafe {
             super::avx2::probe_quad(
                 (
-                    (&first.0, first.1, first.2),
-                    second.map(|(lv, data, tiles_x)| (lv, *data, *tiles_x)),
+                    (super::avx2::size(&first.0), first.1, first.2),
+                    second.map(|(lv, data, tiles_x)| (super::avx2::size(lv), *data, *tiles_x)),
                 ),
                 texels,
                 s,

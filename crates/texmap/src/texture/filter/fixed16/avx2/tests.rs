@@ -35,13 +35,16 @@ fn paired_taps_are_the_sse2_taps_of_each() {
                     let weight = [(next() * 32767.0) as i32, (next() * 32767.0) as i32];
                     let case = format!("{w}x{h} level {index} {wrap:?}");
                     // SAFETY: the CPU has x86-64-v3 (checked above).
-                    let two = unsafe { taps2(&lv, tiles_x, &s, u, v, weight) };
+                    let two = unsafe { taps2(size(&lv), tiles_x, &s, u, v, weight) };
                     for k in 0..2 {
                         let one = taps(&lv, tiles_x, &s, u[k], v[k], weight[k]);
                         assert_eq!(two[k], one, "{case} probe {k}");
                         compared += 1;
                     }
-                    let (a, b) = ((&lv, data, tiles_x), (&other, other_data, other_tiles));
+                    let (a, b) = (
+                        (size(&lv), data, tiles_x),
+                        (size(&other), other_data, other_tiles),
+                    );
                     // SAFETY: as above.
                     let two = unsafe { taps2_levels(a, b, &s, u, v, weight) };
                     let one = [
@@ -165,7 +168,7 @@ fn a_nan_coordinate_takes_the_sse2_indices() {
         let s = Sampler::new(Filter::BILINEAR, wrap);
         let (u, v) = ([odd, Vec4::splat(0.3)], [Vec4::splat(0.7), odd]);
         // SAFETY: the CPU has x86-64-v3 (checked above).
-        let two = unsafe { taps2(&lv, tiles_x, &s, u, v, [32767, 100]) };
+        let two = unsafe { taps2(size(&lv), tiles_x, &s, u, v, [32767, 100]) };
         for k in 0..2 {
             assert_eq!(two[k], taps(&lv, tiles_x, &s, u[k], v[k], [32767, 100][k]));
         }
