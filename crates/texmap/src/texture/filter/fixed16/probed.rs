@@ -73,13 +73,13 @@ impl<'t> ProbeReader<'t> {
 
     /// Asks the cache for quad `(u, v)`'s texels on `level`, the first level its plan reads
     /// (bilinear taps, as every probe reads), where that level is larger than
-    /// [`PREFETCH_BYTES`]: each covered pixel's first and last bilinear taps at its own
-    /// coordinates (the centre of its probes, which spread along an axis from there), as
-    /// [`super::prefetch_quads`] asks for a quad's (the four corners of the quad's taps
-    /// instead: 0.956× against 0.930× for `aniso5-area`, 1.035× against 0.989× for `ewa`).
-    /// A batch asks for every quad's after planning them and before reading any
-    /// (`quads.rs`). The level is the reader's, looked up only when the
-    /// quad's is another (as for a read). Nothing is read or changed.
+    /// [`PREFETCH_BYTES`]: each covered pixel's first bilinear tap at its own coordinates
+    /// (the centre of its probes, which spread along an axis from there). Its last tap as
+    /// well, as [`super::prefetch_quads`] asks for a quad's, made `aniso5-area`'s frame
+    /// 1.02× and `ewa`'s 1.01× this (a line a pixel is enough; the four corners of the
+    /// quad's taps instead were slower still). A batch asks for every quad's after planning
+    /// them and before reading any (`quads.rs`). The level is the reader's slot 0, looked
+    /// up only when the quad's is another (as for a read). Nothing is read or changed.
     #[inline(always)]
     pub(in super::super) fn prefetch(
         &mut self,
@@ -90,11 +90,10 @@ impl<'t> ProbeReader<'t> {
     ) {
         #[cfg(target_arch = "x86_64")]
         {
-            let (lv, data, tiles_x) = self.level(0, level);
+            let (size, data, tiles_x) = self.part(0, level);
             if data.len() > PREFETCH_BYTES {
-                let t = sse2::taps(&lv, tiles_x, s, u, v, ONE);
-                let size = sse2::bpp(self.texels);
-                prefetch_lanes(data, size, &[&t.offsets[0], &t.offsets[3]], mask);
+                let t = sse2::sized_taps(size, tiles_x, s, u, v, ONE);
+                prefetch_lanes(data, sse2::bpp(self.texels), &[&t.offsets[0]], mask);
             }
         }
         #[cfg(not(target_arch = "x86_64"))]

@@ -530,8 +530,21 @@ pub(super) fn taps(
     v: Vec4,
     level_weight: i32,
 ) -> Taps {
-    let (xa, xb, fx) = axis(s.wrap_u, u, lv.w);
-    let (ya, yb, fy) = axis(s.wrap_v, v, lv.h);
+    sized_taps((lv.w, lv.h), tiles_x, s, u, v, level_weight)
+}
+
+/// [`taps`] of a level of `(width, height)`.
+#[inline(always)]
+pub(super) fn sized_taps(
+    (w, h): (i32, i32),
+    tiles_x: u32,
+    s: &Sampler,
+    u: Vec4,
+    v: Vec4,
+    level_weight: i32,
+) -> Taps {
+    let (xa, xb, fx) = axis(s.wrap_u, u, w);
+    let (ya, yb, fy) = axis(s.wrap_v, v, h);
     let lw = level_weight as f32;
     let (gx, gy) = (Vec4::ONE - fx, Vec4::ONE - fy);
     // SAFETY: SSE2 is part of x86_64.
