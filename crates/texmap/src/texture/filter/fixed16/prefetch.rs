@@ -143,14 +143,16 @@ pub(in super::super) fn prefetch_shared(
 }
 
 /// Asks the cache for the lines of a quad's bilinear taps `t` on a level whose tiled texels
-/// (`size` bytes each) are `data`: the four corners of its texels (pixel `k`'s tap `k`, as
-/// [`prefetch_shared`] takes them). Nothing is read or changed. (Inlined into
-/// `avx2::quad_pairs`, which reads the taps right after.)
+/// (`size` bytes each) are `data`: two opposite corners of its texels (the top-left pixel's
+/// first tap, the bottom-right pixel's last). All four corners, as [`prefetch_shared`] asks
+/// for them, made the trilinear plane's frame 1.014× this (30 alternated rounds, each
+/// run's fastest frame; 1.015× bilinear). Nothing is read or changed. (Inlined into `avx2::quad_pairs`, which reads the taps right
+/// after.)
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 pub(super) fn prefetch_corners(data: &[u8], size: usize, t: &super::sse2::Taps) {
     use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-    for k in 0..4 {
+    for k in [0, 3] {
         let o = t.offsets[k][k] as usize;
         // SAFETY: SSE is part of x86_64; a prefetch reads nothing.
         unsafe {
