@@ -146,8 +146,8 @@ pub(in super::super) fn prefetch_shared(
 /// (`size` bytes each) are `data`: two opposite corners of its texels (the top-left pixel's
 /// first tap, the bottom-right pixel's last). All four corners, as [`prefetch_shared`] asks
 /// for them, made the trilinear plane's frame 1.014× this (30 alternated rounds, each
-/// run's fastest frame). Nothing is read or changed. (Inlined into `avx2::quad_pairs`, which reads the taps right
-/// after.)
+/// run's fastest frame). Nothing is read or changed. (Inlined into `avx2::quad_pairs`,
+/// which reads the taps right after.)
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 pub(super) fn prefetch_corners(data: &[u8], size: usize, t: &super::sse2::Taps) {
