@@ -3,7 +3,7 @@
 use super::super::sse2::taps;
 use super::*;
 use crate::color::ColorSpace;
-use crate::texture::{Filter, Texture2D};
+use crate::texture::{Filter, Texture2D, Wrap};
 
 /// Two probes' taps on one level ([`taps2`]), and one point's taps on two levels
 /// ([`taps2_levels`]: each level with the next, a trilinear read's pair, and the last with
