@@ -27,13 +27,13 @@ use glam::{Vec2, Vec4};
 
 use super::prefetch::PREFETCH_BYTES;
 use super::sse2::{self, Taps};
-use super::{Probe, Texels, LEVEL_QUADS, ONE};
+use super::{Probe, Texels, LEVEL_QUADS, MAX_PROBES, ONE};
 use crate::texture::storage::LevelRef;
 use crate::texture::{MipChoice, QuadCoords, Sampler};
 
 mod gather;
 mod taps;
-use gather::{finish, gather, gather_weighted, weights, zero, Sums};
+use gather::{finish, gather, gather_weighted, weights, zero};
 use taps::{dims, halves, nearest_axis, taps2, taps2_levels, taps_in};
 
 /// A level's width and height ([`size`]), tiled texels and tiles per row (as
@@ -51,13 +51,19 @@ pub(super) fn size(lv: &LevelRef) -> (i32, i32) {
     (lv.w, lv.h)
 }
 
-/// [`sse2::probes_on`] in AVX2 lanes, the whole quad: the probes two at a time, both
-/// probes' taps on a level computed at once ([`taps2`]), each probe's texels then gathered
-/// as the SSE2 loop gathers them (a probe whose weight on a level is 0 not read there); an
-/// odd last probe takes its two levels' taps at once ([`taps2_levels`]), or, read on one
-/// level, that level's taps by `taps2` (its second half unused); the sums finished as
-/// [`sse2::finish`] finishes them. The same values. `levels` are the first level and the
-/// second (`None` without a blend); `fa` the first level's share of a probe's weight.
+/// [`sse2::probes_on`] in AVX2 lanes, the whole quad: first the taps of every pair of
+/// probes, both probes' taps on a level computed at once ([`level_taps2`]), then each
+/// probe's texels gathered as the SSE2 loop gathers them (a probe whose weight on a level is
+/// 0 not read there); an odd last probe takes its two levels' taps at once
+/// ([`taps2_levels`]), or, read on one level, that level's taps by `taps2` (its second half
+/// unused); the sums finished as [`sse2::finish`] finishes them. The same values. `levels`
+/// are the first level and the second (`None` without a blend); `fa` the first level's
+/// share of a probe's weight.
+///
+/// The two phases, rather than one loop reading each pair as soon as its taps were made:
+/// the loop held the taps' constants and the sums at once and spilled them (306
+/// instructions a pair); `ewa`'s 1080p plane 0.903× the time, `aniso5-area`'s 0.951×
+/// (docs/performance.md).
 ///
 /// # Safety
 /// The CPU must have x86-64-v3 ([`crate::cpu::level`]).
@@ -96,33 +102,64 @@ pub(super) unsafe fn probe_quad_inlined(
     probes: &[Probe],
     mask: u8,
 ) -> [Vec4; 4] {
-    // SAFETY: the CPU has AVX2 (this function's contract).
-    let mut acc = unsafe { zero() };
-    let mut rest = probes;
+    // First every pair's taps on its levels (a level a pair weights 0 skipped), then the
+    // texels read: each phase holds fewer values at once than one loop over both did.
     let (first, second) = levels;
-    while let [p, q, tail @ ..] = rest {
+    let mut taps = [const { MaybeUninit::<[Taps; 2]>::uninit() }; MAX_PROBES];
+    // Bits 0 and 1: the first level's points read; 2 and 3: the second's.
+    let mut reads = [0u8; MAX_PROBES / 2];
+    let pairs = probes.len() / 2;
+    for (i, pq) in probes.chunks_exact(2).enumerate() {
+        let (p, q) = (pq[0], pq[1]);
         // Both probes' weights on the first level at once (`sse2::probe_first_weight`'s
         // rounding in two lanes), and what they leave the second.
-        // SAFETY: `p` and `q` are 16 contiguous bytes of `repr(C)` probes, weights in lanes
-        // 1 and 3; the CPU has AVX2 (this function's contract).
+        // SAFETY: `pq` is 16 contiguous bytes of `repr(C)` probes, weights in lanes 1 and
+        // 3; the CPU has AVX2 (this function's contract).
         let (wa, wb) = unsafe {
-            let w = _mm_shuffle_epi32::<0b11_01_11_01>(_mm_loadu_si128(rest.as_ptr().cast()));
+            let w = _mm_shuffle_epi32::<0b11_01_11_01>(_mm_loadu_si128(pq.as_ptr().cast()));
             let wa = round_away(_mm_mul_ps(_mm_cvtepi32_ps(w), _mm_set1_ps(fa)));
             (wa, _mm_sub_epi32(w, wa))
         };
-        rest = tail;
         let pu = [u + Vec4::splat(step.x * p.t), u + Vec4::splat(step.x * q.t)];
         let pv = [v + Vec4::splat(step.y * p.t), v + Vec4::splat(step.y * q.t)];
-        // Each level by its own call, spelled out (as a loop over the two, its iterator's
-        // bookkeeping cost a tenth of the read's instructions).
+        // Each level spelled out (as a loop over the two, its iterator's bookkeeping cost
+        // a tenth of the read's instructions).
         // SAFETY: the CPU has AVX2 (this function's contract).
         unsafe {
-            level_pair(first, texels, s, (pu, pv), wa, &mut acc);
-            if let Some(second) = second {
-                level_pair(second, texels, s, (pu, pv), wb, &mut acc);
+            let a = level_taps2(first, s, (pu, pv), wa, &mut taps[2 * i]);
+            let b = match second {
+                Some(second) => level_taps2(second, s, (pu, pv), wb, &mut taps[2 * i + 1]),
+                None => 0,
+            };
+            reads[i] = a | b << 2;
+        }
+    }
+    // SAFETY: the CPU has AVX2 (this function's contract).
+    let mut acc = unsafe { zero() };
+    for (i, &read) in reads.iter().enumerate().take(pairs) {
+        // SAFETY: the CPU has AVX2; a level's taps were written where its bits are set.
+        unsafe {
+            if read & 3 != 0 {
+                let t = taps[2 * i].assume_init_ref();
+                if read & 1 != 0 {
+                    gather(first.1, texels, &t[0], &mut acc);
+                }
+                if read & 2 != 0 {
+                    gather(first.1, texels, &t[1], &mut acc);
+                }
+            }
+            if let (Some(second), true) = (second, read & 12 != 0) {
+                let t = taps[2 * i + 1].assume_init_ref();
+                if read & 4 != 0 {
+                    gather(second.1, texels, &t[0], &mut acc);
+                }
+                if read & 8 != 0 {
+                    gather(second.1, texels, &t[1], &mut acc);
+                }
             }
         }
     }
+    let rest = &probes[2 * pairs..];
     if let [p] = rest {
         let wa = sse2::probe_first_weight(fa, p.weight);
         let wb = p.weight - wa;
@@ -244,62 +281,33 @@ pub(super) unsafe fn quad_pairs(
     }
 }
 
-/// Where [`level_pair`] sums its two points' reads: each quad's own sums ([`quad_pairs`]),
-/// or one quad's for both of its probes ([`probe_quad`]).
-trait PairSums {
-    /// The sums of point `k` (0 or 1).
-    fn of(&mut self, k: usize) -> &mut Sums;
-}
-
-impl PairSums for [Sums; 2] {
-    #[inline(always)]
-    fn of(&mut self, k: usize) -> &mut Sums {
-        &mut self[k]
-    }
-}
-
-impl PairSums for Sums {
-    #[inline(always)]
-    fn of(&mut self, _: usize) -> &mut Sums {
-        self
-    }
-}
-
-/// Two points' reads (`u`, `v`: two quads of [`quad_pairs`], or two probes of a quad in
-/// [`probe_quad`]) on one level, weighted `w` (a point whose weight is 0 not read, neither
-/// when both are 0), summed into `acc`.
+/// Two points' taps on one level weighted `w` (lanes 0 and 1), written to `out` where a
+/// point's weight is positive: the mask of the points to read (bit `k` for point `k`; 0, and
+/// `out` left, when neither is).
 ///
 /// # Safety
 /// The CPU must have AVX2 ([`crate::cpu::level`] is x86-64-v3).
 #[inline(always)]
-unsafe fn level_pair(
-    (lv, data, tiles_x): Level,
-    texels: Texels,
+unsafe fn level_taps2(
+    (lv, _, tiles_x): Level,
     s: &Sampler,
     (u, v): ([Vec4; 2], [Vec4; 2]),
     w: __m128i,
-    acc: &mut impl PairSums,
-) {
+    out: &mut MaybeUninit<[Taps; 2]>,
+) -> u8 {
     // SAFETY: the CPU has AVX2 (this function's contract).
     let read = unsafe { _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(w, zero128()))) & 3 };
-    if read == 0 {
-        return;
+    if read != 0 {
+        // SAFETY: as above.
+        out.write(unsafe {
+            let total = _mm256_permutevar8x32_epi32(
+                _mm256_castsi128_si256(w),
+                _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1),
+            );
+            taps_in(&dims(lv, tiles_x), s, u, v, total)
+        });
     }
-    // SAFETY: as above.
-    let taps = unsafe {
-        let total = _mm256_permutevar8x32_epi32(
-            _mm256_castsi128_si256(w),
-            _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1),
-        );
-        taps_in(&dims(lv, tiles_x), s, u, v, total)
-    };
-    // Spelled out for the two points (as a loop it stayed one, its sums kept in memory).
-    if read & 1 != 0 {
-        unsafe { gather(data, texels, &taps[0], acc.of(0)) };
-    }
-    if read & 2 != 0 {
-        unsafe { gather(data, texels, &taps[1], acc.of(1)) };
-    }
+    read as u8
 }
 
 /// An all-zero 128-bit vector.
