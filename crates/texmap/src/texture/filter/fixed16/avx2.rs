@@ -134,6 +134,36 @@ pub(super) unsafe fn probe_quad_inlined(
             reads[i] = a | b << 2;
         }
     }
+    // An odd last probe's taps: its two levels' at once, or one level's (the other half
+    // unused), with the texels each half reads.
+    let lone = match probes[2 * pairs..] {
+        [p] => {
+            let wa = sse2::probe_first_weight(fa, p.weight);
+            let wb = p.weight - wa;
+            let (pu, pv) = (
+                [u + Vec4::splat(step.x * p.t); 2],
+                [v + Vec4::splat(step.y * p.t); 2],
+            );
+            // SAFETY: the CPU has AVX2 (this function's contract).
+            unsafe {
+                match second {
+                    Some(second) if wa > 0 && wb > 0 => Some((
+                        taps2_levels(first, second, s, pu, pv, [wa, wb]),
+                        (first.1, Some(second.1)),
+                    )),
+                    Some((lv, data, tiles_x)) if wb > 0 => {
+                        Some((taps2(lv, tiles_x, s, pu, pv, [wb, 0]), (data, None)))
+                    }
+                    _ if wa > 0 => {
+                        let (lv, data, tiles_x) = first;
+                        Some((taps2(lv, tiles_x, s, pu, pv, [wa, 0]), (data, None)))
+                    }
+                    _ => None,
+                }
+            }
+        }
+        _ => None,
+    };
     // SAFETY: the CPU has AVX2 (this function's contract).
     let mut acc = unsafe { zero() };
     for (i, &read) in reads.iter().enumerate().take(pairs) {
@@ -159,30 +189,12 @@ pub(super) unsafe fn probe_quad_inlined(
             }
         }
     }
-    let rest = &probes[2 * pairs..];
-    if let [p] = rest {
-        let wa = sse2::probe_first_weight(fa, p.weight);
-        let wb = p.weight - wa;
-        let (pu, pv) = (u + Vec4::splat(step.x * p.t), v + Vec4::splat(step.y * p.t));
-        // The level a lone read takes, and its weight.
-        let lone = match second {
-            Some(second) if wa > 0 && wb > 0 => {
-                // SAFETY: the CPU has AVX2 (this function's contract).
-                unsafe {
-                    let taps = taps2_levels(first, second, s, [pu; 2], [pv; 2], [wa, wb]);
-                    gather(first.1, texels, &taps[0], &mut acc);
-                    gather(second.1, texels, &taps[1], &mut acc);
-                }
-                None
-            }
-            Some(second) if wb > 0 => Some((second, wb)),
-            _ => (wa > 0).then_some((first, wa)),
-        };
-        if let Some(((lv, data, tiles_x), w)) = lone {
-            // SAFETY: the CPU has AVX2 (this function's contract).
-            unsafe {
-                let taps = taps2(lv, tiles_x, s, [pu; 2], [pv; 2], [w, 0]);
-                gather(data, texels, &taps[0], &mut acc);
+    if let Some((taps, (a, b))) = &lone {
+        // SAFETY: the CPU has AVX2 (this function's contract).
+        unsafe {
+            gather(a, texels, &taps[0], &mut acc);
+            if let Some(b) = b {
+                gather(b, texels, &taps[1], &mut acc);
             }
         }
     }
