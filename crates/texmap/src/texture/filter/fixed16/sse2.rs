@@ -236,6 +236,24 @@ pub(super) fn probes_on(
             )
         };
     }
+    probes_sse2(first, second, texels, s, fa, (u, v), step, probes, mask)
+}
+
+/// [`probes_on`]'s SSE2 loop, probe by probe (`fa` the first level's share of each probe's
+/// weight, `first_share(choice)`): what the AVX2 read must equal, bit for bit.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(super) fn probes_sse2(
+    first: &Level,
+    second: Option<&Level>,
+    texels: Texels,
+    s: &Sampler,
+    fa: f32,
+    (u, v): (Vec4, Vec4),
+    step: glam::Vec2,
+    probes: &[super::Probe],
+    mask: u8,
+) -> [Vec4; 4] {
     // SAFETY: SSE2 is part of x86_64.
     let mut acc = [unsafe { _mm_setzero_si128() }; 4];
     for &super::Probe { t, weight } in probes {

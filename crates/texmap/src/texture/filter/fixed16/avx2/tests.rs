@@ -248,3 +248,67 @@ fn quad_pairs_are_each_quads_sse2_read() {
     }
     assert!(compared >= 800);
 }
+
+/// A quad's probes in AVX2 lanes ([`probe_quad`]: every pair's taps first, then the texels,
+/// an odd last probe on one level or two) are the SSE2 loop's ([`sse2::probes_sse2`]), bit
+/// for bit: every count of anisotropic filtering's and `ewa`'s probe sets, one level or two,
+/// the first level's share 0, 1 or between, both wraps, partial masks.
+#[test]
+fn probe_quads_are_the_sse2_probes() {
+    if !crate::cpu::available(crate::cpu::Level::V3) {
+        eprintln!("skipped: this CPU has no x86-64-v3 (AVX2), where probes pair");
+        return;
+    }
+    let mut r = crate::xorshift(0x7f4a_7c15);
+    let (w, h) = (96u32, 80u32);
+    let rgba: Vec<u8> = (0..w * h * 4).map(|_| r() as u8).collect();
+    let tex = Texture2D::from_rgba8(w, h, ColorSpace::Srgb, &rgba).unwrap();
+    let mut next = move || r() as f32 / u32::MAX as f32;
+    let sets = [
+        crate::texture::filter::anisotropic::probe_sets(),
+        crate::texture::filter::ewa_probes::probe_sets(),
+    ];
+    let mut compared = 0;
+    for first in 0..3 {
+        let a = sse2::level_of(&tex, Texels::Linear16, first);
+        let b = sse2::level_of(&tex, Texels::Linear16, first + 1);
+        for wrap in [Wrap::Repeat, Wrap::ClampToEdge] {
+            let s = Sampler::new(Filter::TRILINEAR, wrap);
+            for (set, count) in sets
+                .iter()
+                .flat_map(|s| (1..=MAX_PROBES).map(move |n| (s, n)))
+            {
+                let probes = set.get(count);
+                for blend in 0..4 {
+                    let (second, fa) = match blend {
+                        0 => (None, 1.0),
+                        1 => (Some(&b), 0.0),
+                        2 => (Some(&b), 1.0),
+                        _ => (Some(&b), next()),
+                    };
+                    let mut lanes = || Vec4::new(next(), next(), next(), next()) * 3.0 - 1.0;
+                    let uv = (lanes(), lanes());
+                    let step = glam::Vec2::new(next() - 0.5, next() - 0.5) * 0.2;
+                    let mask = 1 + (next() * 15.0) as u8;
+                    let texels = Texels::Linear16;
+                    // SAFETY: the CPU has x86-64-v3 (checked above).
+                    let lanes = unsafe {
+                        let levels = (part(&a), second.map(|b| part(b)));
+                        probe_quad(levels, texels, &s, fa, uv, step, probes, mask)
+                    };
+                    let want =
+                        sse2::probes_sse2(&a, second, texels, &s, fa, uv, step, probes, mask);
+                    let case = format!("level {first} {wrap:?} {count} probes, blend {blend}");
+                    assert_eq!(lanes, want, "{case}");
+                    compared += 1;
+                }
+            }
+        }
+    }
+    assert_eq!(compared, 3 * 2 * 2 * MAX_PROBES * 4);
+}
+
+/// A level's parts as the AVX2 probed reads take them ([`Level`]).
+fn part<'a>((lv, data, tiles_x): &sse2::Level<'a>) -> Level<'a> {
+    (size(lv), data, *tiles_x)
+}
