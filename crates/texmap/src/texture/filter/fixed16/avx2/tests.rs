@@ -185,13 +185,9 @@ fn quad_pairs_are_each_quads_sse2_read() {
         eprintln!("skipped: this CPU has no x86-64-v3 (AVX2), where quads pair");
         return;
     }
-    let mut r = crate::xorshift(0x51ed_270b);
-    let (w, h) = (160u32, 128u32);
-    let rgba: Vec<u8> = (0..w * h * 4).map(|_| r() as u8).collect();
-    let tex = Texture2D::from_rgba8(w, h, ColorSpace::Srgb, &rgba).unwrap();
+    let (tex, mut next) = noise(0x51ed_270b, 160, 128);
     assert!(tex.level(0).tiled_texels(8).0.len() > PREFETCH_BYTES);
     assert!(tex.level(1).tiled_texels(8).0.len() <= PREFETCH_BYTES);
-    let mut next = move || r() as f32 / u32::MAX as f32;
     let mut compared = 0;
     for first in 0..3 {
         let (la, lb) = (tex.level(first), tex.level(first + 1));
@@ -259,11 +255,7 @@ fn probe_quads_are_the_sse2_probes() {
         eprintln!("skipped: this CPU has no x86-64-v3 (AVX2), where probes pair");
         return;
     }
-    let mut r = crate::xorshift(0x7f4a_7c15);
-    let (w, h) = (96u32, 80u32);
-    let rgba: Vec<u8> = (0..w * h * 4).map(|_| r() as u8).collect();
-    let tex = Texture2D::from_rgba8(w, h, ColorSpace::Srgb, &rgba).unwrap();
-    let mut next = move || r() as f32 / u32::MAX as f32;
+    let (tex, mut next) = noise(0x7f4a_7c15, 96, 80);
     let sets = [
         crate::texture::filter::anisotropic::probe_sets(),
         crate::texture::filter::ewa_probes::probe_sets(),
@@ -311,4 +303,13 @@ fn probe_quads_are_the_sse2_probes() {
 /// A level's parts as the AVX2 probed reads take them ([`Level`]).
 fn part<'a>((lv, data, tiles_x): &sse2::Level<'a>) -> Level<'a> {
     (size(lv), data, *tiles_x)
+}
+
+/// A `w`×`h` texture of random texels (on the default 16-bit storage), and the generator
+/// that made them, going on as uniform floats in [0, 1].
+fn noise(seed: u32, w: u32, h: u32) -> (Texture2D, impl FnMut() -> f32) {
+    let mut r = crate::xorshift(seed);
+    let rgba: Vec<u8> = (0..w * h * 4).map(|_| r() as u8).collect();
+    let tex = Texture2D::from_rgba8(w, h, ColorSpace::Srgb, &rgba).unwrap();
+    (tex, move || r() as f32 / u32::MAX as f32)
 }
