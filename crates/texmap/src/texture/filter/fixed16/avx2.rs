@@ -62,8 +62,8 @@ pub(super) fn size(lv: &LevelRef) -> (i32, i32) {
 ///
 /// The two phases, rather than one loop reading each pair as soon as its taps were made:
 /// the loop held the taps' constants and the sums at once and spilled them (306
-/// instructions a pair); `ewa`'s 1080p plane 0.903× the time, `aniso5-area`'s 0.951×
-/// (docs/performance.md).
+/// instructions a pair); in two, `ewa`'s 1080p plane takes 0.89× the time, `aniso5-area`'s
+/// 0.91× (docs/performance.md, "The 13:30 session's steps").
 ///
 /// # Safety
 /// The CPU must have x86-64-v3 ([`crate::cpu::level`]).
