@@ -16,8 +16,9 @@ use super::behind;
 use super::draw::{DrawInfo, LightingPath};
 use super::fragment::SceneShader;
 use super::layers::surface_color;
-use super::maps::{MapRead, QuadReads};
+use super::maps::MapRead;
 use super::parallax::{light_buffer, self_shadowed, SelfShadow};
+use super::reads::QuadReads;
 use super::settings::Settings;
 use crate::pipeline::Quad;
 use crate::scene::Scene;
@@ -237,12 +238,12 @@ impl SceneShader<'_> {
                 .position
                 .map_or(d.surface.position, |p| p.pixel3(quad, j));
             let mut ior = d.surface.ior;
-            if covered(j) || (reads.maps.is_some() && d.solid_bump.is_some()) {
+            if covered(j) || (reads.surface_maps() && d.solid_bump.is_some()) {
                 let s = surfaces[j].insert(d.surface);
                 s.normal = normal;
                 s.position = position;
-                if let Some(maps) = &reads.maps {
-                    d.apply_maps(maps, quad, j, colors[j], s);
+                if reads.surface_maps() {
+                    d.apply_maps(reads, quad, j, colors[j], s);
                 }
                 if back {
                     s.normal = -s.normal;
@@ -250,8 +251,8 @@ impl SceneShader<'_> {
                 }
                 (normal, ior) = (s.normal, s.ior);
             } else {
-                if let Some(maps) = &reads.maps {
-                    normal = d.mapped_normal(maps, quad, j, normal);
+                if reads.surface_maps() {
+                    normal = d.mapped_normal(reads, quad, j, normal);
                 }
                 if back {
                     normal = -normal;
@@ -267,7 +268,7 @@ impl SceneShader<'_> {
         // factors as the per-pixel rule, bit for bit).
         let lanes = (d.model == ShadingModel::Phong
             && m.toon.is_none()
-            && reads.maps.is_none()
+            && !reads.surface_maps()
             && self_shadow.is_none())
         .then(|| self.phong_lanes_with(d, quad, &lighting));
         let footprint = |dirs: &[Vec3; 4], j: usize| CubeFootprint {

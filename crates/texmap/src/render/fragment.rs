@@ -17,9 +17,10 @@ use glam::{Vec3, Vec4};
 use super::behind::SceneBehind;
 use super::draw::{DrawInfo, LightingPath};
 use super::layers::{apply_outline, fold_layers, surface_color};
-use super::maps::{lobe, MapRead, QuadMaps, QuadReads, SharedReads};
+use super::maps::{MapRead, SharedReads};
 use super::parallax::{self, SelfShadow};
 use super::projectors::Projectors;
+use super::reads::{QuadReads, Read};
 use super::varyings::Factors;
 use crate::pipeline::{FragmentShader, Quad, BATCH};
 use crate::shading::lanes::{phong_quad, QuadFactors};
@@ -325,7 +326,7 @@ impl SceneShader<'_> {
         }
         let m = d.material;
         let mut kept = quad.mask;
-        let maps = &reads.maps;
+        let maps = reads.surface_maps();
         let back = m.double_sided && !quad.front_facing;
         // Parallax self-shadowing: each light scaled per pixel by what the relief lets through.
         let mut light_buf = parallax::light_buffer(self_shadow);
@@ -333,7 +334,7 @@ impl SceneShader<'_> {
         let lit = (d.path == LightingPath::PerPixel
             && !d.projectors
             && self_shadow.is_none()
-            && maps.is_none()
+            && !maps
             && d.model == ShadingModel::Phong)
             .then(|| self.phong_lanes(d, quad));
         let factors = interpolated_factors(d, quad);
@@ -360,7 +361,7 @@ impl SceneShader<'_> {
                         match maps {
                             // A Phong material without maps (the model is known): only the
                             // normal and position vary, and this surface stays in registers.
-                            None => {
+                            false => {
                                 if back {
                                     normal = -normal;
                                 }
@@ -374,13 +375,13 @@ impl SceneShader<'_> {
                                     self.projected(d, quad, &s),
                                 )
                             }
-                            Some(maps) => {
+                            true => {
                                 let mut s = Surface {
                                     position,
                                     normal,
                                     ..d.surface
                                 };
-                                d.apply_maps(maps, quad, j, c, &mut s);
+                                d.apply_maps(reads, quad, j, c, &mut s);
                                 if back {
                                     s.normal = -s.normal;
                                     s.clearcoat_normal = -s.clearcoat_normal;
@@ -399,15 +400,13 @@ impl SceneShader<'_> {
                     };
                     let mut df = f.d.pixel3(quad, j);
                     let mut sp = f.s.pixel3(quad, j);
-                    let maps = maps.as_ref();
-                    if let (Some(texel), Some(map)) =
-                        (maps.and_then(|m| m.occlusion.as_ref()), &d.occlusion_map)
+                    if let (Some(texel), Some(map)) = (reads.get(Read::Occlusion), &d.occlusion_map)
                     {
                         // The factors carry the full ambient term; take (1 − O) of it away.
                         let o = 1.0 + map.scale * (texel[j].x - 1.0);
                         df -= d.ambient_d * (1.0 - o);
                     }
-                    if let Some(texel) = maps.and_then(|m| m.emission.as_ref()) {
+                    if let Some(texel) = reads.get(Read::Emission) {
                         // The factors carry I_E; the map scales it: I_E·texel = I_E + I_E·(texel − 1).
                         sp += m.emissive * (texel[j].truncate() - Vec3::ONE);
                     }
@@ -446,8 +445,8 @@ fn add(a: (Vec3, Vec3), b: (Vec3, Vec3)) -> (Vec3, Vec3) {
 pub(super) fn pixel_color(
     d: &DrawInfo,
     quad: &Quad,
-    texels: &Option<[Vec4; 4]>,
-    opacity: &Option<[Vec4; 4]>,
+    texels: Option<&[Vec4; 4]>,
+    opacity: Option<&[Vec4; 4]>,
     j: usize,
 ) -> Vec4 {
     let mut c = d.base;
@@ -547,18 +546,12 @@ fn plain_colors(d: &DrawInfo, f: &QuadFactors, texels: Option<&[Vec4; 4]>, out: 
 /// The texture reads of `quads` (of draw `d`) into `out`, map by map across the quads, so each
 /// map's reads are staged ([`MapRead::quads`]).
 fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
+    let lobes = d.surface_maps && d.lobe_maps.any();
     for (o, quad) in out.iter_mut().zip(quads) {
         // Read only for draws with such maps: a plain draw pays one test per quad.
-        o.clear();
+        o.clear(d.surface_maps, lobes);
         if d.surface_maps {
-            let maps = o.maps.get_or_insert_with(QuadMaps::default);
-            maps.clear();
-            maps.bumps = d.bump_map.as_ref().map(|t| t.height_slopes(quad));
-            if d.lobe_maps.any() {
-                maps.lobes = Some(Default::default());
-            }
-        } else {
-            o.maps = None;
+            o.bumps = d.bump_map.as_ref().map(|t| t.height_slopes(quad));
         }
     }
     let mut buf = [[Vec4::ZERO; 4]; BATCH];
@@ -568,83 +561,75 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
     }
     let shared = d.shared.as_ref().map_or(0, |s| s.maps);
     let own = |k: u8| shared & (1 << k) == 0;
-    let mut fill = |t: &MapRead, set: &dyn Fn(&mut QuadReads, [Vec4; 4])| {
+    let mut fill = |t: &MapRead, r: Read| {
         for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
             t.quads(quads, &mut buf[..quads.len()]);
             for (o, b) in out.iter_mut().zip(&buf) {
-                set(o, *b);
+                o.set(r, *b);
             }
         }
     };
     if let Some(t) = d.texture.as_ref().filter(|_| own(0)) {
-        fill(t, &|r, v| r.texels = Some(v));
+        fill(t, Read::Texels);
     }
     if let Some(t) = &d.alpha_map {
-        fill(t, &|r, v| r.opacity = Some(v));
+        fill(t, Read::Opacity);
     }
     if let Some(t) = &d.light_map {
-        fill(t, &|r, v| r.light = Some(v));
+        fill(t, Read::Light);
     }
     if !d.surface_maps {
         fold_layers(d, quads, out);
         return;
     }
-    type Field = fn(&mut QuadMaps) -> &mut Option<[Vec4; 4]>;
-    let maps: [(Option<&MapRead>, Field); 8] = [
-        (d.normal_map.as_ref().filter(|_| own(1)), |m| &mut m.normals),
-        (d.normal_object_map.as_ref(), |m| &mut m.object_normals),
+    let maps = [
+        (d.normal_map.as_ref().filter(|_| own(1)), Read::Normals),
+        (d.normal_object_map.as_ref(), Read::ObjectNormals),
         (
             d.occlusion_map
                 .as_ref()
                 .filter(|_| own(2) && !d.occlusion_from_mr),
-            |m| &mut m.occlusion,
+            Read::Occlusion,
         ),
-        (d.emissive_map.as_ref().filter(|_| own(3)), |m| {
-            &mut m.emission
-        }),
-        (d.metal_rough_map.as_ref().filter(|_| own(4)), |m| {
-            &mut m.metal_rough
-        }),
-        (d.ambient_map.as_ref(), |m| &mut m.ambient),
-        (d.specular_map.as_ref(), |m| &mut m.specular),
-        (d.shininess_map.as_ref(), |m| &mut m.shininess),
+        (d.emissive_map.as_ref().filter(|_| own(3)), Read::Emission),
+        (
+            d.metal_rough_map.as_ref().filter(|_| own(4)),
+            Read::MetalRough,
+        ),
+        (d.ambient_map.as_ref(), Read::Ambient),
+        (d.specular_map.as_ref(), Read::Specular),
+        (d.shininess_map.as_ref(), Read::Shininess),
     ];
-    for (map, field) in maps {
+    for (map, r) in maps {
         if let Some(t) = map {
-            fill(t, &|r, v| {
-                if let Some(m) = r.maps.as_mut() {
-                    *field(m) = Some(v);
-                }
-            });
+            fill(t, r);
         }
     }
-    if d.lobe_maps.any() {
+    if lobes {
         let l = &d.lobe_maps;
         let lobes = [
-            (l.specular_weight.as_ref(), lobe::SPECULAR_WEIGHT),
-            (l.specular_color.as_ref(), lobe::SPECULAR_COLOR),
-            (l.clearcoat.as_ref(), lobe::CLEARCOAT),
-            (l.clearcoat_roughness.as_ref(), lobe::CLEARCOAT_ROUGHNESS),
-            (l.clearcoat_normal.as_ref(), lobe::CLEARCOAT_NORMAL),
-            (l.sheen_color.as_ref(), lobe::SHEEN_COLOR),
-            (l.sheen_roughness.as_ref(), lobe::SHEEN_ROUGHNESS),
-            (l.thickness.as_ref(), lobe::THICKNESS),
+            (l.specular_weight.as_ref(), Read::SpecularWeight),
+            (l.specular_color.as_ref(), Read::SpecularColor),
+            (l.clearcoat.as_ref(), Read::Clearcoat),
+            (l.clearcoat_roughness.as_ref(), Read::ClearcoatRoughness),
+            (l.clearcoat_normal.as_ref(), Read::ClearcoatNormal),
+            (l.sheen_color.as_ref(), Read::SheenColor),
+            (l.sheen_roughness.as_ref(), Read::SheenRoughness),
+            (l.thickness.as_ref(), Read::Thickness),
         ];
-        for (map, k) in lobes {
+        for (map, r) in lobes {
             if let Some(t) = map {
-                fill(t, &|r, v| {
-                    if let Some(texels) = r.maps.as_mut().and_then(|m| m.lobes.as_mut()) {
-                        texels[k] = Some(v);
-                    }
-                });
+                fill(t, r);
             }
         }
     }
     // An occlusion map in the metallic-roughness map's image, read the same way (an ORM
     // image), takes that read's values (read together, `read_shared` reads it once).
     if d.occlusion_from_mr {
-        for m in out.iter_mut().filter_map(|o| o.maps.as_mut()) {
-            m.occlusion = m.metal_rough;
+        for o in out.iter_mut() {
+            if let Some(&t) = o.get(Read::MetalRough) {
+                o.set(Read::Occlusion, t);
+            }
         }
     }
     fold_layers(d, quads, out);
@@ -656,26 +641,23 @@ fn read_shared(d: &DrawInfo, shared: &SharedReads, quads: &[Quad], out: &mut [Qu
     let Some(first) = d.shared_candidates()[shared.first] else {
         return;
     };
+    // Each candidate's read (bit `k` of a feed), in `shared_candidates`' order.
+    const FEEDS: [Read; 5] = [
+        Read::Texels,
+        Read::Normals,
+        Read::Occlusion,
+        Read::Emission,
+        Read::MetalRough,
+    ];
+    // The surface's maps only for a draw that has them (the base colour always).
+    let kept = if d.surface_maps { 0b11111 } else { 1 };
     for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
         first.quads_shared(&shared.reads, quads, |t, i, v| {
-            let o = &mut out[i];
-            let bits = shared.feeds[t];
-            if bits & 1 != 0 {
-                o.texels = Some(v);
-            }
-            if let Some(maps) = o.maps.as_mut() {
-                if bits & 2 != 0 {
-                    maps.normals = Some(v);
-                }
-                if bits & 4 != 0 {
-                    maps.occlusion = Some(v);
-                }
-                if bits & 8 != 0 {
-                    maps.emission = Some(v);
-                }
-                if bits & 16 != 0 {
-                    maps.metal_rough = Some(v);
-                }
+            // Most images feed one map: one pass of the loop.
+            let mut bits = shared.feeds[t] & kept;
+            while bits != 0 {
+                out[i].set(FEEDS[bits.trailing_zeros() as usize], v);
+                bits &= bits - 1;
             }
         });
     }

@@ -7,7 +7,8 @@ use glam::{Vec3, Vec4};
 
 use super::draw::DrawInfo;
 use super::fragment::pixel_color;
-use super::maps::{MapRead, QuadReads};
+use super::maps::MapRead;
+use super::reads::{QuadReads, Read};
 use super::surface::straight;
 use crate::pipeline::{Quad, BATCH};
 use crate::shading::layers::{tex_env, TextureLayer};
@@ -45,7 +46,8 @@ pub(super) fn fold_layers(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
     for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
         let mut colors = [[Vec4::ZERO; 4]; BATCH];
         for ((c, o), q) in colors.iter_mut().zip(out.iter()).zip(quads) {
-            *c = std::array::from_fn(|j| pixel_color(d, q, &o.texels, &o.opacity, j));
+            let (texels, opacity) = (o.get(Read::Texels), o.get(Read::Opacity));
+            *c = std::array::from_fn(|j| pixel_color(d, q, texels, opacity, j));
         }
         for layer in &d.layers {
             layer.read.quads(quads, &mut buf[..quads.len()]);
@@ -56,7 +58,7 @@ pub(super) fn fold_layers(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
             }
         }
         for (o, c) in out.iter_mut().zip(colors) {
-            o.layered = Some(c);
+            o.set(Read::Layered, c);
         }
     }
 }
@@ -65,9 +67,15 @@ pub(super) fn fold_layers(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
 /// else [`pixel_color`].
 #[inline(always)]
 pub(super) fn surface_color(d: &DrawInfo, quad: &Quad, reads: &QuadReads, j: usize) -> Vec4 {
-    match &reads.layered {
+    match reads.get(Read::Layered) {
         Some(c) => c[j],
-        None => pixel_color(d, quad, &reads.texels, &reads.opacity, j),
+        None => pixel_color(
+            d,
+            quad,
+            reads.get(Read::Texels),
+            reads.get(Read::Opacity),
+            j,
+        ),
     }
 }
 
@@ -90,7 +98,7 @@ impl DrawInfo<'_> {
     /// The light map's factor on D at pixel `j` (its straight RGB times the intensity).
     #[inline]
     pub(super) fn light_factor(&self, reads: &QuadReads, j: usize) -> Option<Vec3> {
-        let (texel, map) = (reads.light.as_ref()?, self.light_map.as_ref()?);
+        let (texel, map) = (reads.get(Read::Light)?, self.light_map.as_ref()?);
         Some(straight(texel[j]) * map.scale)
     }
 

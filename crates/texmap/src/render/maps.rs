@@ -1,8 +1,8 @@
 //! Texture reads of the fragment stage: a [`MapRead`] is one texture of a draw resolved once
 //! (image, sampler with the overrides, uv transform as one affine map, uv set), read a quad
 //! at a time or a batch of quads at a time (staged across the quads by
-//! [`sample_quads_lanes`], so their dependent chains overlap); [`QuadReads`] and [`QuadMaps`]
-//! hold what a quad read.
+//! [`sample_quads_lanes`], so their dependent chains overlap); [`super::reads::QuadReads`]
+//! holds what a quad read.
 
 use std::mem::MaybeUninit;
 
@@ -398,93 +398,6 @@ impl<'a> SharedReads<'a> {
             reads: SharedQuads::new(&images[..count], &leader.sampler),
         })
     }
-}
-
-/// A quad's texture reads on the general path: the base colour texture, the opacity map, and
-/// (for draws with any) the maps that feed the [`crate::shading::Surface`].
-#[derive(Clone, Copy, Default)]
-pub(super) struct QuadReads {
-    pub texels: Option<[Vec4; 4]>,
-    pub opacity: Option<[Vec4; 4]>,
-    pub maps: Option<QuadMaps>,
-    /// The surface colour after the texture layers (draws with layers).
-    pub layered: Option<[Vec4; 4]>,
-    /// The light map's texels.
-    pub light: Option<[Vec4; 4]>,
-}
-
-/// A quad's reads of the maps that feed the [`crate::shading::Surface`] (each `None` when the
-/// draw has none).
-#[derive(Clone, Copy, Default)]
-pub(super) struct QuadMaps {
-    pub normals: Option<[Vec4; 4]>,
-    pub object_normals: Option<[Vec4; 4]>,
-    pub occlusion: Option<[Vec4; 4]>,
-    pub emission: Option<[Vec4; 4]>,
-    pub metal_rough: Option<[Vec4; 4]>,
-    /// Height slopes `(∂h/∂x, ∂h/∂y)`.
-    pub bumps: Option<[Vec2; 4]>,
-    pub ambient: Option<[Vec4; 4]>,
-    pub specular: Option<[Vec4; 4]>,
-    pub shininess: Option<[Vec4; 4]>,
-    /// glTF's extension maps, for draws with any (`None` otherwise: a draw without them
-    /// does not pay for their room).
-    pub lobes: Option<LobeTexels>,
-}
-
-impl QuadReads {
-    /// Every read `None` but the maps' (left for [`QuadMaps::clear`]): the fields set one by
-    /// one, so only their tags are written, not a whole empty value's bytes.
-    #[inline(always)]
-    pub(super) fn clear(&mut self) {
-        let QuadReads {
-            texels,
-            opacity,
-            maps: _,
-            layered,
-            light,
-        } = self;
-        (*texels, *opacity, *layered, *light) = (None, None, None, None);
-    }
-}
-
-impl QuadMaps {
-    /// Every read `None`, field by field (as [`QuadReads::clear`]).
-    #[inline(always)]
-    pub(super) fn clear(&mut self) {
-        let QuadMaps {
-            normals,
-            object_normals,
-            occlusion,
-            emission,
-            metal_rough,
-            bumps,
-            ambient,
-            specular,
-            shininess,
-            lobes,
-        } = self;
-        // Assignments, not a loop over the fields: the loop was not unrolled, and with it a
-        // lit 1080p DamagedHelmet frame took 13.3 M instructions more (3.7 %).
-        (*normals, *object_normals, *occlusion, *emission) = (None, None, None, None);
-        (*metal_rough, *ambient, *specular, *shininess) = (None, None, None, None);
-        (*bumps, *lobes) = (None, None);
-    }
-}
-
-/// A quad's reads of glTF's extension maps, in [`LobeTexels`]' index order.
-pub(super) type LobeTexels = [Option<[Vec4; 4]>; 8];
-
-/// Indices into [`LobeTexels`].
-pub(super) mod lobe {
-    pub const SPECULAR_WEIGHT: usize = 0;
-    pub const SPECULAR_COLOR: usize = 1;
-    pub const CLEARCOAT: usize = 2;
-    pub const CLEARCOAT_ROUGHNESS: usize = 3;
-    pub const CLEARCOAT_NORMAL: usize = 4;
-    pub const SHEEN_COLOR: usize = 5;
-    pub const SHEEN_ROUGHNESS: usize = 6;
-    pub const THICKNESS: usize = 7;
 }
 
 /// [`MapRead::raw_reader`]: one quad's footprint and level choice, read at any raw uvs.

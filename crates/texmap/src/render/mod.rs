@@ -43,6 +43,7 @@ mod mr_quad;
 mod parallax;
 mod procedural;
 mod projectors;
+mod reads;
 mod settings;
 mod shadow;
 mod surface;

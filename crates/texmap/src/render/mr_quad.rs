@@ -10,7 +10,7 @@ use glam::Vec4;
 use super::draw::DrawInfo;
 use super::fragment::SceneShader;
 use super::layers::surface_color;
-use super::maps::QuadReads;
+use super::reads::{QuadReads, Read};
 use crate::pipeline::Quad;
 use crate::shading::lanes::{normalize_lanes, transpose, QuadFactors};
 use crate::shading::mr_lanes::{mr_lanes, opaque_colors, straight_lanes, MrQuad};
@@ -124,7 +124,7 @@ impl SceneShader<'_> {
         out: &mut [Vec4; 4],
     ) -> u8 {
         let alpha_mode = d.material.alpha_mode;
-        if alpha_mode == AlphaMode::Opaque && reads.light.is_none() {
+        if alpha_mode == AlphaMode::Opaque && reads.get(Read::Light).is_none() {
             // `combine` in lanes (the model's base colour is the straight colour); every
             // pixel kept.
             let colors = opaque_colors(straight_lanes(colors), df, sp);
@@ -235,7 +235,6 @@ impl DrawInfo<'_> {
     #[inline(always)]
     fn mr_inputs(&self, quad: &Quad, reads: &QuadReads, colors: &[Vec4; 4]) -> MrInputs<Vec4> {
         let s = &self.surface;
-        let maps = reads.maps.as_ref();
         let normal = self
             .layout
             .normal
@@ -245,7 +244,7 @@ impl DrawInfo<'_> {
             .position
             .map_or([Vec4::ZERO; 3], |p| p.lanes(quad));
         let tilt = match (
-            maps.and_then(|m| m.normals.as_ref()),
+            reads.get(Read::Normals),
             &self.normal_map,
             self.layout.tangent,
         ) {
@@ -255,21 +254,19 @@ impl DrawInfo<'_> {
             _ => None,
         };
         let mut occlusion = Vec4::splat(s.occlusion);
-        if let (Some(texels), Some(map)) =
-            (maps.and_then(|m| m.occlusion.as_ref()), &self.occlusion_map)
-        {
+        if let (Some(texels), Some(map)) = (reads.get(Read::Occlusion), &self.occlusion_map) {
             // 1 + strength·(R − 1).
             let r = transpose(*texels)[0];
             occlusion = Vec4::ONE + Vec4::splat(map.scale) * (r - Vec4::ONE);
         }
         let e = s.emissive;
         let mut emissive = [Vec4::splat(e.x), Vec4::splat(e.y), Vec4::splat(e.z)];
-        if let Some(texels) = maps.and_then(|m| m.emission.as_ref()) {
+        if let Some(texels) = reads.get(Read::Emission) {
             let t = transpose(*texels);
             emissive = [emissive[0] * t[0], emissive[1] * t[1], emissive[2] * t[2]];
         }
         let (mut roughness, mut metallic) = (Vec4::splat(s.roughness), Vec4::splat(s.metallic));
-        if let Some(texels) = maps.and_then(|m| m.metal_rough.as_ref()) {
+        if let Some(texels) = reads.get(Read::MetalRough) {
             let t = transpose(*texels);
             roughness *= t[1];
             metallic *= t[2];

@@ -5,7 +5,7 @@
 use glam::{DVec3, Vec3, Vec4};
 
 use super::draw::DrawInfo;
-use super::maps::{lobe, LobeTexels, QuadMaps};
+use super::reads::{QuadReads, Read};
 use crate::pipeline::Quad;
 use crate::shading::{bump, shininess_from_roughness, ShadingModel, Surface};
 
@@ -15,40 +15,40 @@ impl DrawInfo<'_> {
     /// solid textures set the parameters, and metallic-roughness materials take the colour `c`.
     pub(super) fn apply_maps(
         &self,
-        maps: &QuadMaps,
+        reads: &QuadReads,
         quad: &Quad,
         j: usize,
         c: Vec4,
         s: &mut Surface,
     ) {
         // Before the base's normal map: the coat's normal is the geometric one's.
-        if let Some(texels) = &maps.lobes {
-            self.apply_lobe_maps(texels, quad, j, s);
+        if reads.lobe_maps() {
+            self.apply_lobe_maps(reads, quad, j, s);
         } else if s.lobes.clearcoat > 0.0 {
             s.clearcoat_normal = s.normal;
         }
-        s.normal = self.mapped_normal(maps, quad, j, s.normal);
+        s.normal = self.mapped_normal(reads, quad, j, s.normal);
         if self.solid_roughness.is_some() || self.solid_bump.is_some() {
             self.solid_channels(quad, j, s);
         }
-        if let (Some(texel), Some(map)) = (&maps.occlusion, &self.occlusion_map) {
+        if let (Some(texel), Some(map)) = (reads.get(Read::Occlusion), &self.occlusion_map) {
             // 1 + strength·(R − 1).
             s.occlusion = 1.0 + map.scale * (texel[j].x - 1.0);
         }
-        if let Some(texel) = &maps.emission {
+        if let Some(texel) = reads.get(Read::Emission) {
             s.emissive *= texel[j].truncate();
         }
-        if let Some(texel) = &maps.metal_rough {
+        if let Some(texel) = reads.get(Read::MetalRough) {
             s.roughness *= texel[j].y;
             s.metallic *= texel[j].z;
         }
-        if let Some(texel) = &maps.ambient {
+        if let Some(texel) = reads.get(Read::Ambient) {
             s.ambient_color = Some(straight(texel[j]));
         }
-        if let Some(texel) = &maps.specular {
+        if let Some(texel) = reads.get(Read::Specular) {
             s.specular_color = straight(texel[j]);
         }
-        if let Some(texel) = &maps.shininess {
+        if let Some(texel) = reads.get(Read::Shininess) {
             // MTL: the map's value multiplies Ns (at least 1, so the lobe stays finite).
             s.shininess = (s.shininess * texel[j].x).max(1.0);
         }
@@ -61,21 +61,21 @@ impl DrawInfo<'_> {
     /// bump maps (the solid bump is [`DrawInfo::apply_maps`]'s): all a helper pixel of a
     /// quad needs for its reflected direction.
     #[inline(always)]
-    pub(super) fn mapped_normal(&self, maps: &QuadMaps, quad: &Quad, j: usize, n: Vec3) -> Vec3 {
+    pub(super) fn mapped_normal(&self, reads: &QuadReads, quad: &Quad, j: usize, n: Vec3) -> Vec3 {
         let mut n = n;
-        if let (Some(texel), Some(map)) = (&maps.normals, &self.normal_map) {
+        if let (Some(texel), Some(map)) = (reads.get(Read::Normals), &self.normal_map) {
             if let Some(mapped) = self.tangent_space(quad, j, n, texel[j], map.scale) {
                 n = mapped;
             }
         }
-        if let Some(texel) = &maps.object_normals {
+        if let Some(texel) = reads.get(Read::ObjectNormals) {
             // Object space → world: the normal matrix; the vertex normal is replaced.
             let object = texel[j].truncate() * 2.0 - Vec3::ONE;
             if let Some(mapped) = (self.normal_from_object * object).try_normalize() {
                 n = mapped;
             }
         }
-        if let (Some(slopes), Some(p)) = (&maps.bumps, self.layout.position) {
+        if let (Some(slopes), Some(p)) = (&reads.bumps, self.layout.position) {
             n = bump::tilt_screen_space(n, p.ddx3(quad), p.ddy3(quad), slopes[j]);
         }
         n
@@ -104,34 +104,34 @@ impl DrawInfo<'_> {
 
     /// glTF's extension maps at pixel `j` ([`crate::shading::lobes`]): each multiplies its
     /// factor; the clearcoat normal is the geometric normal, tilted by its own map.
-    fn apply_lobe_maps(&self, texels: &LobeTexels, quad: &Quad, j: usize, s: &mut Surface) {
+    fn apply_lobe_maps(&self, reads: &QuadReads, quad: &Quad, j: usize, s: &mut Surface) {
         let l = &mut s.lobes;
-        let t = |k: usize| texels[k].map(|t| t[j]);
-        if let Some(t) = t(lobe::SPECULAR_WEIGHT) {
+        let t = |r: Read| reads.get(r).map(|t| t[j]);
+        if let Some(t) = t(Read::SpecularWeight) {
             l.specular *= t.w;
         }
-        if let Some(t) = t(lobe::SPECULAR_COLOR) {
+        if let Some(t) = t(Read::SpecularColor) {
             l.specular_color *= t.truncate();
         }
-        if let Some(t) = t(lobe::CLEARCOAT) {
+        if let Some(t) = t(Read::Clearcoat) {
             l.clearcoat *= t.x;
         }
-        if let Some(t) = t(lobe::CLEARCOAT_ROUGHNESS) {
+        if let Some(t) = t(Read::ClearcoatRoughness) {
             l.clearcoat_roughness *= t.y;
         }
-        if let Some(t) = t(lobe::SHEEN_COLOR) {
+        if let Some(t) = t(Read::SheenColor) {
             l.sheen_color *= t.truncate();
         }
-        if let Some(t) = t(lobe::SHEEN_ROUGHNESS) {
+        if let Some(t) = t(Read::SheenRoughness) {
             l.sheen_roughness *= t.w;
         }
-        if let Some(t) = t(lobe::THICKNESS) {
+        if let Some(t) = t(Read::Thickness) {
             l.thickness *= t.y;
         }
         if l.clearcoat > 0.0 {
             s.clearcoat_normal = s.normal;
             if let (Some(t), Some(map)) =
-                (t(lobe::CLEARCOAT_NORMAL), &self.lobe_maps.clearcoat_normal)
+                (t(Read::ClearcoatNormal), &self.lobe_maps.clearcoat_normal)
             {
                 if let Some(mapped) = self.tangent_space(quad, j, s.normal, t, map.scale) {
                     s.clearcoat_normal = mapped;
