@@ -15,7 +15,7 @@ use glam::{Vec3, Vec4};
 use super::behind;
 use super::draw::{DrawInfo, LightingPath};
 use super::fragment::SceneShader;
-use super::layers::surface_color;
+use super::layers::surface_colors;
 use super::maps::MapRead;
 use super::parallax::{light_buffer, self_shadowed, SelfShadow};
 use super::reads::QuadReads;
@@ -215,13 +215,9 @@ impl SceneShader<'_> {
         // pixels (outside the triangle) give only their reflected and refracted directions:
         // their normal is all they take from the maps.
         let covered = |j: usize| quad.mask & (1 << j) != 0;
-        let colors: [Vec4; 4] = std::array::from_fn(|j| {
-            if covered(j) {
-                surface_color(d, quad, reads, j)
-            } else {
-                Vec4::ZERO
-            }
-        });
+        let all = surface_colors(d, quad, reads);
+        let colors: [Vec4; 4] =
+            std::array::from_fn(|j| if covered(j) { all[j] } else { Vec4::ZERO });
         // A covered pixel's surface is written in place (a surface is a few hundred bytes:
         // building one then moving it copied it twice more); a helper pixel gets no surface,
         // only its normal and position, for its directions.

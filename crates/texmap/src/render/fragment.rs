@@ -16,7 +16,7 @@ use glam::{Vec3, Vec4};
 
 use super::behind::SceneBehind;
 use super::draw::{DrawInfo, LightingPath};
-use super::layers::{apply_outline, fold_layers, surface_color};
+use super::layers::{apply_outline, fold_layers, surface_colors};
 use super::maps::{MapRead, SharedReads};
 use super::parallax::{self, SelfShadow};
 use super::projectors::Projectors;
@@ -338,11 +338,13 @@ impl SceneShader<'_> {
             && d.model == ShadingModel::Phong)
             .then(|| self.phong_lanes(d, quad));
         let factors = interpolated_factors(d, quad);
+        // Every pixel's colour at once (each test once a quad; a helper pixel's is not used).
+        let colors = surface_colors(d, quad, reads);
         for j in 0..4 {
             if quad.mask & (1 << j) == 0 {
                 continue;
             }
-            let c = surface_color(d, quad, reads, j);
+            let c = colors[j];
             let (mut df, sp) = match d.path {
                 LightingPath::Unlit => (Vec3::ONE, Vec3::ZERO),
                 LightingPath::PerPixel => match (&lit, maps) {
@@ -439,30 +441,37 @@ fn add(a: (Vec3, Vec3), b: (Vec3, Vec3)) -> (Vec3, Vec3) {
     (a.0 + b.0, a.1 + b.1)
 }
 
-/// Pixel `j`'s premultiplied surface colour `C`: the base colour × its texture × opacity ×
-/// vertex colour × the procedural colour, as far as the draw has each.
+/// A quad's four premultiplied surface colours `C`: the base colour × its texture × opacity
+/// × vertex colour × the procedural colour, as far as the draw has each (each test made once
+/// for the quad, not once a pixel).
 #[inline(always)]
-pub(super) fn pixel_color(
+pub(super) fn pixel_colors(
     d: &DrawInfo,
     quad: &Quad,
     texels: Option<&[Vec4; 4]>,
     opacity: Option<&[Vec4; 4]>,
-    j: usize,
-) -> Vec4 {
-    let mut c = d.base;
+) -> [Vec4; 4] {
+    let mut c = [d.base; 4];
     if let Some(t) = texels {
-        c *= t[j];
+        for (c, t) in c.iter_mut().zip(t) {
+            *c *= *t;
+        }
     }
     if let Some(t) = opacity {
-        // Premultiplied: scaling alpha scales the whole colour.
-        c *= if d.alpha_from_w { t[j].w } else { t[j].x };
+        for (c, t) in c.iter_mut().zip(t) {
+            *c *= if d.alpha_from_w { t.w } else { t.x };
+        }
     }
     if let Some(slot) = d.layout.color {
-        let vc = Vec4::from_array(slot.pixel(quad, j));
-        c *= (vc.truncate() * vc.w).extend(vc.w);
+        for (j, c) in c.iter_mut().enumerate() {
+            let vc = Vec4::from_array(slot.pixel(quad, j));
+            *c *= (vc.truncate() * vc.w).extend(vc.w);
+        }
     }
     if let Some(proc) = &d.material.procedural {
-        c *= d.procedural_color(proc, quad, j);
+        for (j, c) in c.iter_mut().enumerate() {
+            *c *= d.procedural_color(proc, quad, j);
+        }
     }
     c
 }

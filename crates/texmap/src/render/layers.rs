@@ -6,7 +6,7 @@
 use glam::{Vec3, Vec4};
 
 use super::draw::DrawInfo;
-use super::fragment::pixel_color;
+use super::fragment::pixel_colors;
 use super::maps::MapRead;
 use super::reads::{QuadReads, Read};
 use super::surface::straight;
@@ -46,8 +46,7 @@ pub(super) fn fold_layers(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
     for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
         let mut colors = [[Vec4::ZERO; 4]; BATCH];
         for ((c, o), q) in colors.iter_mut().zip(out.iter()).zip(quads) {
-            let (texels, opacity) = (o.get(Read::Texels), o.get(Read::Opacity));
-            *c = std::array::from_fn(|j| pixel_color(d, q, texels, opacity, j));
+            *c = pixel_colors(d, q, o.get(Read::Texels), o.get(Read::Opacity));
         }
         for layer in &d.layers {
             layer.read.quads(quads, &mut buf[..quads.len()]);
@@ -63,19 +62,13 @@ pub(super) fn fold_layers(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
     }
 }
 
-/// Pixel `j`'s premultiplied surface colour `C`: after the layers when the draw has any,
-/// else [`pixel_color`].
+/// A quad's premultiplied surface colours `C`: after the layers when the draw has any, else
+/// [`pixel_colors`].
 #[inline(always)]
-pub(super) fn surface_color(d: &DrawInfo, quad: &Quad, reads: &QuadReads, j: usize) -> Vec4 {
+pub(super) fn surface_colors(d: &DrawInfo, quad: &Quad, reads: &QuadReads) -> [Vec4; 4] {
     match reads.get(Read::Layered) {
-        Some(c) => c[j],
-        None => pixel_color(
-            d,
-            quad,
-            reads.get(Read::Texels),
-            reads.get(Read::Opacity),
-            j,
-        ),
+        Some(c) => *c,
+        None => pixel_colors(d, quad, reads.get(Read::Texels), reads.get(Read::Opacity)),
     }
 }
 

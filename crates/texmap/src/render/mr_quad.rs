@@ -9,7 +9,7 @@ use glam::Vec4;
 
 use super::draw::DrawInfo;
 use super::fragment::SceneShader;
-use super::layers::surface_color;
+use super::layers::surface_colors;
 use super::reads::{QuadReads, Read};
 use crate::pipeline::Quad;
 use crate::shading::lanes::{normalize_lanes, transpose, QuadFactors};
@@ -27,7 +27,7 @@ impl SceneShader<'_> {
         reads: &QuadReads,
         out: &mut [Vec4; 4],
     ) -> u8 {
-        let colors = quad_colors(d, quad, reads);
+        let colors = surface_colors(d, quad, reads);
         let q = d.mr_surface(&d.mr_inputs(quad, reads, &colors));
         let (df, sp) = mr_lanes(&d.surface, &q, &self.lighting, self.viewer);
         self.mr_colors(d, quad, reads, &colors, (df, sp), out)
@@ -51,8 +51,8 @@ impl SceneShader<'_> {
     ) -> [u8; 2] {
         use crate::shading::wide::F32x8;
         let colors = [
-            quad_colors(d, quads[0], reads[0]),
-            quad_colors(d, quads[1], reads[1]),
+            surface_colors(d, quads[0], reads[0]),
+            surface_colors(d, quads[1], reads[1]),
         ];
         let inputs = [
             d.mr_inputs(quads[0], reads[0], &colors[0]),
@@ -152,13 +152,6 @@ impl SceneShader<'_> {
         }
         kept
     }
-}
-
-/// A quad's four premultiplied surface colours.
-#[inline(always)]
-fn quad_colors(d: &DrawInfo, quad: &Quad, reads: &QuadReads) -> [Vec4; 4] {
-    let color = |j: usize| surface_color(d, quad, reads, j);
-    [color(0), color(1), color(2), color(3)]
 }
 
 /// What a quad's surface is made from, in lanes, before its normal is made a unit one and

@@ -218,14 +218,16 @@ pub fn specular_albedo_quad(n_dot_v: Vec4, roughness: Vec4) -> (Vec4, Vec4) {
     let x = sqrt4(n_dot_v.max(zero).min(one)) * last;
     let y = roughness.max(zero).min(one) * last;
     // The cell: ⌊x⌋ and ⌊y⌋ at most N − 2, in lanes (a NaN lane is 0, as `max` makes it;
-    // clamped first, so the truncation is in range).
+    // clamped first, so the truncation is in range), as integers and as floats (converted
+    // in lanes: as four scalar conversions they were 16 instructions a quad pair).
     let cell = |t: Vec4| {
-        crate::texture::filter::truncate4(t.max(zero).min(Vec4::splat((N - 2) as f32)))
-            .map(|i| i as usize)
+        use crate::texture::filter::{float4, truncate4};
+        let i = truncate4(t.max(zero).min(Vec4::splat((N - 2) as f32)));
+        (i.map(|i| i as usize), float4(i))
     };
-    let (i, j) = (cell(x), cell(y));
-    let fx = x - Vec4::from_array(i.map(|i| i as f32));
-    let fy = y - Vec4::from_array(j.map(|j| j as f32));
+    let ((i, i_f), (j, j_f)) = (cell(x), cell(y));
+    let fx = x - i_f;
+    let fy = y - j_f;
     // Each lane's cell: its two rows of two texels, (A, B) of the left one then of the right
     // one (one bounds check a cell); the four lanes' rows transposed give each corner's A and
     // B in lanes.

@@ -362,6 +362,22 @@ pub(crate) fn truncate4(v: Vec4) -> [i32; 4] {
     }
 }
 
+/// Four `i32`s as floats (`i as f32` lane by lane, the same values) in one conversion.
+#[inline(always)]
+pub(crate) fn float4(i: [i32; 4]) -> Vec4 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{__m128i, _mm_cvtepi32_ps};
+        // SAFETY: SSE2 is part of x86_64; `[i32; 4]` and `__m128i` have the same size and
+        // every bit pattern is valid for both.
+        Vec4::from(unsafe { _mm_cvtepi32_ps(std::mem::transmute::<[i32; 4], __m128i>(i)) })
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        Vec4::from_array(i.map(|i| i as f32))
+    }
+}
+
 // Inlined into each entry point (as the compiler chose before the OpenGL read became
 // `read_choice`): as a call it cost anisotropic filtering 0.6% more instructions.
 #[inline(always)]
