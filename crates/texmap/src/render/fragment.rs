@@ -443,7 +443,9 @@ fn add(a: (Vec3, Vec3), b: (Vec3, Vec3)) -> (Vec3, Vec3) {
 
 /// A quad's four premultiplied surface colours `C`: the base colour × its texture × opacity
 /// × vertex colour × the procedural colour, as far as the draw has each (each test made once
-/// for the quad, not once a pixel).
+/// for the quad, not once a pixel). The procedural colour is evaluated at covered pixels only
+/// (a helper pixel's point can lie far outside the object); a helper pixel's colour is not
+/// used.
 #[inline(always)]
 pub(super) fn pixel_colors(
     d: &DrawInfo,
@@ -470,7 +472,9 @@ pub(super) fn pixel_colors(
     }
     if let Some(proc) = &d.material.procedural {
         for (j, c) in c.iter_mut().enumerate() {
-            *c *= d.procedural_color(proc, quad, j);
+            if quad.mask & (1 << j) != 0 {
+                *c *= d.procedural_color(proc, quad, j);
+            }
         }
     }
     c

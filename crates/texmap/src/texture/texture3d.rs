@@ -254,7 +254,18 @@ pub(crate) fn trilinear3<C: Codec>(tex: &Texture3D, s: &Sampler, level: usize, p
     let f = q.floor();
     let a = q - f;
     let (x, y, z) = (floor_index(f.x), floor_index(f.y), floor_index(f.z));
-    let v = |dx, dy, dz| fetch3::<C>(tex, s, level, x + dx, y + dy, z + dz);
+    // Saturating: a point far outside (a helper pixel's extrapolated one) floors to
+    // `i32::MAX`, whose neighbour would overflow.
+    let v = |dx: i32, dy: i32, dz: i32| {
+        fetch3::<C>(
+            tex,
+            s,
+            level,
+            x.saturating_add(dx),
+            y.saturating_add(dy),
+            z.saturating_add(dz),
+        )
+    };
     let c00 = v(0, 0, 0).lerp(v(1, 0, 0), a.x);
     let c10 = v(0, 1, 0).lerp(v(1, 1, 0), a.x);
     let c01 = v(0, 0, 1).lerp(v(1, 0, 1), a.x);
@@ -282,6 +293,24 @@ mod tests {
             let p = Vec3::new((x as f32 + 0.5) / 8.0, 0.3, 0.6);
             let v = sample_3d(&t, &s, &Footprint3::point(p));
             assert!((v.x - x as f32 / 7.0).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn a_point_far_outside_reads_without_overflow() {
+        // Past `i32::MAX` texels once scaled: the floored index saturates, and its
+        // neighbour must not overflow (clamped, the edge voxel; repeated, some voxel).
+        let t = ramp(8);
+        for wrap in [Wrap::ClampToEdge, Wrap::Repeat] {
+            let s = Sampler::new(Filter::BILINEAR, wrap);
+            for (x, edge) in [(1e12, 1.0), (-1e12, 0.0), (3e9, 1.0)] {
+                let p = Vec3::new(x, 0.5, 0.5);
+                let v = sample_3d(&t, &s, &Footprint3::point(p));
+                assert!(v.is_finite(), "{wrap:?} {p}: {v}");
+                if wrap == Wrap::ClampToEdge {
+                    assert!((v.x - edge).abs() < 1e-6, "{p}: {v}");
+                }
+            }
         }
     }
 
