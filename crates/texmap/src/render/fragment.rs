@@ -360,39 +360,36 @@ impl SceneShader<'_> {
                             .map_or(Vec3::ZERO, |s| s.pixel3(quad, j).normalize_or_zero());
                         let position = d.layout.position.map_or(Vec3::ZERO, |s| s.pixel3(quad, j));
                         // Double-sided back faces are lit from their side, after any tilt.
-                        match maps {
+                        if !maps {
                             // A Phong material without maps (the model is known): only the
                             // normal and position vary, and this surface stays in registers.
-                            false => {
-                                if back {
-                                    normal = -normal;
-                                }
-                                let s = Surface {
-                                    position,
-                                    normal,
-                                    ..d.surface
-                                };
-                                add(
-                                    phong(&s, &lighting, self.viewer),
-                                    self.projected(d, quad, &s),
-                                )
+                            if back {
+                                normal = -normal;
                             }
-                            true => {
-                                let mut s = Surface {
-                                    position,
-                                    normal,
-                                    ..d.surface
-                                };
-                                d.apply_maps(reads, quad, j, c, &mut s);
-                                if back {
-                                    s.normal = -s.normal;
-                                    s.clearcoat_normal = -s.clearcoat_normal;
-                                }
-                                add(
-                                    d.lit_factors(&s, &lighting, self.viewer),
-                                    self.projected(d, quad, &s),
-                                )
+                            let s = Surface {
+                                position,
+                                normal,
+                                ..d.surface
+                            };
+                            add(
+                                phong(&s, &lighting, self.viewer),
+                                self.projected(d, quad, &s),
+                            )
+                        } else {
+                            let mut s = Surface {
+                                position,
+                                normal,
+                                ..d.surface
+                            };
+                            d.apply_maps(reads, quad, j, c, &mut s);
+                            if back {
+                                s.normal = -s.normal;
+                                s.clearcoat_normal = -s.clearcoat_normal;
                             }
+                            add(
+                                d.lit_factors(&s, &lighting, self.viewer),
+                                self.projected(d, quad, &s),
+                            )
                         }
                     }
                 },
@@ -460,6 +457,7 @@ pub(super) fn pixel_colors(
         }
     }
     if let Some(t) = opacity {
+        // Premultiplied: scaling alpha scales the whole colour.
         for (c, t) in c.iter_mut().zip(t) {
             *c *= if d.alpha_from_w { t.w } else { t.x };
         }
