@@ -28,9 +28,10 @@ impl SceneShader<'_> {
         out: &mut [Vec4; 4],
     ) -> u8 {
         let colors = surface_colors(d, quad, reads);
-        let q = d.mr_surface(&d.mr_inputs(quad, reads, &colors));
+        let inputs = d.mr_inputs(quad, reads, &colors);
+        let q = d.mr_surface(&inputs);
         let (df, sp) = mr_lanes(&d.surface, &q, &self.lighting, self.viewer);
-        self.mr_colors(d, quad, reads, &colors, (df, sp), out)
+        self.mr_colors(d, quad, reads, (&colors, inputs.base_color), (df, sp), out)
     }
 
     /// [`SceneShader::shade_mr_quad`] for two quads of the draw at once, their pixels in
@@ -67,7 +68,7 @@ impl SceneShader<'_> {
                 d,
                 quads[0],
                 reads[0],
-                &colors[0],
+                (&colors[0], inputs[0].base_color),
                 (half(&df, 0), half(&sp, 0)),
                 o0,
             ),
@@ -75,7 +76,7 @@ impl SceneShader<'_> {
                 d,
                 quads[1],
                 reads[1],
-                &colors[1],
+                (&colors[1], inputs[1].base_color),
                 (half(&df, 1), half(&sp, 1)),
                 o1,
             ),
@@ -112,14 +113,16 @@ impl SceneShader<'_> {
         }
     }
 
-    /// A quad's colours from its factors `(D, S)` in lanes: the pixels kept (bits).
+    /// A quad's colours from its factors `(D, S)` in lanes, its premultiplied surface colours
+    /// `colors` and their straight lanes `straight` (the model's base colour, made once for
+    /// both): the pixels kept (bits).
     #[inline(always)]
     fn mr_colors(
         &self,
         d: &DrawInfo,
         quad: &Quad,
         reads: &QuadReads,
-        colors: &[Vec4; 4],
+        (colors, straight): (&[Vec4; 4], [Vec4; 3]),
         (df, sp): ([Vec4; 3], [Vec4; 3]),
         out: &mut [Vec4; 4],
     ) -> u8 {
@@ -127,7 +130,7 @@ impl SceneShader<'_> {
         if alpha_mode == AlphaMode::Opaque && reads.get(Read::Light).is_none() {
             // `combine` in lanes (the model's base colour is the straight colour); every
             // pixel kept.
-            let colors = opaque_colors(straight_lanes(colors), df, sp);
+            let colors = opaque_colors(straight, df, sp);
             for (j, (o, c)) in out.iter_mut().zip(colors).enumerate() {
                 if quad.mask & (1 << j) != 0 {
                     *o = c;
