@@ -4,8 +4,9 @@
 //! The word keeps the record compact where it counts: a batch's records are written by the
 //! reads and read back by the shading, and with a tag beside each read (an `Option` a
 //! read, each tag on a cache line of its own) clearing a record touched a dozen lines and
-//! the shading missed the first-level cache on the tags. Here clearing a record writes one
-//! word, and the metallic-roughness path's five reads sit in the first slots, side by side.
+//! the shading missed the first-level cache on the tags. Here clearing a record writes the
+//! word (and the bump slopes' tag beside it), and the metallic-roughness path's five reads
+//! sit in the first slots, side by side (docs/performance.md, "The 15:48 session's steps").
 
 use std::mem::MaybeUninit;
 
