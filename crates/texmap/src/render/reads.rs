@@ -48,6 +48,8 @@ pub(super) enum Read {
 
 /// How many kinds of [`Read`] there are.
 const SLOTS: usize = Read::Thickness as usize + 1;
+// The slots' bits stay below [`SURFACE`] and [`LOBES`].
+const _: () = assert!(SLOTS <= 30);
 
 /// [`QuadReads::made`]'s bit for a draw with maps that feed the
 /// [`crate::shading::Surface`] (above the slots' bits).
