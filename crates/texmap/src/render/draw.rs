@@ -12,6 +12,7 @@ use super::environment::EnvDraw;
 use super::layers::LayerRead;
 use super::maps::{MapRead, SharedReads};
 use super::parallax::ParallaxRead;
+use super::reads::Read;
 use super::settings::{Settings, ShadingMode, Visibility};
 use super::varyings::VaryingLayout;
 use crate::geometry::Projection;
@@ -510,6 +511,16 @@ impl<'a> DrawInfo<'a> {
         }
         self
     }
+
+    /// The read each of [`DrawInfo::shared_candidates`] makes, in its order (bit `k` of a
+    /// [`SharedReads`] feed).
+    pub(super) const SHARED_READS: [Read; 5] = [
+        Read::Texels,
+        Read::Normals,
+        Read::Occlusion,
+        Read::Emission,
+        Read::MetalRough,
+    ];
 
     /// The maps a draw may read together (`shared`): the base colour texture, the
     /// normal, occlusion, emissive and metallic-roughness maps.

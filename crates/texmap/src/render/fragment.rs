@@ -652,14 +652,6 @@ fn read_shared(d: &DrawInfo, shared: &SharedReads, quads: &[Quad], out: &mut [Qu
     let Some(first) = d.shared_candidates()[shared.first] else {
         return;
     };
-    // Each candidate's read (bit `k` of a feed), in `shared_candidates`' order.
-    const FEEDS: [Read; 5] = [
-        Read::Texels,
-        Read::Normals,
-        Read::Occlusion,
-        Read::Emission,
-        Read::MetalRough,
-    ];
     // The surface's maps only for a draw that has them (the base colour always).
     let kept = if d.surface_maps { 0b11111 } else { 1 };
     for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
@@ -667,7 +659,7 @@ fn read_shared(d: &DrawInfo, shared: &SharedReads, quads: &[Quad], out: &mut [Qu
             // Most images feed one map: one pass of the loop.
             let mut bits = shared.feeds[t] & kept;
             while bits != 0 {
-                out[i].set(FEEDS[bits.trailing_zeros() as usize], v);
+                out[i].set(DrawInfo::SHARED_READS[bits.trailing_zeros() as usize], v);
                 bits &= bits - 1;
             }
         });
