@@ -409,21 +409,25 @@ proptest! {
     }
 
     #[test]
-    fn shared_reads_equal_each_texture_read_on_its_own(fps in proptest::collection::vec(footprint_strategy(), 1..20), f in 0usize..22, w in 0usize..5, count in 1usize..8, mixed in any::<bool>()) {
+    fn shared_reads_equal_each_texture_read_on_its_own(fps in proptest::collection::vec(footprint_strategy(), 1..20), f in 0usize..22, w in 0usize..5, count in 1usize..8, mixed in any::<bool>(), opaque in any::<bool>()) {
         // Textures of one size (more than one group of them when `count` > 5), or with one of
-        // another size (each then read on its own).
+        // another size (each then read on its own). Opaque ones all linear: groups of the
+        // kinds the AVX2 reads gather together (16-bit and opaque linear 8-bit texels).
         let textures: Vec<Texture2D> = (0..count)
             .map(|k| {
                 let width = if mixed && k == count - 1 { 17 } else { 13 };
                 let rgba: Vec<u8> = (0..width * 9 * 4)
-                    .map(|i| ((i * (97 + 2 * k as u32) + 13 * k as u32) % 256) as u8)
+                    .map(|i| match i % 4 {
+                        3 if opaque => 255,
+                        _ => ((i * (97 + 2 * k as u32) + 13 * k as u32) % 256) as u8,
+                    })
                     .collect();
                 // Every third held as 8-bit RGBA, sRGB or linear: groups mixing the storages.
                 let options = match k % 3 {
                     0 => TextureOptions::default(),
                     _ => TextureOptions::default().with_storage(crate::texture::Storage::Rgba8),
                 };
-                let cs = if k % 3 == 1 { ColorSpace::Srgb } else { ColorSpace::Linear };
+                let cs = if k % 3 == 1 && !opaque { ColorSpace::Srgb } else { ColorSpace::Linear };
                 Texture2D::from_texels(width, 9, crate::texture::Format::Rgba8, cs, &rgba, options).unwrap()
             })
             .collect();

@@ -145,6 +145,76 @@ pub(in super::super) unsafe fn gather_weighted(
     }
 }
 
+/// Whether [`gather_shared`] reads `texels`: the 16-bit storage, and opaque RGBA8 texels
+/// with linear codes (the kinds [`gather`] reads in AVX2 lanes).
+#[inline(always)]
+pub(in super::super) fn shared_kind(texels: Texels) -> bool {
+    match texels {
+        Texels::Linear16 => true,
+        Texels::Rgba8(r) => r.srgb15.is_none() && r.opaque,
+    }
+}
+
+/// [`gather_weighted`] of several textures through the same taps `t` (`data[k]`'s texels,
+/// of kind `texels[k]`, summed into `acc[k]`), each pixel pair's eight offsets loaded once
+/// for every texture: texture by texture, the offsets were loaded again for each (half of
+/// a texture's loads). The same products, each texture's added in the same order, so the
+/// same sums.
+///
+/// # Safety
+/// The CPU must have AVX2; every `texels[k]` must be a [`shared_kind`], and `t`'s offsets
+/// must index texels of every `data[k]` (a level of the size they were made for, as
+/// `sse2::taps` makes them); `w` = `weights(t)`.
+#[inline(always)]
+pub(in super::super) unsafe fn gather_shared(
+    data: &[&[u8]],
+    texels: &[Texels],
+    t: &Taps,
+    w: &Weights,
+    acc: &mut [Sums],
+) {
+    // SAFETY: the CPU has AVX2 (this function's contract); each load reads one texel (8
+    // bytes of the 16-bit storage, 4 of the 8-bit one) at an offset `t` makes for this
+    // level, which every `data[k]` holds (the caller's).
+    unsafe {
+        for j in [0, 2] {
+            let at = |k: usize, p: usize| t.offsets[k][p] as usize;
+            // Pixels `j` and `j + 1`: taps 0 and 1 (the top pair), then taps 2 and 3.
+            let o = [
+                [at(0, j), at(1, j), at(0, j + 1), at(1, j + 1)],
+                [at(2, j), at(3, j), at(2, j + 1), at(3, j + 1)],
+            ];
+            let [top, bottom] = w[j / 2];
+            for ((d, &texels), acc) in data.iter().zip(texels).zip(acc.iter_mut()) {
+                let base = d.as_ptr();
+                let pairs = if matches!(texels, Texels::Linear16) {
+                    let q = |i: usize| _mm_loadl_epi64(base.add(i * 8).cast());
+                    o.map(|[a, b, c, e]| {
+                        let lo = _mm_unpacklo_epi16(q(a), q(b));
+                        let hi = _mm_unpacklo_epi16(q(c), q(e));
+                        _mm256_srli_epi16::<1>(_mm256_set_m128i(hi, lo))
+                    })
+                } else {
+                    let q = |i: usize| {
+                        _mm_cvtsi32_si128(base.add(i * 4).cast::<i32>().read_unaligned())
+                    };
+                    o.map(|[a, b, c, e]| {
+                        let lo = _mm_unpacklo_epi8(q(a), q(b));
+                        let hi = _mm_unpacklo_epi8(q(c), q(e));
+                        let v = _mm256_set_m128i(hi, lo);
+                        _mm256_srli_epi16::<1>(_mm256_unpacklo_epi8(v, v))
+                    })
+                };
+                let sum = _mm256_add_epi32(
+                    _mm256_madd_epi16(pairs[0], top),
+                    _mm256_madd_epi16(pairs[1], bottom),
+                );
+                acc[j / 2] = _mm256_add_epi32(acc[j / 2], sum);
+            }
+        }
+    }
+}
+
 /// [`gather`] of the 16-bit storage.
 ///
 /// # Safety
