@@ -565,7 +565,9 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
             o.bumps = d.bump_map.as_ref().map(|t| t.height_slopes(quad));
         }
     }
-    let mut buf = [[Vec4::ZERO; 4]; BATCH];
+    // Made for the first map read on its own (a draw whose maps are all read together has
+    // none: its kilobyte was zeroed for nothing, a `memset` call a batch).
+    let mut buf = None;
     // The maps read at one set of coordinates, together.
     if let Some(shared) = &d.shared {
         read_shared(d, shared, quads, out);
@@ -573,9 +575,10 @@ fn read_batch(d: &DrawInfo, quads: &[Quad], out: &mut [QuadReads]) {
     let shared = d.shared.as_ref().map_or(0, |s| s.maps);
     let own = |k: u8| shared & (1 << k) == 0;
     let mut fill = |t: &MapRead, r: Read| {
+        let buf = buf.get_or_insert([[Vec4::ZERO; 4]; BATCH]);
         for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
             t.quads(quads, &mut buf[..quads.len()]);
-            for (o, b) in out.iter_mut().zip(&buf) {
+            for (o, b) in out.iter_mut().zip(buf.iter()) {
                 o.set(r, *b);
             }
         }
