@@ -38,6 +38,7 @@ use glam::Vec4;
 
 use super::super::storage::{LevelRef, Rgba8Texels};
 use super::super::{Format, Layout, MipChoice, Sampler, TexelFilter, Texture2D, Wrap};
+use super::QuadCoords;
 
 /// The largest 15-bit weight: a read's weights sum to it.
 const ONE: i32 = 32767;
@@ -83,9 +84,6 @@ mod prefetch;
 pub(super) use prefetch::prefetch_quads;
 #[cfg(target_arch = "x86_64")]
 pub(super) use prefetch::prefetch_shared;
-
-mod plan;
-pub(super) use plan::{SharedPlan, PLAN_QUADS};
 
 mod trilinear;
 pub(super) use trilinear::read_trilinear;
@@ -229,6 +227,32 @@ pub(super) fn read_quad_shared(
         let _ = (shared, u, v, mask);
         false
     }
+}
+
+/// [`read_quad_shared`] of two quads (`coords[k]`, `choices[k]`, `masks[k]` into
+/// `out[k]`) at once, their taps on each level computed together in AVX2 lanes: the same
+/// values. `false`, and nothing read, unless the CPU has x86-64-v3 ([`crate::cpu::level`])
+/// and both quads read bilinear texels on the same levels (most neighbours do).
+#[inline]
+pub(super) fn read_pair_shared(
+    shared: &Shared,
+    s: &Sampler,
+    choices: [MipChoice; 2],
+    coords: [&QuadCoords; 2],
+    masks: [u8; 2],
+    out: &mut [[[Vec4; 4]; MAX_SHARED]; 2],
+) -> bool {
+    let levels = |c: &MipChoice| (c.texels, c.level, c.blend.map(|b| b.level));
+    let same =
+        choices[0].texels == TexelFilter::Linear && levels(&choices[0]) == levels(&choices[1]);
+    #[cfg(target_arch = "x86_64")]
+    if same && crate::cpu::level() == crate::cpu::Level::V3 {
+        // SAFETY: the CPU has x86-64-v3 (`cpu::level`); both quads read the same levels.
+        unsafe { avx2::linear_pair_shared(shared, s, choices, coords, masks, out) };
+        return true;
+    }
+    let _ = (same, shared, s, coords, masks, out);
+    false
 }
 
 /// A quad's probes (anisotropic filtering in lanes): for each [`Probe`] of `probes`, a

@@ -419,8 +419,6 @@ fn staged_end_in(
 /// The quads [`sample_quads_lanes`] and [`sample_quads_lanes_shared`] choose levels for at a
 /// time.
 const CHUNK: usize = 16;
-// A chunk of shared reads is planned at once (`SharedQuads::sample`).
-const _: () = assert!(CHUNK <= fixed16::PLAN_QUADS);
 const _: () = assert!(CHUNK <= fixed16::LEVEL_QUADS && CHUNK.is_multiple_of(4));
 const _: () = assert!(QUADS_STAGED <= fixed16::LEVEL_QUADS);
 
@@ -622,29 +620,31 @@ impl<'a> SharedQuads<'a> {
         let mut pair = [[[Vec4::ZERO; 4]; fixed16::MAX_SHARED]; 2];
         for (start, (coords, masks)) in coords.chunks(CHUNK).zip(masks.chunks(CHUNK)).enumerate() {
             let (choices, _) = gl_choices::<CHUNK>(first, sampler, coords, mag, min);
-            // The chunk's pairs and their first-level taps, its first texels asked for at
-            // once, so their misses overlap (the groups are of one size: one plan serves all).
-            let mut plan = fixed16::SharedPlan::new();
-            if let Some(shared) = self.groups.iter().flatten().next() {
-                plan.plan(shared, sampler, coords, &choices);
+            // The chunk's first texels asked for at once, so their misses overlap.
+            #[cfg(target_arch = "x86_64")]
+            if let Some(Some(shared)) = self.groups.first() {
+                for (c, &choice) in coords.iter().zip(&choices) {
+                    fixed16::prefetch_shared(shared, sampler, choice, c.u, c.v);
+                }
             }
             let groups = textures.chunks(fixed16::MAX_SHARED).zip(&self.groups);
             for (group, (textures, shared)) in groups.enumerate() {
                 let mut k = 0;
                 while k < coords.len() {
                     // Two neighbours on the same levels at once, where the CPU has the lanes.
-                    if let (Some(shared), true) = (shared.as_ref(), plan.pair(k)) {
+                    if let (Some(shared), true) = (shared.as_ref(), k + 1 < coords.len()) {
                         let both = [choices[k], choices[k + 1]];
                         let (c, m) = ([&coords[k], &coords[k + 1]], [masks[k], masks[k + 1]]);
-                        plan.read_pair(k, shared, sampler, both, c, m, &mut pair);
-                        for (j, quad) in pair.iter().enumerate() {
-                            for (t, q) in quad.iter().take(textures.len()).enumerate() {
-                                let t = group * fixed16::MAX_SHARED + t;
-                                put(t, start * CHUNK + k + j, *q);
+                        if fixed16::read_pair_shared(shared, sampler, both, c, m, &mut pair) {
+                            for (j, quad) in pair.iter().enumerate() {
+                                for (t, q) in quad.iter().take(textures.len()).enumerate() {
+                                    let t = group * fixed16::MAX_SHARED + t;
+                                    put(t, start * CHUNK + k + j, *q);
+                                }
                             }
+                            k += 2;
+                            continue;
                         }
-                        k += 2;
-                        continue;
                     }
                     let (c, m, choice) = (&coords[k], masks[k], choices[k]);
                     let quad = &mut quad[..textures.len()];

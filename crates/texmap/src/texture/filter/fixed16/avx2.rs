@@ -348,50 +348,14 @@ unsafe fn round_away(x: __m128) -> __m128i {
     }
 }
 
-/// A pair's taps on its first level as [`linear_pair_shared`] makes them ([`taps2`], each
-/// quad weighted its share of the level), written to `out`, and each quad's texels there
-/// asked for in every texture of `shared` as [`super::prefetch_shared`] asks for them (the
-/// four corners: pixel `k`'s tap `k`). Nothing is read.
+/// [`super::read_pair_shared`]: two quads' reads of every texture of `shared`, both quads on
+/// the same levels, their taps on each level computed at once ([`taps2`]) and each
+/// texture's texels gathered quad by quad as [`sse2::linear_quad_shared`] gathers them (a
+/// level whose weight is 0 for a quad not read for it). The same values.
 ///
 /// # Safety
-/// The CPU must have x86-64-v3 ([`crate::cpu::level`]); both `choices` must read bilinear
-/// texels on the same levels.
-#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
-pub(super) unsafe fn plan_pair(
-    shared: &super::Shared,
-    s: &Sampler,
-    choices: [MipChoice; 2],
-    coords: [&QuadCoords; 2],
-    out: &mut MaybeUninit<[Taps; 2]>,
-) {
-    use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-    let w = choices.map(sse2::first_weight);
-    let (u, v) = ([coords[0].u, coords[1].u], [coords[0].v, coords[1].v]);
-    let lv = shared.level(choices[0].level);
-    // SAFETY: the CPU has AVX2 (this function's contract).
-    let taps = out.write(unsafe { taps2(size(&lv.first), lv.tiles_x, s, u, v, w) });
-    for t in taps.iter() {
-        let corners = [0, 1, 2, 3].map(|k| t.offsets[k][k] as usize);
-        for (data, &texels) in lv.data.iter().zip(&shared.texels).take(shared.len()) {
-            let size = super::bpp(texels);
-            for o in corners {
-                // A prefetch reads nothing.
-                _mm_prefetch::<_MM_HINT_T0>(data.as_ptr().wrapping_add(o * size).cast::<i8>());
-            }
-        }
-    }
-}
-
-/// [`super::read_quad_shared`] of two quads: their reads of every texture of `shared`, both
-/// quads on the same levels, their taps on each level computed at once ([`taps2`]; on the
-/// first level `first`, as [`plan_pair`] made them) and each texture's texels gathered quad
-/// by quad as [`sse2::linear_quad_shared`] gathers them (a level whose weight is 0 for a
-/// quad not read for it). The same values.
-///
-/// # Safety
-/// The CPU must have x86-64-v3 ([`crate::cpu::level`]); both `choices` must read bilinear
-/// texels on the same levels; `first` must be [`plan_pair`]'s taps of these quads on a level
-/// of `shared`'s size and tiling.
+/// The CPU must have x86-64-v3 ([`crate::cpu::level`]); both `choices` must name the same
+/// levels.
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe")]
 pub(super) unsafe fn linear_pair_shared(
     shared: &super::Shared,
@@ -399,7 +363,6 @@ pub(super) unsafe fn linear_pair_shared(
     choices: [MipChoice; 2],
     coords: [&QuadCoords; 2],
     masks: [u8; 2],
-    first: &[Taps; 2],
     out: &mut [[[Vec4; 4]; super::MAX_SHARED]; 2],
 ) {
     let count = shared.len();
@@ -410,22 +373,13 @@ pub(super) unsafe fn linear_pair_shared(
     let mut acc = [[zero(); super::MAX_SHARED]; 2];
     let every_kind = texels[..count].iter().all(|&t| shared_kind(t));
     let second = choices[0].blend.map(|b| b.level);
-    for (pass, (index, w)) in [(Some(choices[0].level), wa), (second, wb)]
-        .into_iter()
-        .enumerate()
-    {
+    for (index, w) in [(Some(choices[0].level), wa), (second, wb)] {
         let Some(index) = index.filter(|_| w[0] > 0 || w[1] > 0) else {
             continue;
         };
         let lv = shared.level(index);
-        let made;
-        let taps = if pass == 0 {
-            first
-        } else {
-            // SAFETY: the CPU has AVX2 (this function's contract).
-            made = unsafe { taps2(size(&lv.first), lv.tiles_x, s, u, v, w) };
-            &made
-        };
+        // SAFETY: the CPU has AVX2 (this function's contract).
+        let taps = unsafe { taps2(size(&lv.first), lv.tiles_x, s, u, v, w) };
         for ((t, w), acc) in taps.iter().zip(w).zip(&mut acc) {
             if w <= 0 {
                 continue;
