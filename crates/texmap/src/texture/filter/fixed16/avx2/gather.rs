@@ -178,7 +178,7 @@ pub(in super::super) unsafe fn gather_shared(
     // level, which every `data[k]` holds (the caller's).
     unsafe {
         for j in [0, 2] {
-            let at = |k: usize, p: usize| t.offsets[k][p] as usize;
+            let at = |k: usize, p: usize| t.offsets[k][p];
             // Pixels `j` and `j + 1`: taps 0 and 1 (the top pair), then taps 2 and 3.
             let o = [
                 [at(0, j), at(1, j), at(0, j + 1), at(1, j + 1)],
@@ -187,22 +187,16 @@ pub(in super::super) unsafe fn gather_shared(
             let [top, bottom] = w[j / 2];
             for ((d, &texels), acc) in data.iter().zip(texels).zip(acc.iter_mut()) {
                 let base = d.as_ptr();
+                // As `gather_pairs` makes a pair, through `gather16`'s and `gather8`'s halves.
                 let pairs = if matches!(texels, Texels::Linear16) {
-                    let q = |i: usize| _mm_loadl_epi64(base.add(i * 8).cast());
                     o.map(|[a, b, c, e]| {
-                        let lo = _mm_unpacklo_epi16(q(a), q(b));
-                        let hi = _mm_unpacklo_epi16(q(c), q(e));
-                        _mm256_srli_epi16::<1>(_mm256_set_m128i(hi, lo))
+                        let v = _mm256_set_m128i(half16(base, c, e), half16(base, a, b));
+                        _mm256_srli_epi16::<1>(v)
                     })
                 } else {
-                    let q = |i: usize| {
-                        _mm_cvtsi32_si128(base.add(i * 4).cast::<i32>().read_unaligned())
-                    };
                     o.map(|[a, b, c, e]| {
-                        let lo = _mm_unpacklo_epi8(q(a), q(b));
-                        let hi = _mm_unpacklo_epi8(q(c), q(e));
-                        let v = _mm256_set_m128i(hi, lo);
-                        _mm256_srli_epi16::<1>(_mm256_unpacklo_epi8(v, v))
+                        let v = _mm256_set_m128i(half8(base, c, e), half8(base, a, b));
+                        _mm256_srli_epi16::<1>(widen8(v))
                     })
                 };
                 let sum = _mm256_add_epi32(
@@ -226,14 +220,21 @@ unsafe fn gather16(data: &[u8], t: &Taps, w: &Weights, acc: &mut Sums) {
     // SAFETY (the loads): each reads one 8-byte texel at an index below `data.len() / 8`
     // (the offsets' level has this size, see `sse2::taps`); the CPU has AVX2.
     unsafe {
+        gather_pairs(t, w, acc, |o0, o1| half16(base, o0, o1), |v| v);
+    }
+}
+
+/// Two 8-byte texels of the 16-bit storage at `base` (indices `o0`, `o1`), their channels
+/// interleaved in 128 bits: one pixel's pair of taps ([`gather16`], [`gather_shared`]).
+///
+/// # Safety
+/// The CPU must have AVX2; both indices must be texels of the level at `base`.
+#[inline(always)]
+unsafe fn half16(base: *const u8, o0: i32, o1: i32) -> __m128i {
+    // SAFETY: this function's contract.
+    unsafe {
         let q = |i: i32| _mm_loadl_epi64(base.add(i as usize * 8).cast());
-        gather_pairs(
-            t,
-            w,
-            acc,
-            |o0: i32, o1: i32| _mm_unpacklo_epi16(q(o0), q(o1)),
-            |v| v,
-        );
+        _mm_unpacklo_epi16(q(o0), q(o1))
     }
 }
 
@@ -249,15 +250,32 @@ unsafe fn gather8(data: &[u8], t: &Taps, w: &Weights, acc: &mut Sums) {
     // SAFETY (the loads): each reads one 4-byte texel at an index below `data.len() / 4`
     // (the offsets' level has this size, see `sse2::taps`); the CPU has AVX2.
     unsafe {
-        let q = |i: i32| _mm_cvtsi32_si128(base.add(i as usize * 4).cast::<i32>().read_unaligned());
-        gather_pairs(
-            t,
-            w,
-            acc,
-            |o0: i32, o1: i32| _mm_unpacklo_epi8(q(o0), q(o1)),
-            |v| _mm256_unpacklo_epi8(v, v),
-        );
+        gather_pairs(t, w, acc, |o0, o1| half8(base, o0, o1), |v| widen8(v));
     }
+}
+
+/// Two opaque RGBA8 texels at `base` (indices `o0`, `o1`), their bytes interleaved
+/// (r0 r1 g0 g1 …) in the low 64 bits: one pixel's pair of taps before [`widen8`].
+///
+/// # Safety
+/// The CPU must have AVX2; both indices must be texels of the level at `base`.
+#[inline(always)]
+unsafe fn half8(base: *const u8, o0: i32, o1: i32) -> __m128i {
+    // SAFETY: this function's contract.
+    unsafe {
+        let q = |i: i32| _mm_cvtsi32_si128(base.add(i as usize * 4).cast::<i32>().read_unaligned());
+        _mm_unpacklo_epi8(q(o0), q(o1))
+    }
+}
+
+/// Two pixels' [`half8`] pairs of taps, each byte doubled to 16 bits (`c · 257`).
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[inline(always)]
+unsafe fn widen8(v: __m256i) -> __m256i {
+    // SAFETY: this function's contract.
+    unsafe { _mm256_unpacklo_epi8(v, v) }
 }
 
 /// The gathers' sums: for pixels `j` and `j + 1` at once, each pixel's two pairs of taps
