@@ -10,9 +10,11 @@
 //! the per-quad edge tests. Depth is tested per sample
 //! before shading; the shader runs once per pixel per triangle (at the pixel centre) and its
 //! colour goes to every covered sample that passed. Covered quads wait in a `Batch` of up
-//! to 8 (one primitive's, so disjoint; `batch.rs`) and are shaded together, which lets the
-//! shader overlap their work. Colour and depth live in the tile buffer; the finished tile
-//! goes to the target's rows with streaming stores.
+//! to 16 and are shaded together, which lets the shader overlap their work (`batch.rs`: with
+//! one sample a pixel, consecutive primitives of a draw share a batch, a quad over a waiting
+//! quad's pixel flushing it first; with more, a batch is one primitive's). Colour and depth
+//! live in the tile buffer; the finished tile goes to the target's rows with streaming
+//! stores.
 //!
 //! With one sample a pixel, a tile with two or more primitives of draws that test and write
 //! depth, do not blend and keep every pixel they shade ([`super::DrawState::keeps_all`]), not
@@ -245,6 +247,9 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
     let positions = sample_positions(S as u32);
     let tile = super::bin::TILE as usize;
     let mut batch = Batch::new();
+    // The sample offsets of the waiting quads' primitive (with one sample, a batch's quads
+    // can be of several primitives: none is needed).
+    let mut zoff_batch = [0.0f32; S];
     // Set up in place at a primitive's first covered quad (`Planes::set`: no copy, no
     // clearing of the unused varyings' planes).
     let mut planes = Planes::empty();
@@ -261,6 +266,13 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
         let nearest = covered.is_some() && prepassed(ctx, pi);
         if PRE && !nearest {
             continue;
+        }
+        // A batch holds one draw's quads.
+        if !PRE && batch.call().is_some_and(|c| c != prim.call) {
+            batch.flush::<S>(ctx, &zoff_batch, (&mut *color, &mut *depth), stats);
+        }
+        if !PRE {
+            batch.begin_prim(prim.call);
         }
         // Spelled out: `prim.v.map(…)` was an out-of-line call per primitive and pass.
         let v = [
@@ -365,6 +377,7 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
                             zoff[s] = (planes.z.dx * ox as f32 + planes.z.dy * oy as f32) / 16.0;
                         }
                         have_planes = true;
+                        zoff_batch = zoff;
                     }
                     let pl = &planes;
                     let fx = (qx - rect.x0 as i32) as f32;
@@ -410,8 +423,12 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
                     } else if S == 1 {
                         // One sample: the quad's four depths compared at once (the sample
                         // offset is zero; the tile buffer holds whole quads, so the reads
-                        // stay inside it at the tile's edges).
+                        // stay inside it at the tile's edges), after the waiting quads'
+                        // writes to its pixels.
                         // (`pass` stays unset: with one sample the quad's mask says it.)
+                        if batch.waits_on(lx, ly, pmask) {
+                            batch.flush::<S>(ctx, &zoff, (&mut *color, &mut *depth), stats);
+                        }
                         let nearer = if depth_test {
                             let i = ly * tile + lx;
                             let d = &depth[i..i + tile + 2];
@@ -440,10 +457,15 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
                         qmask |= u8::from(ok != 0) << j;
                     }
                     if qmask != 0 {
-                        let p = Pending { lx, ly, pass, zp };
+                        let p = Pending {
+                            lx: lx as u32,
+                            ly: ly as u32,
+                            pass,
+                            zp,
+                            write_depth,
+                        };
                         if batch.push(prim, qmask, p, rect, pl) {
-                            let tile_buf = (&mut *color, &mut *depth, write_depth);
-                            batch.flush::<S>(ctx, prim.call, &zoff, tile_buf, stats);
+                            batch.flush::<S>(ctx, &zoff, (&mut *color, &mut *depth), stats);
                         }
                     }
                 }
@@ -507,10 +529,13 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
             quad_row.step(&quad_step_y);
             qy += 2;
         }
-        if !PRE {
-            let tile_buf = (&mut *color, &mut *depth, write_depth);
-            batch.flush::<S>(ctx, prim.call, &zoff, tile_buf, stats);
+        if !PRE && S > 1 {
+            // Each sample's depth offset is the primitive's own.
+            batch.flush::<S>(ctx, &zoff, (&mut *color, &mut *depth), stats);
         }
+    }
+    if !PRE {
+        batch.flush::<S>(ctx, &zoff_batch, (color, depth), stats);
     }
 }
 
@@ -536,7 +561,7 @@ struct Kept<'a> {
 
 /// Shades the quads the pre-pass kept of `prim` (vertices `v`), one sample a pixel, where they
 /// pass the depth test and reach the nearest depth: what walking the primitive again would
-/// shade, quad for quad, in the same order and batches.
+/// shade, quad for quad, in the same order and batches (left waiting in `batch`).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn shade_kept(
@@ -554,9 +579,12 @@ fn shade_kept(
     let tile = super::bin::TILE as usize;
     let zmin = kept.zmin;
     let mut have_planes = false;
-    let mut zoff = [0.0f32; 1];
     for q in kept.quads {
         let (lx, ly) = (usize::from(q.lx), usize::from(q.ly));
+        // The waiting quads' writes to this quad's pixels first.
+        if batch.waits_on(lx, ly, q.mask) {
+            batch.flush::<1>(ctx, &[0.0], (&mut *color, &mut *depth), stats);
+        }
         let i = ly * tile + lx;
         let zp = Vec4::from_array(q.zp);
         let (d, z) = (&depth[i..i + tile + 2], &zmin[i..i + tile + 2]);
@@ -581,21 +609,19 @@ fn shade_kept(
                 rect.x0 as i32,
                 rect.y0 as i32,
             );
-            zoff[0] = (planes.z.dx * 0.0 + planes.z.dy * 0.0) / 16.0;
             have_planes = true;
         }
         let p = Pending {
-            lx,
-            ly,
+            lx: lx as u32,
+            ly: ly as u32,
             pass: [0; 4],
             zp: q.zp,
+            write_depth,
         };
         if batch.push(prim, qmask, p, rect, planes) {
-            let tile_buf = (&mut *color, &mut *depth, write_depth);
-            batch.flush::<1>(ctx, prim.call, &zoff, tile_buf, stats);
+            batch.flush::<1>(ctx, &[0.0], (&mut *color, &mut *depth), stats);
         }
     }
-    batch.flush::<1>(ctx, prim.call, &zoff, (color, depth, write_depth), stats);
 }
 
 #[cfg(test)]
