@@ -168,6 +168,18 @@ mod avx {
                 _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(lo.into()), hi.into())
             })
         }
+
+        /// The vector, for operations [`Lane`] does not name (a table's gathers).
+        #[inline(always)]
+        pub(crate) fn m256(self) -> __m256 {
+            self.0
+        }
+
+        /// [`F32x8::m256`]'s inverse.
+        #[inline(always)]
+        pub(crate) fn from_m256(v: __m256) -> F32x8 {
+            F32x8(v)
+        }
     }
 
     // SAFETY (every block below): AVX is available where these run (the module's rule).
