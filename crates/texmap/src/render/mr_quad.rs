@@ -55,11 +55,8 @@ impl SceneShader<'_> {
             surface_colors(d, quads[0], reads[0]),
             surface_colors(d, quads[1], reads[1]),
         ];
-        let inputs = [
-            d.mr_inputs(quads[0], reads[0], &colors[0]),
-            d.mr_inputs(quads[1], reads[1], &colors[1]),
-        ];
-        let q = d.mr_surface(&MrInputs::<F32x8>::join(&inputs));
+        let inputs = d.mr_inputs_pair(quads, reads, &colors);
+        let q = d.mr_surface(&inputs);
         let (df, sp) = mr_lanes(&d.surface, &q, &self.lighting, self.viewer);
         let [o0, o1] = out;
         let half = |v: &[F32x8; 3], k: usize| [v[0].quad(k), v[1].quad(k), v[2].quad(k)];
@@ -68,7 +65,7 @@ impl SceneShader<'_> {
                 d,
                 quads[0],
                 reads[0],
-                (&colors[0], inputs[0].base_color),
+                (&colors[0], half(&inputs.base_color, 0)),
                 (half(&df, 0), half(&sp, 0)),
                 o0,
             ),
@@ -76,7 +73,7 @@ impl SceneShader<'_> {
                 d,
                 quads[1],
                 reads[1],
-                (&colors[1], inputs[1].base_color),
+                (&colors[1], half(&inputs.base_color, 1)),
                 (half(&df, 1), half(&sp, 1)),
                 o1,
             ),
@@ -176,44 +173,6 @@ struct MrInputs<L> {
     base_color: [L; 3],
 }
 
-#[cfg(target_arch = "x86_64")]
-impl MrInputs<crate::shading::wide::F32x8> {
-    /// Two quads' inputs as one, quad `k` in lanes `4k..4k + 4` (the two quads come from
-    /// one draw, so both have a tilt or neither has).
-    #[inline(always)]
-    fn join([a, b]: &[MrInputs<Vec4>; 2]) -> Self {
-        use crate::shading::wide::F32x8;
-        // Written out: closures and `array::map` here were compiled on their own, without
-        // AVX, and their vector operations left as calls.
-        let one = F32x8::join;
-        let three =
-            |x: [Vec4; 3], y: [Vec4; 3]| [one(x[0], y[0]), one(x[1], y[1]), one(x[2], y[2])];
-        let four = |x: [Vec4; 4], y: [Vec4; 4]| {
-            [
-                one(x[0], y[0]),
-                one(x[1], y[1]),
-                one(x[2], y[2]),
-                one(x[3], y[3]),
-            ]
-        };
-        let tilt = match (a.tilt, b.tilt) {
-            (Some(x), Some(y)) => Some((four(x.0, y.0), four(x.1, y.1))),
-            _ => None,
-        };
-        MrInputs {
-            normal: three(a.normal, b.normal),
-            position: three(a.position, b.position),
-            tilt,
-            back: one(a.back, b.back),
-            occlusion: one(a.occlusion, b.occlusion),
-            emissive: three(a.emissive, b.emissive),
-            roughness: one(a.roughness, b.roughness),
-            metallic: one(a.metallic, b.metallic),
-            base_color: three(a.base_color, b.base_color),
-        }
-    }
-}
-
 impl DrawInfo<'_> {
     /// Whether this draw's quads are shaded by [`SceneShader::shade_mr_quad`] (those without
     /// parallax self-shadowing): a plain metallic-roughness draw with no projectors and no
@@ -281,6 +240,93 @@ impl DrawInfo<'_> {
         }
     }
 
+    /// [`DrawInfo::mr_inputs`] of two quads of the draw in eight lanes (quad `k` in lanes
+    /// `4k..4k + 4`), `colors` their pixels' premultiplied surface colours: each texel read
+    /// made lanes by one transpose of both quads' texels, each value by the operations one
+    /// quad's lanes take (the same bits). The two quads are one draw's, so they have the
+    /// same reads.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn mr_inputs_pair(
+        &self,
+        quads: [&Quad; 2],
+        reads: [&QuadReads; 2],
+        colors: &[[Vec4; 4]; 2],
+    ) -> MrInputs<crate::shading::wide::F32x8> {
+        use crate::shading::wide::F32x8;
+        let s = &self.surface;
+        let splat = F32x8::splat;
+        let (zero, one) = (splat(0.0), splat(1.0));
+        let normal = self
+            .layout
+            .normal
+            .map_or([zero; 3], |n| join3(n.lanes(quads[0]), n.lanes(quads[1])));
+        let position = self
+            .layout
+            .position
+            .map_or([zero; 3], |p| join3(p.lanes(quads[0]), p.lanes(quads[1])));
+        let tilt = match (
+            texels_pair(reads, Read::Normals),
+            &self.normal_map,
+            self.layout.tangent,
+        ) {
+            (Some(texels), Some(_), Some(t)) => {
+                let (t0, t1) = (t.lanes(quads[0]), t.lanes(quads[1]));
+                let tangent = [
+                    F32x8::join(t0[0], t1[0]),
+                    F32x8::join(t0[1], t1[1]),
+                    F32x8::join(t0[2], t1[2]),
+                    F32x8::join(t0[3], t1[3]),
+                ];
+                Some((tangent, texels))
+            }
+            _ => None,
+        };
+        let mut occlusion = splat(s.occlusion);
+        if let (Some(t), Some(map)) = (texels_pair(reads, Read::Occlusion), &self.occlusion_map) {
+            // 1 + strength·(R − 1).
+            occlusion = one + splat(map.scale) * (t[0] - one);
+        }
+        let e = s.emissive;
+        let mut emissive = [splat(e.x), splat(e.y), splat(e.z)];
+        if let Some(t) = texels_pair(reads, Read::Emission) {
+            emissive = [emissive[0] * t[0], emissive[1] * t[1], emissive[2] * t[2]];
+        }
+        let (mut roughness, mut metallic) = (splat(s.roughness), splat(s.metallic));
+        if let Some(t) = texels_pair(reads, Read::MetalRough) {
+            roughness = roughness * t[1];
+            metallic = metallic * t[2];
+        }
+        let back = |q: &Quad| {
+            let back = self.material.double_sided && !q.front_facing;
+            Vec4::splat(if back { 1.0 } else { 0.0 })
+        };
+        // Straight colours (`straight_lanes`): divided by alpha where it is above 0 and
+        // not 1.
+        let [r, g, b, a] = F32x8::transpose(&colors[0], &colors[1]);
+        let divide = a.cmpgt(zero) & a.cmpne(one);
+        let base_color = if F32x8::bitmask(divide) != 0 {
+            [
+                F32x8::select(divide, r / a, r),
+                F32x8::select(divide, g / a, g),
+                F32x8::select(divide, b / a, b),
+            ]
+        } else {
+            [r, g, b]
+        };
+        MrInputs {
+            normal,
+            position,
+            tilt,
+            back: F32x8::join(back(quads[0]), back(quads[1])),
+            occlusion,
+            emissive,
+            roughness,
+            metallic,
+            base_color,
+        }
+    }
+
     /// The surface of a quad's pixels (two quads' in eight lanes) in lanes:
     /// [`DrawInfo::apply_maps`] for a plain metallic-roughness draw — the interpolated
     /// normal made a unit one, tilted by the normal map, turned round on back faces.
@@ -343,4 +389,33 @@ fn tangent_space<L: Lane>(n: [L; 3], tangent: [L; 4], texel: &[L; 4], scale: f32
         L::select(ok, my, ny),
         L::select(ok, mz, nz),
     ]
+}
+
+/// Two quads' lanes of three values in eight lanes, quad `a` in the low four.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn join3(a: [Vec4; 3], b: [Vec4; 3]) -> [crate::shading::wide::F32x8; 3] {
+    use crate::shading::wide::F32x8;
+    [
+        F32x8::join(a[0], b[0]),
+        F32x8::join(a[1], b[1]),
+        F32x8::join(a[2], b[2]),
+    ]
+}
+
+/// Read `r`'s texels of two quads as lanes (value `c` of each pixel, quad 0 in the low
+/// four), if made (for both: the quads are one draw's, which makes the same reads).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn texels_pair(reads: [&QuadReads; 2], r: Read) -> Option<[crate::shading::wide::F32x8; 4]> {
+    match (reads[0].get(r), reads[1].get(r)) {
+        (Some(a), Some(b)) => Some(crate::shading::wide::F32x8::transpose(a, b)),
+        (a, b) => {
+            debug_assert!(
+                a.is_none() && b.is_none(),
+                "one draw's quads make the same reads"
+            );
+            None
+        }
+    }
 }

@@ -180,6 +180,29 @@ mod avx {
         pub(crate) fn from_m256(v: __m256) -> F32x8 {
             F32x8(v)
         }
+
+        /// Two quads' four values a pixel (`lo[j]`, `hi[j]`: pixel `j`'s, as `Vec4`s) as
+        /// lanes: value `c` of every pixel, quad `lo` in the low four lanes (the
+        /// [`transpose`](super::super::lanes::transpose) of each, in 256-bit shuffles).
+        #[inline(always)]
+        pub(crate) fn transpose(lo: &[Vec4; 4], hi: &[Vec4; 4]) -> [F32x8; 4] {
+            use std::arch::x86_64::{_mm256_shuffle_ps, _mm256_unpackhi_ps, _mm256_unpacklo_ps};
+            let r = |j: usize| F32x8::join(lo[j], hi[j]).0;
+            let (r0, r1, r2, r3) = (r(0), r(1), r(2), r(3));
+            // SAFETY: AVX is available where this runs (the module's rule).
+            unsafe {
+                let t0 = _mm256_unpacklo_ps(r0, r1);
+                let t1 = _mm256_unpacklo_ps(r2, r3);
+                let t2 = _mm256_unpackhi_ps(r0, r1);
+                let t3 = _mm256_unpackhi_ps(r2, r3);
+                [
+                    F32x8(_mm256_shuffle_ps::<0x44>(t0, t1)),
+                    F32x8(_mm256_shuffle_ps::<0xEE>(t0, t1)),
+                    F32x8(_mm256_shuffle_ps::<0x44>(t2, t3)),
+                    F32x8(_mm256_shuffle_ps::<0xEE>(t2, t3)),
+                ]
+            }
+        }
     }
 
     // SAFETY (every block below): AVX is available where these run (the module's rule).
@@ -385,6 +408,18 @@ mod tests {
             check(Lane::sqrt(a), &|x, _| Lane::sqrt(x), "sqrt");
             check(Lane::recip(a), &|x, _| x.recip(), "recip");
             check(Lane::signum(a), &|x, _| x.signum(), "signum");
+            let (lo, hi) = ([a0, b0, a1, b1], [b1, a0, at(5), b0]);
+            let t = F32x8::transpose(&lo, &hi);
+            let (tlo, thi) = (
+                super::super::lanes::transpose(lo),
+                super::super::lanes::transpose(hi),
+            );
+            for c in 0..4 {
+                assert!(
+                    same(t[c].quad(0), tlo[c]) && same(t[c].quad(1), thi[c]),
+                    "transpose"
+                );
+            }
             check(
                 Lane::clamp(a, b, b + F32x8::splat(1.0)),
                 &|x, y| x.clamp(y, y + Vec4::ONE),
