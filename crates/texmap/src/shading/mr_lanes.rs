@@ -274,8 +274,8 @@ impl AlbedoLanes for super::wide::F32x8 {
 
 /// The (A, B) of the left and right texels of a row of eight lanes' cells (`cells` the
 /// table's floats, `at` each lane's cell, `off` the row's first float from it: 0 the top
-/// row, 2N the bottom one), each corner's A and B in lanes: every lane's row loaded whole,
-/// lanes `l` and `l + 4` in one vector, the four vectors transposed per 128-bit half.
+/// row, 2N the bottom one), each corner's A and B in lanes: every lane's row loaded whole
+/// and the rows transposed ([`F32x8::transpose`](super::wide::F32x8::transpose)).
 ///
 /// # Safety
 /// AVX (the [`F32x8`](super::wide::F32x8) rule); every lane's row, four floats from
@@ -283,29 +283,13 @@ impl AlbedoLanes for super::wide::F32x8 {
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 unsafe fn albedo_corners(cells: *const f32, at: &[i32; 8], off: usize) -> [super::wide::F32x8; 4] {
-    use super::wide::F32x8;
-    use std::arch::x86_64::{
-        _mm256_castps128_ps256, _mm256_insertf128_ps, _mm256_shuffle_ps, _mm256_unpackhi_ps,
-        _mm256_unpacklo_ps, _mm_loadu_ps,
-    };
+    use std::arch::x86_64::_mm_loadu_ps;
     // SAFETY: the caller's rules.
-    unsafe {
-        let p = |l: usize| _mm_loadu_ps(cells.add(2 * at[l] as usize + off));
-        let r0 = _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(p(0)), p(4));
-        let r1 = _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(p(1)), p(5));
-        let r2 = _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(p(2)), p(6));
-        let r3 = _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(p(3)), p(7));
-        let t0 = _mm256_unpacklo_ps(r0, r1);
-        let t1 = _mm256_unpacklo_ps(r2, r3);
-        let t2 = _mm256_unpackhi_ps(r0, r1);
-        let t3 = _mm256_unpackhi_ps(r2, r3);
-        [
-            F32x8::from_m256(_mm256_shuffle_ps::<0x44>(t0, t1)),
-            F32x8::from_m256(_mm256_shuffle_ps::<0xEE>(t0, t1)),
-            F32x8::from_m256(_mm256_shuffle_ps::<0x44>(t2, t3)),
-            F32x8::from_m256(_mm256_shuffle_ps::<0xEE>(t2, t3)),
-        ]
-    }
+    let row = |l: usize| Vec4::from(unsafe { _mm_loadu_ps(cells.add(2 * at[l] as usize + off)) });
+    super::wide::F32x8::transpose(
+        &[row(0), row(1), row(2), row(3)],
+        &[row(4), row(5), row(6), row(7)],
+    )
 }
 
 /// [`specular_albedo`](super::pbr::specular_albedo) at four points (one per lane), as
