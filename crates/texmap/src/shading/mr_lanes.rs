@@ -5,8 +5,8 @@
 //! As in [`super::lanes`], every lane follows the per-pixel rule's operations in its order
 //! (the lobe's F0, F90 and α, the albedo table's lookup, each light's half vector, Fresnel,
 //! GGX and Smith terms), so the factors equal the per-pixel rule's bit for bit (tested); only
-//! NaN inputs could tell them apart. The albedo table is read per lane ([`AlbedoLanes`]: in
-//! eight lanes by AVX2 gathers).
+//! NaN inputs could tell them apart. The albedo table is read per lane (`AlbedoLanes`: in
+//! eight lanes, each lane's rows loaded whole and transposed).
 
 use std::f32::consts::PI;
 
@@ -395,7 +395,7 @@ mod tests {
         }
     }
 
-    /// The albedo table read in eight lanes (AVX2 gathers) gives each lane the bits four
+    /// The albedo table read in eight lanes (rows transposed) gives each lane the bits four
     /// lanes give it ([`specular_albedo_quad`], the table read's where no input is NaN:
     /// `albedo_quad_equals_the_table_read`): in range, at the table's edges, outside it,
     /// infinite and NaN.
