@@ -247,9 +247,10 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
     let positions = sample_positions(S as u32);
     let tile = super::bin::TILE as usize;
     let mut batch = Batch::new();
-    // The sample offsets of the waiting quads' primitive (with one sample, a batch's quads
-    // can be of several primitives: none is needed).
-    let mut zoff_batch = [0.0f32; S];
+    // The sample offsets a batch left waiting across primitives is flushed with: none is
+    // read (with one sample a pixel a depth is the pixel's; with more, each primitive's
+    // batch is flushed at its end, with its offsets).
+    let no_offsets = [0.0f32; S];
     // Set up in place at a primitive's first covered quad (`Planes::set`: no copy, no
     // clearing of the unused varyings' planes).
     let mut planes = Planes::empty();
@@ -269,7 +270,7 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
         }
         // A batch holds one draw's quads.
         if !PRE && batch.call().is_some_and(|c| c != prim.call) {
-            batch.flush::<S>(ctx, &zoff_batch, (&mut *color, &mut *depth), stats);
+            batch.flush::<S>(ctx, &no_offsets, (&mut *color, &mut *depth), stats);
         }
         if !PRE {
             batch.begin_prim(prim.call);
@@ -377,7 +378,6 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
                             zoff[s] = (planes.z.dx * ox as f32 + planes.z.dy * oy as f32) / 16.0;
                         }
                         have_planes = true;
-                        zoff_batch = zoff;
                     }
                     let pl = &planes;
                     let fx = (qx - rect.x0 as i32) as f32;
@@ -535,7 +535,7 @@ fn raster_prims_in<const S: usize, const PRE: bool>(
         }
     }
     if !PRE {
-        batch.flush::<S>(ctx, &zoff_batch, (color, depth), stats);
+        batch.flush::<S>(ctx, &no_offsets, (color, depth), stats);
     }
 }
 
