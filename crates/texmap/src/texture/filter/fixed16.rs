@@ -185,6 +185,19 @@ impl<'a> Shared<'a> {
     }
 }
 
+impl Texels<'_> {
+    /// Whether the AVX2 gathers read these texels in lanes (`avx2/gather.rs`): the 16-bit
+    /// storage, and opaque RGBA8 texels with linear codes; the others are gathered as the
+    /// SSE2 path gathers them.
+    #[inline(always)]
+    fn in_lanes(self) -> bool {
+        match self {
+            Texels::Linear16 => true,
+            Texels::Rgba8(r) => r.opaque_linear(),
+        }
+    }
+}
+
 /// Bytes a texel of `texels` takes.
 #[inline(always)]
 fn bpp(texels: Texels) -> usize {

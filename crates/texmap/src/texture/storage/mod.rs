@@ -202,6 +202,16 @@ pub(crate) struct Rgba8Texels {
     pub opaque: bool,
 }
 
+impl Rgba8Texels {
+    /// Opaque texels with linear codes (data maps: normals, metallic-roughness,
+    /// occlusion): each channel widens as `c · 257`, nothing to look up or premultiply
+    /// (the kind the AVX2 gathers read in lanes).
+    #[inline(always)]
+    pub fn opaque_linear(&self) -> bool {
+        self.srgb15.is_none() && self.opaque
+    }
+}
+
 /// The 16-bit linear value of each 8-bit sRGB code, rounded as [`Storage::Linear16`] stores it.
 fn srgb_to_linear16() -> &'static [u16; 256] {
     static TABLE: std::sync::OnceLock<[u16; 256]> = std::sync::OnceLock::new();

@@ -79,10 +79,8 @@ pub(in super::super) unsafe fn gather(data: &[u8], texels: Texels, t: &Taps, acc
     match texels {
         // SAFETY: the CPU has AVX2 (this function's contract).
         Texels::Linear16 => unsafe { gather16(data, t, &weights(t), acc) },
-        // Opaque linear codes (data maps: normals, metallic-roughness, occlusion).
-        Texels::Rgba8(r) if r.srgb15.is_none() && r.opaque => unsafe {
-            gather8(data, t, &weights(t), acc)
-        },
+        // SAFETY: as above (opaque linear codes: data maps).
+        Texels::Rgba8(r) if r.opaque_linear() => unsafe { gather8(data, t, &weights(t), acc) },
         // SAFETY: the CPU has AVX2 (this function's contract).
         _ => unsafe {
             let mut part = [_mm_setzero_si128(); 4];
@@ -138,20 +136,10 @@ pub(in super::super) unsafe fn gather_weighted(
     match texels {
         // SAFETY: the CPU has AVX2 (this function's contract).
         Texels::Linear16 => unsafe { gather16(data, t, w, acc) },
-        // Opaque linear codes (data maps: normals, metallic-roughness, occlusion).
-        Texels::Rgba8(r) if r.srgb15.is_none() && r.opaque => unsafe { gather8(data, t, w, acc) },
+        // SAFETY: as above (opaque linear codes: data maps).
+        Texels::Rgba8(r) if r.opaque_linear() => unsafe { gather8(data, t, w, acc) },
         // SAFETY: the CPU has AVX2 (this function's contract).
         _ => unsafe { gather(data, texels, t, acc) },
-    }
-}
-
-/// Whether [`gather_shared`] reads `texels`: the 16-bit storage, and opaque RGBA8 texels
-/// with linear codes (the kinds [`gather`] reads in AVX2 lanes).
-#[inline(always)]
-pub(in super::super) fn shared_kind(texels: Texels) -> bool {
-    match texels {
-        Texels::Linear16 => true,
-        Texels::Rgba8(r) => r.srgb15.is_none() && r.opaque,
     }
 }
 
@@ -162,7 +150,7 @@ pub(in super::super) fn shared_kind(texels: Texels) -> bool {
 /// same sums.
 ///
 /// # Safety
-/// The CPU must have AVX2; every `texels[k]` must be a [`shared_kind`], and `t`'s offsets
+/// The CPU must have AVX2; every `texels[k]` must be read in lanes (`Texels::in_lanes`), and `t`'s offsets
 /// must index texels of every `data[k]` (a level of the size they were made for, as
 /// `sse2::taps` makes them); `w` = `weights(t)`.
 #[inline(always)]
