@@ -7,7 +7,7 @@
 
 use glam::Vec4;
 use texmap::pipeline::{
-    self, ClipVertex, DrawCall, DrawState, FragmentShader, Interpolation, Quad, Target,
+    self, ClipVertex, DrawCall, DrawState, FragmentShader, Interpolation, Quad, Target, TileColors,
 };
 
 /// Colours each pixel by its triangle (varying 0, constant over a triangle) and position;
@@ -27,6 +27,30 @@ impl FragmentShader for ByTriangle {
             }
         }
         kept
+    }
+}
+
+/// [`ByTriangle`]'s colours (discarding nothing) written straight into the tile
+/// (`FragmentShader::shade_into_tile`) rather than returned for the rasterizer to write.
+struct IntoTile;
+impl FragmentShader for IntoTile {
+    fn shade(&self, draw: u32, q: &Quad, out: &mut [Vec4; 4]) -> u8 {
+        ByTriangle { discard: false }.shade(draw, q, out)
+    }
+
+    fn shade_into_tile(
+        &self,
+        draw: u32,
+        quads: &[Quad],
+        scratch: &mut [[Vec4; 4]],
+        tile: &mut TileColors,
+    ) -> bool {
+        for (q, o) in quads.iter().zip(scratch.iter_mut()) {
+            let kept = self.shade(draw, q, o);
+            assert_eq!(kept, q.mask, "IntoTile keeps every pixel");
+            tile.write(q, q.mask, o);
+        }
+        true
     }
 }
 
@@ -80,6 +104,21 @@ fn draw(
     state: DrawState,
     samples: u32,
 ) -> Vec<u32> {
+    // Draws that keep all their pixels (the pre-pass's condition) discard none.
+    let shader = ByTriangle {
+        discard: !state.keeps_all,
+    };
+    draw_with(vertices, calls, state, samples, &shader)
+}
+
+/// [`draw`] with `shader`.
+fn draw_with(
+    vertices: &Vec<ClipVertex>,
+    calls: &[std::ops::Range<u32>],
+    state: DrawState,
+    samples: u32,
+    shader: &dyn FragmentShader,
+) -> Vec<u32> {
     let indices: Vec<u32> = (0..vertices.len() as u32).collect();
     let calls: Vec<DrawCall> = calls
         .iter()
@@ -97,11 +136,7 @@ fn draw(
         interpolation: Interpolation::Perspective,
         depth_sort: false,
     };
-    // Draws that keep all their pixels (the pre-pass's condition) discard none.
-    let shader = ByTriangle {
-        discard: !state.keeps_all,
-    };
-    let (color, _) = pipeline::draw(&calls, &shader, &target);
+    let (color, _) = pipeline::draw(&calls, shader, &target);
     color
         .iter()
         .flat_map(|v| v.to_array().map(f32::to_bits))
@@ -145,6 +180,36 @@ fn a_draws_primitives_sharing_batches_draw_what_one_at_a_time_draws() {
                 firsts.len() > 500,
                 "{case}: {} triangles show",
                 firsts.len()
+            );
+        }
+    }
+}
+
+/// A shader that writes its colours straight into the tile (`shade_into_tile`) draws what
+/// the rasterizer's writes of the same colours draw: the quads at their pixels, partly
+/// covered ones at their covered pixels only, the depths of those that write them (the
+/// overlapping layers and the strip test them), one draw or one draw a triangle, with the
+/// depth pre-pass and without. (Blended draws and MSAA never take it.)
+#[test]
+fn colours_written_into_the_tile_are_those_the_rasterizer_writes() {
+    let vertices = triangles();
+    let n = vertices.len() as u32;
+    let one_draw = std::iter::once(0..n).collect::<Vec<_>>();
+    let each: Vec<_> = (0..n / 3).map(|t| 3 * t..3 * t + 3).collect();
+    for calls in [&one_draw, &each] {
+        for (keeps_all, depth_write) in [(false, true), (true, true), (false, false)] {
+            let state = DrawState {
+                varyings: 1,
+                keeps_all,
+                depth_write,
+                ..Default::default()
+            };
+            let returned = draw_with(&vertices, calls, state, 1, &ByTriangle { discard: false });
+            let written = draw_with(&vertices, calls, state, 1, &IntoTile);
+            assert!(
+                returned == written,
+                "{} draws, keeps_all {keeps_all}, depth_write {depth_write}: images differ",
+                calls.len()
             );
         }
     }

@@ -14,7 +14,7 @@
 use glam::Vec4;
 
 use super::bin::TileRect;
-use super::framebuffer::over;
+use super::framebuffer::{over, TileColors};
 use super::interpolate::Planes;
 use super::raster::{RasterContext, TileStats};
 use super::{Prim, Quad, MAX_VARYINGS};
@@ -57,6 +57,10 @@ pub(super) struct Batch {
     /// in the tile: those of earlier primitives than the one being walked.
     waiting: [u8; TILE_QUADS],
     marked: usize,
+    /// The last draw whose quads the shader did not shade into the tile
+    /// ([`FragmentShader::shade_into_tile`], whose answer depends on the draw alone): not
+    /// asked again for its batches in this tile.
+    not_into_tile: Option<u32>,
 }
 
 impl Batch {
@@ -76,6 +80,7 @@ impl Batch {
             kept: [0; BATCH],
             waiting: [0; TILE_QUADS],
             marked: 0,
+            not_into_tile: None,
         }
     }
 
@@ -154,6 +159,14 @@ impl Batch {
         }
         let call = self.call;
         let state = ctx.calls[call as usize].state;
+        if S == 1 && !state.blend && self.not_into_tile != Some(call) {
+            if let Some(shaded) = self.shade_into_tile(ctx, n, color, depth) {
+                stats.pixels_shaded += shaded;
+                stats.texture_samples += shaded * u64::from(state.texture_reads);
+                return;
+            }
+            self.not_into_tile = Some(call);
+        }
         ctx.shader.shade_batch(
             call,
             &self.quads[..n],
@@ -164,6 +177,48 @@ impl Batch {
         let shaded = write_batch::<S>(self, n, zoff, writes);
         stats.pixels_shaded += shaded;
         stats.texture_samples += shaded * u64::from(state.texture_reads);
+    }
+
+    /// One-sample quads (the first `n`) shaded straight into the tile's colours where the
+    /// shader does that for their draw ([`FragmentShader::shade_into_tile`]), then the
+    /// depths of those that write them; false, and nothing written, where it does not.
+    fn shade_into_tile(
+        &mut self,
+        ctx: &RasterContext,
+        n: usize,
+        color: &mut [Vec4],
+        depth: &mut [f32],
+    ) -> Option<u64> {
+        let (q, p) = (&self.quads[0], &self.pending[0]);
+        let mut tile = TileColors::new(color, q.x - p.lx, q.y - p.ly);
+        let quads = &self.quads[..n];
+        if !ctx
+            .shader
+            .shade_into_tile(self.call, quads, &mut self.colors[..n], &mut tile)
+        {
+            return None;
+        }
+        let w = super::bin::TILE as usize;
+        let mut shaded = 0;
+        for (quad, p) in quads.iter().zip(&self.pending[..n]) {
+            shaded += u64::from(quad.mask.count_ones());
+            if !p.write_depth {
+                continue;
+            }
+            let i = p.ly as usize * w + p.lx as usize;
+            let d = &mut depth[i..i + w + 2];
+            if quad.mask == 0b1111 {
+                d[..2].copy_from_slice(&p.zp[..2]);
+                d[w..].copy_from_slice(&p.zp[2..]);
+                continue;
+            }
+            for j in 0..4 {
+                if quad.mask & (1 << j) != 0 {
+                    d[(j >> 1) * w + (j & 1)] = p.zp[j];
+                }
+            }
+        }
+        Some(shaded)
     }
 }
 

@@ -82,6 +82,44 @@ impl TileBuffer {
     }
 }
 
+/// A one-sample tile's colours, where [`super::FragmentShader::shade_into_tile`] writes a
+/// batch's quads: pixel `(x, y)` of the target at `(y − y0)·TILE + (x − x0)`.
+pub struct TileColors<'a> {
+    color: &'a mut [Vec4],
+    x0: u32,
+    y0: u32,
+}
+
+impl<'a> TileColors<'a> {
+    /// The colours `color` (one sample a pixel, `TILE` wide) of the tile whose first pixel
+    /// is `(x0, y0)`.
+    pub(super) fn new(color: &'a mut [Vec4], x0: u32, y0: u32) -> Self {
+        TileColors { color, x0, y0 }
+    }
+
+    /// Writes `colors` to the pixels of `quad` in `mask` (pixel `j` at `(quad.x + (j & 1),
+    /// quad.y + (j >> 1))`), replacing what is there.
+    ///
+    /// # Panics
+    /// If the quad is not in the tile.
+    #[inline(always)]
+    pub fn write(&mut self, quad: &super::Quad, mask: u8, colors: &[Vec4; 4]) {
+        let tile = TILE as usize;
+        let i = (quad.y - self.y0) as usize * tile + (quad.x - self.x0) as usize;
+        let c = &mut self.color[i..i + tile + 2];
+        if mask == 0b1111 {
+            c[..2].copy_from_slice(&colors[..2]);
+            c[tile..].copy_from_slice(&colors[2..]);
+            return;
+        }
+        for (j, &v) in colors.iter().enumerate() {
+            if mask & (1 << j) != 0 {
+                c[(j >> 1) * tile + (j & 1)] = v;
+            }
+        }
+    }
+}
+
 // `_mm_stream_ps` needs 16-byte aligned targets: glam's `Vec4` is an `__m128` on x86-64 (SSE2
 // builds), so every element of a `[Vec4]` is. A glam built without SIMD would break this.
 #[cfg(target_arch = "x86_64")]

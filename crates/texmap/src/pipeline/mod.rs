@@ -47,7 +47,7 @@ use rayon::prelude::*;
 pub use batch::BATCH;
 pub use bin::{bin_prims, Bins, TILE};
 pub use clip::{clip_polygon, ClipPolygon};
-pub use framebuffer::{downsample_box, TileBuffer};
+pub use framebuffer::{downsample_box, TileBuffer, TileColors};
 pub use interpolate::Planes;
 pub use raster::{rasterize_tile, TileStats};
 pub use setup::{assemble_triangle, Prim};
@@ -208,6 +208,24 @@ pub trait FragmentShader: Sync {
         for ((quad, o), k) in quads.iter().zip(out.iter_mut()).zip(kept.iter_mut()) {
             *k = self.shade(draw, quad, o);
         }
+    }
+
+    /// [`FragmentShader::shade_batch`] of one-sample quads whose colours replace the
+    /// tile's (no blending), written straight into `tile` instead of returned: a shader
+    /// that keeps every pixel of each quad's mask for draw `draw` may do so and return
+    /// true (one pass over the batch rather than a second to write it); `scratch` is at
+    /// least `quads.len()` long. Whether it does must depend on the draw alone (a false
+    /// answer is not asked again for the draw's other batches in a tile). The default
+    /// returns false, and the quads are shaded and written as usual.
+    fn shade_into_tile(
+        &self,
+        draw: u32,
+        quads: &[Quad],
+        scratch: &mut [[Vec4; 4]],
+        tile: &mut TileColors,
+    ) -> bool {
+        let _ = (draw, quads, scratch, tile);
+        false
     }
 }
 

@@ -22,7 +22,7 @@ use super::parallax::{self, SelfShadow};
 use super::projectors::Projectors;
 use super::reads::{QuadReads, Read};
 use super::varyings::Factors;
-use crate::pipeline::{FragmentShader, Quad, BATCH};
+use crate::pipeline::{FragmentShader, Quad, TileColors, BATCH};
 use crate::shading::lanes::{phong_quad, QuadFactors};
 use crate::shading::{combine, phong, Lighting, ShadingModel, Surface, Viewer};
 
@@ -39,6 +39,23 @@ pub(super) struct SceneShader<'a> {
 impl FragmentShader for SceneShader<'_> {
     fn shade_batch(&self, draw: u32, quads: &[Quad], out: &mut [[Vec4; 4]], kept: &mut [u8]) {
         shade_batch(self, draw, quads, out, kept);
+    }
+
+    fn shade_into_tile(
+        &self,
+        draw: u32,
+        quads: &[Quad],
+        scratch: &mut [[Vec4; 4]],
+        tile: &mut TileColors,
+    ) -> bool {
+        // Plain textured draws whose factors do not vary over a side (unlit, or lit once):
+        // they keep every pixel of a quad's mask.
+        let d = &self.draws[draw as usize];
+        let fused = self.is_plain(d) && d.texture.is_some() && constant_factors(d).is_some();
+        if fused {
+            into_tile(d, quads, scratch, tile);
+        }
+        fused
     }
 
     fn shade(&self, draw: u32, quad: &Quad, out: &mut [Vec4; 4]) -> u8 {
@@ -497,6 +514,36 @@ fn texels_colors<'f>(
         let texels = *o;
         plain_colors(d, factors(i, quad), Some(&texels), o);
         *k = quad.mask;
+    }
+}
+
+crate::cpu::dispatch! {
+    /// [`into_tile_in`] at the CPU's level.
+    fn into_tile(
+        d: &DrawInfo,
+        quads: &[Quad],
+        out: &mut [[Vec4; 4]],
+        tile: &mut TileColors,
+    ) => into_tile_in, into_tile_v3
+}
+
+/// [`SceneShader::plain_batch_at`]'s colours of a plain textured draw whose factors are
+/// constant over a side, written into `tile` as each quad's are made
+/// (`FragmentShader::shade_into_tile`): every texture read of the batch first (into
+/// `out`), then each quad's colours, as [`texels_colors`] makes them, straight to its
+/// pixels. The same values.
+#[inline(always)]
+fn into_tile_in(d: &DrawInfo, quads: &[Quad], out: &mut [[Vec4; 4]], tile: &mut TileColors) {
+    let (Some(t), Some(sides)) = (d.texture.as_ref(), constant_factors(d)) else {
+        unreachable!("into_tile: a plain textured draw with constant factors");
+    };
+    for (quads, out) in quads.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
+        t.quads(quads, out);
+        for (quad, texels) in quads.iter().zip(out.iter()) {
+            let mut c = [Vec4::ZERO; 4];
+            plain_colors(d, side(d, sides, quad), Some(texels), &mut c);
+            tile.write(quad, quad.mask, &c);
+        }
     }
 }
 
