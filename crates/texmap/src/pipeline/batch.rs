@@ -181,7 +181,8 @@ impl Batch {
 
     /// One-sample quads (the first `n`) shaded straight into the tile's colours where the
     /// shader does that for their draw ([`FragmentShader::shade_into_tile`]), then the
-    /// depths of those that write them; false, and nothing written, where it does not.
+    /// depths of those that write them; the pixels shaded, or `None`, and nothing written,
+    /// where it does not.
     fn shade_into_tile(
         &mut self,
         ctx: &RasterContext,

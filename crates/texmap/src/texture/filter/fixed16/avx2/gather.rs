@@ -150,9 +150,9 @@ pub(in super::super) unsafe fn gather_weighted(
 /// same sums.
 ///
 /// # Safety
-/// The CPU must have AVX2; every `texels[k]` must be read in lanes (`Texels::in_lanes`), and `t`'s offsets
-/// must index texels of every `data[k]` (a level of the size they were made for, as
-/// `sse2::taps` makes them); `w` = `weights(t)`.
+/// The CPU must have AVX2; every `texels[k]` must be read in lanes (`Texels::in_lanes`),
+/// and `t`'s offsets must index texels of every `data[k]` (a level of the size they were
+/// made for, as `sse2::taps` makes them); `w` = `weights(t)`.
 #[inline(always)]
 pub(in super::super) unsafe fn gather_shared(
     data: &[&[u8]],
